@@ -1,0 +1,40 @@
+// One reader and one writer per mesh format, found by file extension (or by an
+// explicit format name for ambiguous cases). The command line and the Python
+// module read and write every file through here.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace vd::io {
+
+struct WriteOptions {
+  bool binary = false;      // formats that have a binary variant
+  int msh_version = 41;     // Gmsh: 22 or 41
+};
+
+struct Format {
+  std::string name;                     // "gmsh", "vtu", "off", ...
+  std::vector<std::string> extensions;  // lower case, with the dot: ".msh"
+  bool holds_volume = false;            // can carry tetrahedra
+  // Throws vd::InputError naming the file and the line (or byte offset).
+  std::function<Mesh(const std::string& path)> read;
+  // Empty when the format is read-only.
+  std::function<void(const Mesh&, const std::string& path, const WriteOptions&)> write;
+};
+
+// Every registered format.
+const std::vector<Format>& formats();
+
+// The format for `path` by its extension (".gz" is looked through), or by
+// `format_name` when not empty. Throws vd::UsageError when none fits.
+const Format& format_for(const std::string& path, const std::string& format_name = "");
+
+Mesh read_mesh(const std::string& path, const std::string& format_name = "");
+void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {},
+                const std::string& format_name = "");
+
+}  // namespace vd::io

@@ -1,0 +1,54 @@
+// The exact Delaunay tetrahedralization of a growing vertex set (CGAL,
+// exact predicates). It is the reference oracle of facet Delaunayhood, tells
+// which facets a new vertex can affect, and gives the final tetrahedra.
+// CGAL stays behind this header so that most of vdmesh compiles without it.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace vd {
+
+class DelaunayTetrahedralization {
+ public:
+  DelaunayTetrahedralization();
+  ~DelaunayTetrahedralization();
+  DelaunayTetrahedralization(const DelaunayTetrahedralization&) = delete;
+  DelaunayTetrahedralization& operator=(const DelaunayTetrahedralization&) = delete;
+
+  // Inserts points[first..] (spatially sorted). Vertex ids are the indices
+  // into `points`. Pre: the points are pairwise distinct.
+  void insert(const std::vector<Vec3>& points, int first = 0);
+  // Inserts one point with id `id` (== number of vertices so far), near
+  // vertex `hint` when >= 0. Returns the ids of its Delaunay neighbours: every
+  // face that appeared or disappeared with it has all its vertices among them
+  // and `id`.
+  std::vector<int> insert_one(const Vec3& p, int id, int hint = -1);
+  // Moves vertex `id` to p (the triangulation is updated).
+  void move(int id, const Vec3& p);
+
+  int number_of_vertices() const;
+  // Is triangle (a, b, c) a face of the tetrahedralization?
+  bool has_facet(int a, int b, int c) const;
+  bool has_edge(int a, int b) const;
+  // Ids of the Delaunay neighbours of vertex `id`.
+  std::vector<int> neighbours(int id) const;
+
+  // The finite tetrahedra, positively oriented, and for each of its four faces
+  // (face i is opposite vertex i) the index of the tetrahedron across it, or
+  // -1 when the face lies on the convex hull.
+  struct Cells {
+    std::vector<std::array<int, 4>> tets;
+    std::vector<std::array<int, 4>> across;
+  };
+  Cells cells() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vd

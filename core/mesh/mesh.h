@@ -1,0 +1,76 @@
+// The one mesh type of vdmesh: a surface (triangles with face ids and the
+// regions on both sides) and optionally a volume (tetrahedra with a region).
+// Readers produce it, the mesher consumes and produces it, writers write it.
+//
+// Conventions (README, "Conventions"):
+//  - Region 0 is the exterior, regions are 1..N; kUnknownRegion when the input
+//    carries no region information (the mesher then finds the regions).
+//  - A triangle's normal (right-hand rule over v[0], v[1], v[2]) points into its
+//    `front` region; `back` is the other side.
+//  - A tetrahedron (v0, v1, v2, v3) is positive: det(v1-v0, v2-v0, v3-v0) > 0,
+//    the orientation Gmsh, VTK, Abaqus and TetGen share.
+//  - Indices are 0-based here; writers convert to each format's own base.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace vd {
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+  double& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+  double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+};
+
+inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3 operator*(double s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
+inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(Vec3 a, Vec3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+double norm(Vec3 a);
+Vec3 normalized(Vec3 a);
+
+constexpr int kUnknownRegion = -1;
+constexpr int kNoFace = -1;
+
+struct Triangle {
+  std::array<int, 3> v{};
+  int face = kNoFace;           // topological face id (CAD face, input group)
+  int front = kUnknownRegion;   // region the normal points into
+  int back = kUnknownRegion;    // region on the other side
+};
+
+struct Tetrahedron {
+  std::array<int, 4> v{};
+  int region = kUnknownRegion;
+};
+
+// Second-order nodes, in the edge order shared by Gmsh, VTK and Abaqus:
+// tetrahedron (01, 12, 20, 03, 13, 23), triangle (01, 12, 20).
+using TetMidNodes = std::array<int, 6>;
+using TriMidNodes = std::array<int, 3>;
+
+struct Mesh {
+  std::vector<Vec3> points;
+  std::vector<double> point_size;  // mesh size per point; empty when not given
+  std::vector<Triangle> triangles;
+  std::vector<Tetrahedron> tets;
+  // Filled only for second order meshes (same length as triangles / tets).
+  std::vector<TriMidNodes> triangle_mid;
+  std::vector<TetMidNodes> tet_mid;
+  // Optional names, e.g. from Gmsh physical groups or CAD ("Solid1", "Face3").
+  std::map<int, std::string> region_names;
+  std::map<int, std::string> face_names;
+
+  bool second_order() const { return !tet_mid.empty() || !triangle_mid.empty(); }
+  bool has_region_tags() const;
+  bool has_face_tags() const;
+};
+
+}  // namespace vd
