@@ -27,10 +27,11 @@ class DelaunayTetrahedralization {
   // face that appeared or disappeared with it has all its vertices among them
   // and `id`.
   std::vector<int> insert_one(const Vec3& p, int id, int hint = -1);
-  // Moves vertex `id` to p (the triangulation is updated).
-  void move(int id, const Vec3& p);
 
   int number_of_vertices() const;
+  // Vertex ids of the finite tetrahedron containing p (exact point location),
+  // or {-1, -1, -1, -1} when p is outside the convex hull.
+  std::array<int, 4> locate(const Vec3& p) const;
   // Is triangle (a, b, c) a face of the tetrahedralization?
   bool has_facet(int a, int b, int c) const;
   bool has_edge(int a, int b) const;

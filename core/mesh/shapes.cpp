@@ -1,5 +1,6 @@
 #include "mesh/shapes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -167,6 +168,23 @@ void weld_exact(Mesh& m) {
     for (int& v : t.v) v = remap[v];
   for (Tetrahedron& t : m.tets)
     for (int& v : t.v) v = remap[v];
+}
+
+void merge_coincident_facets(Mesh& m) {
+  std::map<std::array<int, 3>, size_t> first;
+  std::vector<bool> drop(m.triangles.size(), false);
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    auto key = m.triangles[f].v;
+    std::sort(key.begin(), key.end());
+    auto [it, inserted] = first.emplace(key, f);
+    if (inserted) continue;
+    m.triangles[it->second].front = m.triangles[f].back;
+    drop[f] = true;
+  }
+  std::vector<Triangle> kept;
+  for (size_t f = 0; f < m.triangles.size(); ++f)
+    if (!drop[f]) kept.push_back(m.triangles[f]);
+  m.triangles = std::move(kept);
 }
 
 }  // namespace vd::shapes

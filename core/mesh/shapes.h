@@ -23,5 +23,9 @@ Mesh box_with_hole(Vec3 lo, Vec3 hi, double hole_fraction, int region = 1, int f
 void append(Mesh& a, const Mesh& b);
 // Merges vertices with identical coordinates (exact), dropping unused ones.
 void weld_exact(Mesh& m);
+// Where two solids touch, their coincident facets (same vertices, opposite
+// orientation) become one interface facet: the first one is kept and its
+// front region set to the other's back region. Call after weld_exact.
+void merge_coincident_facets(Mesh& m);
 
 }  // namespace vd::shapes

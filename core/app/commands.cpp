@@ -1,0 +1,224 @@
+#include "app/commands.h"
+
+#include <unistd.h>
+
+#include <charconv>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "converters/registry.h"
+#include "mesh/error.h"
+#include "pipeline/mesher.h"
+#include "quality/tet_quality.h"
+#include "volume/region_tetrahedra.h"
+
+namespace vd::app {
+namespace {
+
+const char* kMeshHelp =
+    "usage: vdmesh mesh INPUT -o OUTPUT [options]\n"
+    "  INPUT   closed triangulated surface: .off .stl .obj .msh .vtk .vtu .mesh .smesh .poly .node (.gz too)\n"
+    "  OUTPUT  .vtu .vtk .msh .inp .mesh .node (volume) or a surface format\n"
+    "options:\n"
+    "  --size H                target edge length inside (default: from the surface, graded)\n"
+    "  --gradation G           largest growth of the size per unit distance (default 0.3)\n"
+    "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
+    "  --oracle dt|lp|sphere   facet Delaunayhood test (default dt, the exact tetrahedralization)\n"
+    "  --lp-limit N            largest LP solved by the lp oracle (default: no limit)\n"
+    "  --no-flips              only splits: every added vertex lies on an input facet\n"
+    "  --flip-angle DEG        largest ridge angle a flip may create (default 20)\n"
+    "  --sharp-angle DEG       face ids for untagged input: patches split where normals differ more (default 40)\n"
+    "  --seed N                random seed (default 1): same input, options and seed give the same mesh\n"
+    "  --shift REL             random shift relative to the local edge length (default 1e-4, 0 = none)\n"
+    "  --max-passes N          Delaunayzation guard (default 200)\n"
+    "  --max-added N           Delaunayzation guard on added vertices (default 20 x input + 1000)\n"
+    "  --report FILE.json      write the report (counts, oracle statistics, times, quality)\n"
+    "  --binary                binary variant of the output format where there is one\n"
+    "  --quiet                 no progress and no report table\n";
+
+// Small argument reader: flags with values, flags without, positionals.
+class Args {
+ public:
+  explicit Args(std::vector<std::string> a) : a_(std::move(a)) {}
+  bool flag(const std::string& name) {
+    for (size_t i = 0; i < a_.size(); ++i)
+      if (a_[i] == name) {
+        a_.erase(a_.begin() + i);
+        return true;
+      }
+    return false;
+  }
+  std::string value(const std::string& name, const std::string& fallback = "") {
+    for (size_t i = 0; i < a_.size(); ++i)
+      if (a_[i] == name) {
+        if (i + 1 >= a_.size()) throw UsageError(name + " needs a value");
+        std::string v = a_[i + 1];
+        a_.erase(a_.begin() + i, a_.begin() + i + 2);
+        return v;
+      }
+    return fallback;
+  }
+  double number(const std::string& name, double fallback) {
+    const std::string v = value(name);
+    if (v.empty()) return fallback;
+    double x = 0;
+    auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+    if (ec != std::errc() || ptr != v.data() + v.size()) throw UsageError(name + ": not a number: '" + v + "'");
+    return x;
+  }
+  long integer(const std::string& name, long fallback) {
+    const std::string v = value(name);
+    if (v.empty()) return fallback;
+    long x = 0;
+    auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+    if (ec != std::errc() || ptr != v.data() + v.size()) throw UsageError(name + ": not an integer: '" + v + "'");
+    return x;
+  }
+  std::vector<std::string> positionals() const {
+    for (const auto& s : a_)
+      if (s.size() > 1 && s[0] == '-' && s[1] == '-') throw UsageError("unknown option " + s);
+    return a_;
+  }
+
+ private:
+  std::vector<std::string> a_;
+};
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream f(path);
+  f << text;
+  if (!f) throw UsageError("cannot write " + path);
+}
+
+// Writes through a temporary file so that a failed run leaves no output that
+// could pass for a result.
+void write_result(const Mesh& mesh, const std::string& path, const io::WriteOptions& options) {
+  const std::string tmp = path + ".part";
+  try {
+    io::write_mesh(mesh, tmp, options, io::format_for(path).name);
+    std::filesystem::rename(tmp, path);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw;
+  }
+}
+
+std::string missing_facets_path(const std::string& out) {
+  std::filesystem::path p(out);
+  return (p.parent_path() / (p.stem().string() + ".missing.off")).string();
+}
+
+}  // namespace
+
+int mesh_command(const std::vector<std::string>& raw) {
+  Args args(raw);
+  if (args.flag("--help") || args.flag("-h")) {
+    std::fputs(kMeshHelp, stdout);
+    return 0;
+  }
+  MeshOptions opt;
+  const std::string output = args.value("-o", args.value("--output"));
+  opt.oracle = args.value("--oracle", "dt");
+  opt.size.uniform = args.number("--size", 0.0);
+  opt.size.gradation = args.number("--gradation", opt.size.gradation);
+  opt.interior = !args.flag("--no-interior");
+  opt.oracle_options.lp_limit = static_cast<int>(args.integer("--lp-limit", -1));
+  opt.delaunayzation.flips = !args.flag("--no-flips");
+  opt.delaunayzation.flip_angle_deg = args.number("--flip-angle", opt.delaunayzation.flip_angle_deg);
+  opt.delaunayzation.max_passes = static_cast<int>(args.integer("--max-passes", opt.delaunayzation.max_passes));
+  opt.delaunayzation.max_added_vertices = static_cast<int>(args.integer("--max-added", -1));
+  opt.sharp_angle_deg = args.number("--sharp-angle", opt.sharp_angle_deg);
+  opt.seed = static_cast<std::uint64_t>(args.integer("--seed", 1));
+  opt.shift = args.number("--shift", opt.shift);
+  const std::string report_path = args.value("--report");
+  io::WriteOptions wopt;
+  wopt.binary = args.flag("--binary");
+  const bool quiet = args.flag("--quiet");
+  const auto pos = args.positionals();
+  if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh mesh --help)");
+  if (output.empty()) throw UsageError("missing -o OUTPUT");
+  if (opt.size.uniform < 0) throw UsageError("--size must be positive");
+  if (opt.size.gradation <= 0) throw UsageError("--gradation must be positive");
+  if (opt.shift < 0 || opt.shift > 0.1) throw UsageError("--shift must be in [0, 0.1]");
+  if (opt.delaunayzation.flip_angle_deg < 0 || opt.delaunayzation.flip_angle_deg > 180)
+    throw UsageError("--flip-angle must be in [0, 180]");
+  io::format_for(output);  // unknown output format: a usage error before any work
+
+  if (!quiet && isatty(fileno(stderr)))
+    opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s...\n", phase.c_str()); };
+  else if (!quiet)
+    opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s\n", phase.c_str()); };
+
+  Mesh input = io::read_mesh(pos[0]);
+  input.tets.clear();
+  input.tet_mid.clear();
+  input.triangle_mid.clear();
+  if (input.triangles.empty()) throw InputError(pos[0] + ": no surface facets to mesh");
+
+  MeshResult partial;
+  try {
+    MeshResult result = mesh_surface(input, opt, &partial);
+    write_result(result.mesh, output, wopt);
+    if (!report_path.empty()) write_text(report_path, report_json(result.report));
+    if (!quiet) std::fputs(report_table(result.report).c_str(), stdout);
+    return 0;
+  } catch (const RecoveryError&) {
+    // Leave the facets that could not be recovered beside the output, and
+    // no output itself.
+    Mesh missing;
+    missing.points = partial.mesh.points;
+    for (const auto& v : partial.report.missing_facets) missing.triangles.push_back({v});
+    const std::string where = missing_facets_path(output);
+    io::write_mesh(missing, where, {}, "off");
+    if (!report_path.empty()) write_text(report_path, report_json(partial.report));
+    std::fprintf(stderr, "vdmesh mesh: the facets still missing are in %s\n", where.c_str());
+    throw;
+  }
+}
+
+int convert_command(const std::vector<std::string>& raw) {
+  Args args(raw);
+  io::WriteOptions wopt;
+  wopt.binary = args.flag("--binary");
+  wopt.msh_version = static_cast<int>(args.integer("--msh-version", 41));
+  if (wopt.msh_version != 22 && wopt.msh_version != 41) throw UsageError("--msh-version must be 22 or 41");
+  const std::string from = args.value("--from"), to = args.value("--to");
+  const auto pos = args.positionals();
+  if (pos.size() != 2) throw UsageError("usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41]");
+  io::format_for(pos[1], to);
+  const Mesh mesh = io::read_mesh(pos[0], from);
+  io::write_mesh(mesh, pos[1], wopt, to);
+  return 0;
+}
+
+int info_command(const std::vector<std::string>& raw) {
+  Args args(raw);
+  const std::string from = args.value("--from");
+  const auto pos = args.positionals();
+  if (pos.size() != 1) throw UsageError("usage: vdmesh info MESH");
+  const Mesh m = io::read_mesh(pos[0], from);
+  std::set<int> regions, faces;
+  for (const auto& t : m.tets) regions.insert(t.region);
+  for (const auto& t : m.triangles) faces.insert(t.face);
+  std::printf("%s\n  points %zu, triangles %zu, tetrahedra %zu%s\n", pos[0].c_str(), m.points.size(),
+              m.triangles.size(), m.tets.size(), m.second_order() ? " (second order)" : "");
+  std::printf("  regions %zu, faces %zu\n", regions.size(), faces.size());
+  const auto vol = region_volumes(m);
+  for (size_t r = 0; r < vol.size(); ++r)
+    if (regions.count(static_cast<int>(r))) std::printf("  region %zu: volume %.9g\n", r, vol[r]);
+  if (!m.tets.empty()) {
+    const QualitySummary q = summarize_quality(m);
+    std::printf("  dihedral angle min %.3f max %.3f deg; radius ratio min %.4f mean %.4f\n", q.min_dihedral_deg,
+                q.max_dihedral_deg, q.min_radius_ratio, q.mean_radius_ratio);
+    std::printf("  inverted %ld; under 5 deg %ld; under 10 deg %ld\n", q.inverted, q.below_5_deg, q.below_10_deg);
+    std::printf("  dihedral histogram (10 deg bins):");
+    for (long c : q.dihedral_histogram) std::printf(" %ld", c);
+    std::printf("\n");
+  }
+  return 0;
+}
+
+}  // namespace vd::app

@@ -1,0 +1,52 @@
+// vdmesh: the command-line tool. Exit codes: 0 done; 1 internal error;
+// 2 usage; 3 bad input; 4 some facets could not be recovered.
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "mesh/error.h"
+
+namespace {
+
+const char* kUsage =
+    "usage:\n"
+    "  vdmesh mesh INPUT -o OUTPUT [options]   tetrahedra of a closed tagged surface\n"
+    "  vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--from FMT] [--to FMT]\n"
+    "  vdmesh info MESH                         counts, regions, faces, quality\n"
+    "run 'vdmesh mesh --help' for the meshing options\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "-h" || args[0] == "--help") {
+    std::fputs(kUsage, args.empty() ? stderr : stdout);
+    return args.empty() ? 2 : 0;
+  }
+  const std::string command = args[0];
+  args.erase(args.begin());
+  try {
+    if (command == "mesh") return vd::app::mesh_command(args);
+    if (command == "convert") return vd::app::convert_command(args);
+    if (command == "info") return vd::app::info_command(args);
+    std::fprintf(stderr, "vdmesh: unknown command '%s'\n%s", command.c_str(), kUsage);
+    return 2;
+  } catch (const vd::UsageError& e) {
+    std::fprintf(stderr, "vdmesh %s: %s\n", command.c_str(), e.what());
+    return 2;
+  } catch (const vd::InputError& e) {
+    std::fprintf(stderr, "vdmesh %s: bad input: %s\n", command.c_str(), e.what());
+    return 3;
+  } catch (const vd::RecoveryError& e) {
+    std::fprintf(stderr, "vdmesh %s: %s\n", command.c_str(), e.what());
+    return 4;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "vdmesh %s: out of memory\n", command.c_str());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "vdmesh %s: internal error: %s\n", command.c_str(), e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,128 @@
+#include "delaunay/delaunay_tetrahedralization.h"
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <CGAL/spatial_sort.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace vd {
+namespace {
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_3<int, K>;
+using Tds = CGAL::Triangulation_data_structure_3<Vb>;
+using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
+using CGALPoint = K::Point_3;
+
+CGALPoint to_cgal(const Vec3& p) { return {p.x, p.y, p.z}; }
+}  // namespace
+
+struct DelaunayTetrahedralization::Impl {
+  DT dt;
+  std::vector<DT::Vertex_handle> handle;  // by vertex id
+  mutable DT::Cell_handle last_located;    // walk start for the next locate
+
+  DT::Vertex_handle at(int id) const { return handle[static_cast<size_t>(id)]; }
+};
+
+DelaunayTetrahedralization::DelaunayTetrahedralization() : impl_(std::make_unique<Impl>()) {}
+DelaunayTetrahedralization::~DelaunayTetrahedralization() = default;
+
+void DelaunayTetrahedralization::insert(const std::vector<Vec3>& points, int first) {
+  std::vector<int> order(points.size() - static_cast<size_t>(first));
+  std::iota(order.begin(), order.end(), first);
+  // Spatial sort gives CGAL good location hints: O(n log n) overall.
+  struct Traits {
+    const std::vector<Vec3>* pts;
+    using Point_3 = int;
+    struct Less {
+      const std::vector<Vec3>* pts;
+      int axis;
+      bool operator()(int a, int b) const { return (*pts)[a][axis] < (*pts)[b][axis]; }
+    };
+    using Less_x_3 = Less;
+    using Less_y_3 = Less;
+    using Less_z_3 = Less;
+    Less less_x_3_object() const { return {pts, 0}; }
+    Less less_y_3_object() const { return {pts, 1}; }
+    Less less_z_3_object() const { return {pts, 2}; }
+  };
+  CGAL::spatial_sort(order.begin(), order.end(), Traits{&points});
+  impl_->last_located = DT::Cell_handle();  // insertions may delete it
+  impl_->handle.resize(points.size());
+  DT::Cell_handle hint;
+  for (int id : order) {
+    DT::Vertex_handle v = impl_->dt.insert(to_cgal(points[id]), hint);
+    v->info() = id;
+    impl_->handle[id] = v;
+    hint = v->cell();
+  }
+}
+
+std::vector<int> DelaunayTetrahedralization::insert_one(const Vec3& p, int id, int hint) {
+  DT::Cell_handle start;
+  if (hint >= 0) start = impl_->at(hint)->cell();
+  impl_->last_located = DT::Cell_handle();  // the insertion may delete it
+  DT::Vertex_handle v = impl_->dt.insert(to_cgal(p), start);
+  v->info() = id;
+  if (impl_->handle.size() <= static_cast<size_t>(id)) impl_->handle.resize(id + 1);
+  impl_->handle[id] = v;
+  return neighbours(id);
+}
+
+int DelaunayTetrahedralization::number_of_vertices() const {
+  return static_cast<int>(impl_->dt.number_of_vertices());
+}
+
+std::array<int, 4> DelaunayTetrahedralization::locate(const Vec3& p) const {
+  DT::Cell_handle c = impl_->dt.locate(to_cgal(p), impl_->last_located);
+  impl_->last_located = c;
+  if (impl_->dt.is_infinite(c)) return {-1, -1, -1, -1};
+  return {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()};
+}
+
+bool DelaunayTetrahedralization::has_facet(int a, int b, int c) const {
+  DT::Cell_handle cell;
+  int i, j, k;
+  return impl_->dt.is_facet(impl_->at(a), impl_->at(b), impl_->at(c), cell, i, j, k);
+}
+
+bool DelaunayTetrahedralization::has_edge(int a, int b) const {
+  DT::Cell_handle cell;
+  int i, j;
+  return impl_->dt.is_edge(impl_->at(a), impl_->at(b), cell, i, j);
+}
+
+std::vector<int> DelaunayTetrahedralization::neighbours(int id) const {
+  std::vector<DT::Vertex_handle> adjacent;
+  impl_->dt.finite_adjacent_vertices(impl_->at(id), std::back_inserter(adjacent));
+  std::vector<int> ids;
+  ids.reserve(adjacent.size());
+  for (auto v : adjacent) ids.push_back(v->info());
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+DelaunayTetrahedralization::Cells DelaunayTetrahedralization::cells() const {
+  const DT& dt = impl_->dt;
+  Cells out;
+  std::unordered_map<DT::Cell_handle, int> index;
+  index.reserve(dt.number_of_finite_cells());
+  for (auto c : dt.finite_cell_handles()) {
+    index.emplace(c, static_cast<int>(out.tets.size()));
+    // CGAL's finite cells are positively oriented (orientation(p0..p3) > 0).
+    out.tets.push_back({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(),
+                        c->vertex(3)->info()});
+  }
+  out.across.resize(out.tets.size());
+  for (auto& [c, i] : index)
+    for (int f = 0; f < 4; ++f) {
+      DT::Cell_handle n = c->neighbor(f);
+      out.across[i][f] = dt.is_infinite(n) ? -1 : index.at(n);
+    }
+  return out;
+}
+
+}  // namespace vd

@@ -1,0 +1,174 @@
+#include "pipeline/mesher.h"
+
+#include <chrono>
+#include <unordered_map>
+
+#include "delaunay/delaunay_tetrahedralization.h"
+#include "mesh/error.h"
+#include "surface/face_patches.h"
+#include "surface/validate_surface.h"
+
+namespace vd {
+namespace {
+
+class PhaseTimer {
+ public:
+  PhaseTimer(MeshReport& r, const MeshOptions& o) : report_(r), options_(o) {}
+  ~PhaseTimer() { stop(); }
+  void start(const std::string& phase) {
+    stop();
+    phase_ = phase;
+    if (options_.progress) options_.progress(phase);
+    t0_ = std::chrono::steady_clock::now();
+  }
+  void stop() {
+    if (phase_.empty()) return;
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    report_.seconds.emplace_back(phase_, s);
+    phase_.clear();
+  }
+
+ private:
+  MeshReport& report_;
+  const MeshOptions& options_;
+  std::string phase_;
+  std::chrono::steady_clock::time_point t0_;
+};
+
+void accumulate(DelaunayzationResult& total, const DelaunayzationResult& pass) {
+  total.passes += pass.passes;
+  total.flips += pass.flips;
+  total.splits += pass.splits;
+  total.added_vertices += pass.added_vertices;
+  total.added_facets += pass.added_facets;
+  total.oracle_wrong += pass.oracle_wrong;
+  total.missing = pass.missing;
+}
+
+struct QuadHash {
+  size_t operator()(const std::array<int, 4>& k) const {
+    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u) ^
+           (size_t(k[3]) * 2654435761u);
+  }
+};
+
+// Region of a point: the region of the tetrahedron that contains it.
+class RegionLocator {
+ public:
+  RegionLocator(const Mesh& m, const DelaunayTetrahedralization& dt) : dt_(dt) {
+    region_.reserve(m.tets.size());
+    for (const Tetrahedron& t : m.tets) region_.emplace(sorted(t.v), t.region);
+  }
+  int operator()(const Vec3& p) const {
+    const auto cell = dt_.locate(p);
+    if (cell[0] < 0) return 0;
+    auto it = region_.find(sorted(cell));
+    return it == region_.end() ? 0 : it->second;
+  }
+
+ private:
+  static std::array<int, 4> sorted(std::array<int, 4> v) {
+    std::sort(v.begin(), v.end());
+    return v;
+  }
+  const DelaunayTetrahedralization& dt_;
+  std::unordered_map<std::array<int, 4>, int, QuadHash> region_;
+};
+
+}  // namespace
+
+MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial) {
+  MeshResult result;
+  MeshReport& report = result.report;
+  Mesh& m = result.mesh;
+  PhaseTimer timer(report, options);
+  report.input_vertices = static_cast<int>(input.points.size());
+  report.input_facets = static_cast<int>(input.triangles.size());
+  report.oracle = options.oracle;
+  auto oracle = make_oracle(options.oracle, options.oracle_options);
+
+  timer.start("validate");
+  m.points = input.points;
+  m.point_size = input.point_size;
+  m.triangles = input.triangles;
+  m.region_names = input.region_names;
+  m.face_names = input.face_names;
+  if (options.validate) validate_surface(m);
+  if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg);
+
+  timer.start("random shift");
+  if (options.shift > 0) report.shift = random_shift(m, {options.shift, options.seed});
+
+  timer.start("tetrahedralize");
+  DelaunayTetrahedralization dt;
+  dt.insert(m.points);
+  if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
+    throw InputError("the input has coincident vertices (" +
+                     std::to_string(m.points.size() - dt.number_of_vertices()) + " duplicates)");
+  oracle->attach(&m.points, &dt);
+  DelaunayzationOptions dopt = options.delaunayzation;
+  dopt.seed = options.seed;
+
+  auto recover = [&](const char* phase) {
+    timer.start(phase);
+    const DelaunayzationResult pass = delaunayize(m, dt, *oracle, dopt);
+    accumulate(report.delaunayzation, pass);
+    report.oracle_stats = oracle->stats();
+    report.added_surface_vertices = report.delaunayzation.added_vertices;
+    report.added_surface_facets = static_cast<int>(m.triangles.size()) - report.input_facets;
+    report.delaunayzation.added_facets = report.added_surface_facets;
+    report.output_vertices = static_cast<int>(m.points.size());
+    report.output_facets = static_cast<int>(m.triangles.size());
+    report.complete = pass.complete();
+    if (report.complete) return;
+    timer.stop();
+    for (int f : pass.missing) report.missing_facets.push_back(m.triangles[f].v);
+    if (partial) *partial = result;
+    throw RecoveryError(std::to_string(report.missing_facets.size()) +
+                        " facets could not be made Delaunay within the guards (" +
+                        std::to_string(report.delaunayzation.passes) + " passes, " +
+                        std::to_string(report.delaunayzation.added_vertices) + " added vertices)");
+  };
+
+  // With interior vertices, a first recovery against the surface vertices
+  // alone gives the regions, so that candidates are located exactly (point
+  // location in the tetrahedralization) instead of by ray casting; the second
+  // recovery is the paper's, against all vertices.
+  recover("delaunayzation");
+  timer.start("volume");
+  report.regions = build_region_tetrahedra(m, dt);
+
+  if (options.interior) {
+    timer.start("interior vertices");
+    const SizeField size(m, options.size);
+    report.smallest_size = size.smallest();
+    InteriorOptions iopt = options.interior_options;
+    iopt.seed = options.seed;
+    const RegionLocator locate(m, dt);
+    const std::vector<Vec3> interior = generate_interior_vertices(m, size, locate, iopt, report.interior);
+    report.interior_vertices = static_cast<long>(interior.size());
+    const int first = static_cast<int>(m.points.size());
+    m.points.insert(m.points.end(), interior.begin(), interior.end());
+    if (!m.point_size.empty()) m.point_size.resize(m.points.size(), 0.0);
+    dt.insert(m.points, first);
+    for (int id = first; id < static_cast<int>(m.points.size()); ++id) oracle->vertex_added(id);
+    if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
+      throw std::runtime_error("an interior vertex coincides with another vertex");
+    recover("delaunayzation with interior vertices");
+    timer.start("volume");
+    const bool from_tags = report.regions.regions_from_tags;  // the first pass set the tags
+    report.regions = build_region_tetrahedra(m, dt);
+    report.regions.regions_from_tags = from_tags;
+  }
+  for (const Tetrahedron& t : m.tets) {
+    if (t.region >= static_cast<int>(report.tets_per_region.size())) report.tets_per_region.resize(t.region + 1, 0);
+    ++report.tets_per_region[t.region];
+  }
+
+  timer.start("quality");
+  report.quality = summarize_quality(m);
+  timer.stop();
+  return result;
+}
+
+}  // namespace vd

@@ -1,0 +1,71 @@
+// TRIANGULATE (paper §1): the whole pipeline from a closed tagged surface to
+// tetrahedra per region. Each step lives in its own folder (README,
+// "Architecture"); this file only runs them in order and times them.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "delaunay/facet_oracle.h"
+#include "mesh/mesh.h"
+#include "quality/tet_quality.h"
+#include "surface/delaunayzation.h"
+#include "surface/random_shift.h"
+#include "volume/interior_vertices.h"
+#include "volume/region_tetrahedra.h"
+#include "volume/size_field.h"
+
+namespace vd {
+
+struct MeshOptions {
+  std::string oracle = "dt";
+  OracleOptions oracle_options;
+  DelaunayzationOptions delaunayzation;
+  double shift = 1e-4;               // random shift, relative to the local size (0: none)
+  std::uint64_t seed = 1;
+  double sharp_angle_deg = 40.0;     // face patches for input without face ids
+  bool validate = true;
+  bool interior = true;              // interior vertices (paper §2); --no-interior turns them off
+  SizeFieldOptions size;             // --size H, gradation
+  InteriorOptions interior_options;
+  // Called at the start of each phase; empty: silent.
+  std::function<void(const std::string& phase)> progress;
+};
+
+struct MeshReport {
+  int input_vertices = 0, input_facets = 0;
+  int output_vertices = 0, output_facets = 0;
+  int added_surface_vertices = 0, added_surface_facets = 0;
+  int face_patches_assigned = 0;     // > 0 when face ids came from sharp edges
+  std::vector<long> tets_per_region; // index = region id (0 unused)
+  std::string oracle;
+  OracleStats oracle_stats;
+  DelaunayzationResult delaunayzation;
+  ShiftStats shift;
+  RegionStats regions;
+  long interior_vertices = 0;
+  InteriorStats interior;
+  double smallest_size = 0;          // of the size field
+  QualitySummary quality;
+  std::vector<std::pair<std::string, double>> seconds;  // per phase, in order
+  bool complete = false;
+  std::vector<std::array<int, 3>> missing_facets;       // vertex ids, when not complete
+};
+
+struct MeshResult {
+  Mesh mesh;        // output surface (with tags) and tetrahedra (regions > 0)
+  MeshReport report;
+};
+
+// Throws InputError for invalid input (before any work) and RecoveryError
+// when Delaunayzation stops at a guard: then `partial` (if given) receives
+// the result so far, with the facets still missing in report.missing_facets.
+MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial = nullptr);
+
+std::string report_json(const MeshReport& report);
+std::string report_table(const MeshReport& report);
+
+}  // namespace vd

@@ -1,0 +1,109 @@
+// The report of a run: JSON for --report, and the short table printed at the end.
+#include <cstdio>
+#include <sstream>
+
+#include "pipeline/mesher.h"
+
+namespace vd {
+namespace {
+
+template <class Range>
+std::string json_array(const Range& r) {
+  std::ostringstream s;
+  s << "[";
+  bool first = true;
+  for (const auto& x : r) s << (first ? "" : ", ") << x, first = false;
+  s << "]";
+  return s.str();
+}
+
+std::string num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+}  // namespace
+
+std::string report_json(const MeshReport& r) {
+  std::ostringstream s;
+  const auto& o = r.oracle_stats;
+  const auto& d = r.delaunayzation;
+  const auto& q = r.quality;
+  s << "{\n";
+  s << "  \"complete\": " << (r.complete ? "true" : "false") << ",\n";
+  s << "  \"counts\": {\"input_vertices\": " << r.input_vertices << ", \"input_facets\": " << r.input_facets
+    << ", \"output_vertices\": " << r.output_vertices << ", \"output_facets\": " << r.output_facets
+    << ", \"added_surface_vertices\": " << r.added_surface_vertices
+    << ", \"added_surface_facets\": " << r.added_surface_facets
+    << ", \"face_patches_assigned\": " << r.face_patches_assigned << ", \"tetrahedra\": " << q.tets
+    << ", \"tets_per_region\": " << json_array(r.tets_per_region) << ", \"regions\": " << r.regions.regions
+    << ", \"regions_from_tags\": " << (r.regions.regions_from_tags ? "true" : "false") << "},\n";
+  s << "  \"oracle\": {\"name\": \"" << r.oracle << "\", \"queries\": " << o.queries << ", \"delaunay\": " << o.delaunay
+    << ", \"by_tetrahedralization\": " << o.by_tetrahedralization << ", \"by_stored_apex\": " << o.by_stored_apex
+    << ", \"by_equatorial_sphere\": " << o.by_equatorial_sphere << ", \"by_candidate_apex\": " << o.by_candidate_apex
+    << ", \"by_lp\": " << o.by_lp << ", \"lp_solved\": " << o.lp_solved << ", \"lp_average_size\": "
+    << num(o.lp_solved ? double(o.lp_unknowns) / o.lp_solved : 0.0) << ", \"lp_refused_by_limit\": "
+    << o.lp_refused_by_limit << ", \"lp_ambiguous\": " << o.lp_ambiguous << ", \"wrong_answers_caught\": "
+    << d.oracle_wrong << "},\n";
+  s << "  \"delaunayzation\": {\"passes\": " << d.passes << ", \"flips\": " << d.flips << ", \"splits\": " << d.splits
+    << ", \"added_vertices\": " << d.added_vertices << ", \"added_facets\": " << d.added_facets << "},\n";
+  s << "  \"interior\": {\"vertices\": " << r.interior_vertices << ", \"offset_points\": " << r.interior.offset_points
+    << ", \"lattice_points\": " << r.interior.lattice_points << ", \"candidates\": " << r.interior.candidates
+    << ", \"rejected_outside\": " << r.interior.rejected_outside << ", \"rejected_near_vertex\": "
+    << r.interior.rejected_near_vertex << ", \"rejected_near_surface\": " << r.interior.rejected_near_surface
+    << ", \"smallest_size\": " << num(r.smallest_size) << "},\n";
+  s << "  \"shift\": {\"free\": " << r.shift.moved_free << ", \"in_plane\": " << r.shift.moved_in_plane
+    << ", \"on_edge\": " << r.shift.moved_on_edge << ", \"fixed\": " << r.shift.fixed << "},\n";
+  s << "  \"seconds\": {";
+  for (size_t i = 0; i < r.seconds.size(); ++i)
+    s << (i ? ", " : "") << "\"" << r.seconds[i].first << "\": " << num(r.seconds[i].second);
+  s << "},\n";
+  s << "  \"quality\": {\"tetrahedra\": " << q.tets << ", \"inverted\": " << q.inverted
+    << ", \"min_dihedral_deg\": " << num(q.min_dihedral_deg) << ", \"max_dihedral_deg\": " << num(q.max_dihedral_deg)
+    << ", \"min_radius_ratio\": " << num(q.min_radius_ratio) << ", \"mean_radius_ratio\": " << num(q.mean_radius_ratio)
+    << ", \"tets_below_5_deg\": " << q.below_5_deg << ", \"tets_below_10_deg\": " << q.below_10_deg
+    << ", \"dihedral_histogram_10deg\": " << json_array(q.dihedral_histogram)
+    << ", \"radius_ratio_histogram_0.1\": " << json_array(q.radius_ratio_histogram) << "},\n";
+  s << "  \"missing_facets\": [";
+  for (size_t i = 0; i < r.missing_facets.size(); ++i) s << (i ? ", " : "") << json_array(r.missing_facets[i]);
+  s << "]\n}\n";
+  return s.str();
+}
+
+std::string report_table(const MeshReport& r) {
+  std::ostringstream s;
+  const auto& o = r.oracle_stats;
+  const auto& q = r.quality;
+  char line[256];
+  auto row = [&](const char* name, const std::string& value) {
+    std::snprintf(line, sizeof line, "  %-28s %s\n", name, value.c_str());
+    s << line;
+  };
+  s << "vdmesh report\n";
+  row("input", std::to_string(r.input_vertices) + " vertices, " + std::to_string(r.input_facets) + " facets");
+  row("added on the surface", std::to_string(r.added_surface_vertices) + " vertices, " +
+                                  std::to_string(r.added_surface_facets) + " facets");
+  row("interior vertices", std::to_string(r.interior_vertices));
+  row("Delaunayzation", std::to_string(r.delaunayzation.passes) + " passes, " + std::to_string(r.delaunayzation.flips) +
+                            " flips, " + std::to_string(r.delaunayzation.splits) + " splits");
+  row("oracle", r.oracle + ": " + std::to_string(o.queries) + " queries, " + std::to_string(o.lp_solved) + " LPs");
+  std::string per_region;
+  for (size_t i = 1; i < r.tets_per_region.size(); ++i)
+    per_region += (per_region.empty() ? "" : ", ") + std::string("region ") + std::to_string(i) + ": " +
+                  std::to_string(r.tets_per_region[i]);
+  row("tetrahedra", std::to_string(q.tets) + (per_region.empty() ? "" : " (" + per_region + ")"));
+  row("dihedral angle (deg)", "min " + num(q.min_dihedral_deg) + ", max " + num(q.max_dihedral_deg));
+  row("radius ratio", "min " + num(q.min_radius_ratio) + ", mean " + num(q.mean_radius_ratio));
+  row("tets under 5 / 10 deg", std::to_string(q.below_5_deg) + " / " + std::to_string(q.below_10_deg));
+  std::string times;
+  double total = 0;
+  for (const auto& [phase, sec] : r.seconds) {
+    times += (times.empty() ? "" : ", ") + phase + " " + num(sec);
+    total += sec;
+  }
+  row("seconds", num(total) + " (" + times + ")");
+  return s.str();
+}
+
+}  // namespace vd

@@ -1,0 +1,78 @@
+#include "quality/conformity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "volume/region_tetrahedra.h"
+
+namespace vd {
+
+ConformityReport check_conformity(const Mesh& m) {
+  ConformityReport r;
+  // Every face of every tetrahedron, with the tetrahedra on it.
+  struct Side {
+    int tet;
+    int apex;  // the tetrahedron's vertex off the face
+  };
+  std::map<std::array<int, 3>, std::vector<Side>> faces;
+  for (size_t t = 0; t < m.tets.size(); ++t) {
+    const auto& v = m.tets[t].v;
+    if (tet_volume(m.points[v[0]], m.points[v[1]], m.points[v[2]], m.points[v[3]]) <= 0) ++r.inverted;
+    for (int i = 0; i < 4; ++i) {
+      std::array<int, 3> k;
+      for (int j = 0, c = 0; j < 4; ++j)
+        if (j != i) k[c++] = v[j];
+      std::sort(k.begin(), k.end());
+      faces[k].push_back({static_cast<int>(t), v[i]});
+    }
+  }
+  std::map<std::array<int, 3>, int> facet_of;
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    auto k = m.triangles[f].v;
+    std::sort(k.begin(), k.end());
+    facet_of[k] = static_cast<int>(f);
+  }
+  for (const auto& [k, sides] : faces) {
+    if (sides.size() > 2) ++r.non_manifold_faces;
+    const bool boundary = sides.size() == 1 || m.tets[sides[0].tet].region != m.tets[sides[1].tet].region;
+    if (boundary && !facet_of.count(k)) ++r.faces_not_on_surface;
+  }
+  for (const Triangle& t : m.triangles) {
+    auto k = t.v;
+    std::sort(k.begin(), k.end());
+    auto it = faces.find(k);
+    int front_region = 0, back_region = 0;
+    if (it != faces.end())
+      for (const Side& s : it->second) {
+        const Vec3 &a = m.points[t.v[0]], &b = m.points[t.v[1]], &c = m.points[t.v[2]];
+        const bool front = tet_volume(a, b, c, m.points[s.apex]) > 0;
+        (front ? front_region : back_region) = m.tets[s.tet].region;
+      }
+    if (it == faces.end() && (t.front > 0 || t.back > 0)) ++r.facets_not_on_tets;
+    else if (front_region != std::max(t.front, 0) || back_region != std::max(t.back, 0)) ++r.wrong_side_regions;
+  }
+  r.region_volume = region_volumes(m);
+  r.enclosed_volume = enclosed_volumes(m);
+  const size_t n = std::max(r.region_volume.size(), r.enclosed_volume.size());
+  r.region_volume.resize(n, 0.0);
+  r.enclosed_volume.resize(n, 0.0);
+  for (size_t i = 1; i < n; ++i) {
+    const double ref = std::max(std::abs(r.enclosed_volume[i]), 1e-300);
+    if (r.region_volume[i] == 0 && r.enclosed_volume[i] == 0) continue;
+    r.max_relative_volume_error =
+        std::max(r.max_relative_volume_error, std::abs(r.region_volume[i] - r.enclosed_volume[i]) / ref);
+  }
+  return r;
+}
+
+std::string ConformityReport::summary() const {
+  std::ostringstream s;
+  s << "inverted " << inverted << ", faces not on surface " << faces_not_on_surface << ", facets not on tets "
+    << facets_not_on_tets << ", wrong-side regions " << wrong_side_regions << ", non-manifold faces "
+    << non_manifold_faces << ", max relative volume error " << max_relative_volume_error;
+  return s.str();
+}
+
+}  // namespace vd

@@ -1,0 +1,29 @@
+// Shape measures of tetrahedra and their summary over a mesh: dihedral
+// angles, radius ratio 3 r_in / R (1 for the regular tetrahedron, 0 for a
+// flat one) and histograms of both.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace vd {
+
+// The six dihedral angles of (a, b, c, d), in degrees.
+std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+struct QualitySummary {
+  long tets = 0;
+  long inverted = 0;                 // non-positive volume
+  double min_dihedral_deg = 180, max_dihedral_deg = 0;
+  double min_radius_ratio = 1, mean_radius_ratio = 0;
+  std::array<long, 18> dihedral_histogram{};      // 10-degree bins of all six angles
+  std::array<long, 10> radius_ratio_histogram{};  // bins of 0.1
+  long below_5_deg = 0, below_10_deg = 0;         // tets with a dihedral angle under 5 / 10 degrees
+};
+
+QualitySummary summarize_quality(const Mesh& mesh);
+
+}  // namespace vd

@@ -1,0 +1,275 @@
+#include "surface/delaunayzation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "delaunay/delaunay_tetrahedralization.h"
+#include "surface/edge_map.h"
+#include "surface/face_patches.h"
+
+namespace vd {
+namespace {
+
+double smallest_corner_angle(const std::vector<Vec3>& p, const Triangle& t) {
+  double best = M_PI;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 a = p[t.v[(i + 1) % 3]] - p[t.v[i]];
+    const Vec3 b = p[t.v[(i + 2) % 3]] - p[t.v[i]];
+    best = std::min(best, std::atan2(norm(cross(a, b)), dot(a, b)));
+  }
+  return best;
+}
+
+Vec3 area_vector(const std::vector<Vec3>& p, const Triangle& t) {
+  return cross(p[t.v[1]] - p[t.v[0]], p[t.v[2]] - p[t.v[0]]);
+}
+
+class Delaunayzer {
+ public:
+  Delaunayzer(Mesh& m, DelaunayTetrahedralization& dt, FacetOracle& oracle, const DelaunayzationOptions& o)
+      : m_(m), dt_(dt), oracle_(oracle), opt_(o), rng_(o.seed) {
+    edges_ = EdgeMap(m_.triangles);
+    vertex_facets_.resize(m_.points.size());
+    for (size_t f = 0; f < m_.triangles.size(); ++f)
+      for (int v : m_.triangles[f].v) vertex_facets_[v].push_back(static_cast<int>(f));
+    delaunay_.resize(m_.triangles.size());
+    version_.assign(m_.triangles.size(), 0);
+    for (size_t f = 0; f < m_.triangles.size(); ++f) delaunay_[f] = query(m_.triangles[f]);
+    Vec3 lo = m_.points.front(), hi = lo;
+    for (const Vec3& p : m_.points)
+      for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
+    min_edge_ = opt_.min_edge_relative * norm(hi - lo);
+    max_added_ = opt_.max_added_vertices >= 0 ? opt_.max_added_vertices
+                                              : 20 * static_cast<int>(m_.points.size()) + 1000;
+    input_facets_ = static_cast<int>(m_.triangles.size());
+  }
+
+  DelaunayzationResult run() {
+    for (;;) {
+      while (!guard_hit()) {
+        std::vector<int> missing = non_delaunay();
+        if (missing.empty()) break;
+        if (opt_.flips) flips(missing);
+        splits();
+        ++result_.passes;
+      }
+      // Never trust an oracle other than the exact tetrahedralization: a
+      // facet it called Delaunay that is not goes back into the loop.
+      if (oracle_.name() == "dt" || !demote_wrong_answers() || guard_hit()) break;
+    }
+    result_.missing = non_delaunay();
+    result_.added_facets = static_cast<int>(m_.triangles.size()) - input_facets_;
+    return result_;
+  }
+
+ private:
+  bool guard_hit() const {
+    return result_.passes >= opt_.max_passes || result_.added_vertices >= max_added_;
+  }
+
+  std::vector<int> non_delaunay() const {
+    std::vector<int> out;
+    for (size_t f = 0; f < delaunay_.size(); ++f)
+      if (!delaunay_[f]) out.push_back(static_cast<int>(f));
+    return out;
+  }
+
+  bool demote_wrong_answers() {
+    bool any = false;
+    for (size_t f = 0; f < m_.triangles.size(); ++f) {
+      const auto& v = m_.triangles[f].v;
+      if (delaunay_[f] && !dt_.has_facet(v[0], v[1], v[2])) {
+        delaunay_[f] = false;
+        ++result_.oracle_wrong;
+        any = true;
+      }
+    }
+    return any;
+  }
+
+  bool query(const Triangle& t) {
+    return oracle_.is_delaunay(t.v[0], t.v[1], t.v[2], area_vector(m_.points, t));
+  }
+
+  void replace_facet(int f, const Triangle& t) {
+    Triangle& old = m_.triangles[f];
+    edges_.remove(f, old);
+    for (int v : old.v) {
+      auto& list = vertex_facets_[v];
+      list.erase(std::remove(list.begin(), list.end(), f), list.end());
+    }
+    old = t;
+    edges_.add(f, t);
+    for (int v : t.v) vertex_facets_[v].push_back(f);
+    ++version_[f];
+  }
+
+  int append_facet(const Triangle& t) {
+    const int f = static_cast<int>(m_.triangles.size());
+    m_.triangles.push_back(t);
+    delaunay_.push_back(false);
+    version_.push_back(0);
+    edges_.add(f, t);
+    for (int v : t.v) vertex_facets_[v].push_back(f);
+    return f;
+  }
+
+  // FLIPS: for each non-Delaunay facet, flip with the first acceptable
+  // neighbour (FLIPPABLE_NEIGHBOR).
+  void flips(const std::vector<int>& candidates) {
+    for (int b : candidates)
+      if (!delaunay_[b]) try_flip(b);
+  }
+
+  bool try_flip(int b) {
+    const Triangle t = m_.triangles[b];
+    // Edges of b, longest first.
+    std::array<int, 3> order{0, 1, 2};
+    auto len = [&](int i) { return norm(m_.points[t.v[(i + 1) % 3]] - m_.points[t.v[i]]); };
+    std::sort(order.begin(), order.end(), [&](int i, int j) { return len(i) > len(j); });
+    for (int i : order) {
+      const int p = t.v[i], q = t.v[(i + 1) % 3];
+      const auto& across = edges_.facets(p, q);
+      if (across.size() != 2) continue;
+      const int b2 = across[0] == b ? across[1] : across[0];
+      const Triangle t2 = m_.triangles[b2];
+      if (t2.face != t.face || t2.front != t.front || t2.back != t.back) continue;
+      if (!has_directed_edge(t2, q, p)) continue;
+      const int r = opposite_vertex(t, p, q), s = opposite_vertex(t2, p, q);
+      if (edges_.contains(r, s)) continue;  // would make a non-manifold edge
+      Triangle A = t, B = t;
+      A.v = {s, q, r};
+      B.v = {r, p, s};
+      if (!convex_in_average_plane(t, t2, A, B) || !ridge_acceptable(A, B)) continue;
+      const int before = delaunay_[b] + delaunay_[b2];
+      const bool dA = query(A), dB = query(B);
+      const int after = dA + dB;
+      const double q_before = std::min(smallest_corner_angle(m_.points, t), smallest_corner_angle(m_.points, t2));
+      const double q_after = std::min(smallest_corner_angle(m_.points, A), smallest_corner_angle(m_.points, B));
+      // Delaunay count first, quality as the tie-break: the pair (count,
+      // quality) grows with every flip, so flips cannot cycle.
+      if (after > before || (after == before && q_after > q_before * (1 + 1e-9))) {
+        replace_facet(b, A);
+        replace_facet(b2, B);
+        delaunay_[b] = dA;
+        delaunay_[b2] = dB;
+        ++result_.flips;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Convex quadrilateral, judged in projection to the average plane of the
+  // pair: both new triangles keep a fair share of the projected area.
+  bool convex_in_average_plane(const Triangle& t, const Triangle& t2, const Triangle& A, const Triangle& B) const {
+    const Vec3 n = normalized(normalized(area_vector(m_.points, t)) + normalized(area_vector(m_.points, t2)));
+    const double a_old1 = dot(area_vector(m_.points, t), n), a_old2 = dot(area_vector(m_.points, t2), n);
+    const double a_new1 = dot(area_vector(m_.points, A), n), a_new2 = dot(area_vector(m_.points, B), n);
+    const double quad = a_old1 + a_old2;
+    if (a_old1 <= 0 || a_old2 <= 0 || quad <= 0) return false;
+    const double share = 0.02;
+    return a_new1 > share * quad && a_new2 > share * quad;
+  }
+
+  bool ridge_acceptable(const Triangle& A, const Triangle& B) const {
+    const double c = dot(normalized(area_vector(m_.points, A)), normalized(area_vector(m_.points, B)));
+    return c >= std::cos(opt_.flip_angle_deg * M_PI / 180.0);
+  }
+
+  // SPLITS: each facet still non-Delaunay is split at its longest edge, with
+  // every facet sharing that edge; then the facets the new vertex can affect
+  // are checked again and FLIPS(V) runs around it.
+  void splits() {
+    std::vector<std::pair<int, int>> todo;
+    for (size_t f = 0; f < delaunay_.size(); ++f)
+      if (!delaunay_[f]) todo.emplace_back(static_cast<int>(f), version_[f]);
+    for (const auto& [f, ver] : todo) {
+      if (version_[f] != ver || delaunay_[f]) continue;
+      if (result_.added_vertices >= max_added_) return;
+      const Triangle& t = m_.triangles[f];
+      int best = -1;
+      double best_len = -1;
+      for (int i = 0; i < 3; ++i) {
+        const double l = norm(m_.points[t.v[(i + 1) % 3]] - m_.points[t.v[i]]);
+        if (l > best_len) best_len = l, best = i;
+      }
+      if (best_len < min_edge_) continue;
+      const int v = split_edge(t.v[best], t.v[(best + 1) % 3]);
+      if (opt_.flips) flips(std::vector<int>(vertex_facets_[v]));
+    }
+  }
+
+  int split_edge(int p, int q) {
+    std::uniform_real_distribution<double> jitter(-opt_.split_jitter, opt_.split_jitter);
+    const double s = 0.5 + jitter(rng_);
+    const Vec3 point = m_.points[p] + s * (m_.points[q] - m_.points[p]);
+    const int v = static_cast<int>(m_.points.size());
+    m_.points.push_back(point);
+    if (!m_.point_size.empty()) m_.point_size.push_back(0.5 * (m_.point_size[p] + m_.point_size[q]));
+    vertex_facets_.emplace_back();
+    const std::vector<int> neighbours = dt_.insert_one(point, v, p);
+    oracle_.vertex_added(v);
+    ++result_.splits;
+    ++result_.added_vertices;
+
+    const std::vector<int> sharing = edges_.facets(p, q);
+    for (int f : sharing) {
+      const Triangle t = m_.triangles[f];
+      const int a = has_directed_edge(t, p, q) ? p : q, b = a == p ? q : p;
+      const int c = opposite_vertex(t, p, q);
+      Triangle first = t, second = t;
+      first.v = {a, v, c};
+      second.v = {v, b, c};
+      replace_facet(f, first);
+      append_facet(second);
+    }
+    recheck_around(v, neighbours);
+    return v;
+  }
+
+  // A new vertex destroys only faces whose vertices are all its Delaunay
+  // neighbours, and never makes an old non-Delaunay facet Delaunay.
+  void recheck_around(int v, const std::vector<int>& neighbours) {
+    mark_.resize(m_.points.size(), 0);
+    ++stamp_;
+    mark_[v] = stamp_;
+    for (int n : neighbours) mark_[n] = stamp_;
+    for (int f : vertex_facets_[v]) delaunay_[f] = query(m_.triangles[f]);
+    for (int n : neighbours)
+      for (int f : vertex_facets_[n]) {
+        if (!delaunay_[f]) continue;
+        const auto& t = m_.triangles[f].v;
+        if (mark_[t[0]] == stamp_ && mark_[t[1]] == stamp_ && mark_[t[2]] == stamp_)
+          delaunay_[f] = query(m_.triangles[f]);
+      }
+  }
+
+  Mesh& m_;
+  DelaunayTetrahedralization& dt_;
+  FacetOracle& oracle_;
+  DelaunayzationOptions opt_;
+  std::mt19937_64 rng_;
+  EdgeMap edges_;
+  std::vector<std::vector<int>> vertex_facets_;
+  std::vector<char> delaunay_;
+  std::vector<int> version_;
+  std::vector<int> mark_;
+  int stamp_ = 0;
+  double min_edge_ = 0;
+  int max_added_ = 0;
+  int input_facets_ = 0;
+  DelaunayzationResult result_;
+};
+
+}  // namespace
+
+DelaunayzationResult delaunayize(Mesh& surface, DelaunayTetrahedralization& dt, FacetOracle& oracle,
+                                 const DelaunayzationOptions& options) {
+  if (surface.triangles.empty()) return {};
+  Delaunayzer d(surface, dt, oracle, options);
+  return d.run();
+}
+
+}  // namespace vd

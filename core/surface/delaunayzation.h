@@ -1,0 +1,45 @@
+// Surface Delaunayzation (paper §5): flips within topological faces and
+// splits at longest-edge mid-points until every surface facet is a face of
+// the Delaunay tetrahedralization of the vertex set.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "delaunay/facet_oracle.h"
+#include "mesh/mesh.h"
+
+namespace vd {
+
+class DelaunayTetrahedralization;
+
+struct DelaunayzationOptions {
+  bool flips = true;
+  double flip_angle_deg = 20.0;  // largest angle between the normals of a flipped pair
+  // Guards: the paper gives no termination proof.
+  int max_passes = 200;
+  int max_added_vertices = -1;   // <0: 20 x input vertices + 1000
+  double min_edge_relative = 1e-7;  // edges shorter than this x bbox diagonal are not split
+  std::uint64_t seed = 1;        // position of each split point near the mid-point
+  double split_jitter = 1e-4;    // relative to the edge length, along the edge
+};
+
+struct DelaunayzationResult {
+  int passes = 0;
+  int flips = 0;
+  int splits = 0;            // split operations (one new vertex each)
+  int added_vertices = 0;
+  int added_facets = 0;      // final facet count - input facet count
+  int oracle_wrong = 0;      // oracle said Delaunay, the exact check said not
+  std::vector<int> missing;  // facets still not Delaunay when a guard stopped the work
+  bool complete() const { return missing.empty(); }
+};
+
+// Works on `surface` (points and triangles) in place: flips and splits change
+// its triangles, splits append points (with sizes, when point_size is set).
+// `dt` holds the tetrahedralization of all surface.points (and any interior
+// vertices appended to them); it is updated as vertices are added.
+DelaunayzationResult delaunayize(Mesh& surface, DelaunayTetrahedralization& dt, FacetOracle& oracle,
+                                 const DelaunayzationOptions& options);
+
+}  // namespace vd

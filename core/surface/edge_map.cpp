@@ -1,0 +1,44 @@
+#include "surface/edge_map.h"
+
+#include <algorithm>
+
+namespace vd {
+
+EdgeMap::EdgeMap(const std::vector<Triangle>& facets) {
+  map_.reserve(facets.size() * 2);
+  for (size_t f = 0; f < facets.size(); ++f) add(static_cast<int>(f), facets[f]);
+}
+
+void EdgeMap::add(int facet, const Triangle& t) {
+  for (int i = 0; i < 3; ++i) map_[edge_key(t.v[i], t.v[(i + 1) % 3])].push_back(facet);
+}
+
+void EdgeMap::remove(int facet, const Triangle& t) {
+  for (int i = 0; i < 3; ++i) {
+    auto it = map_.find(edge_key(t.v[i], t.v[(i + 1) % 3]));
+    if (it == map_.end()) continue;
+    auto& list = it->second;
+    list.erase(std::remove(list.begin(), list.end(), facet), list.end());
+    if (list.empty()) map_.erase(it);
+  }
+}
+
+const std::vector<int>& EdgeMap::facets(int a, int b) const {
+  static const std::vector<int> none;
+  auto it = map_.find(edge_key(a, b));
+  return it == map_.end() ? none : it->second;
+}
+
+bool has_directed_edge(const Triangle& t, int a, int b) {
+  for (int i = 0; i < 3; ++i)
+    if (t.v[i] == a && t.v[(i + 1) % 3] == b) return true;
+  return false;
+}
+
+int opposite_vertex(const Triangle& t, int a, int b) {
+  for (int v : t.v)
+    if (v != a && v != b) return v;
+  return -1;
+}
+
+}  // namespace vd

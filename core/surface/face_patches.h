@@ -1,0 +1,20 @@
+// Topological faces for input that has none (STL, OFF): smooth patches split
+// at sharp edges. An edge is sharp when the normals of its two facets differ
+// by more than `sharp_angle_deg`; non-manifold and open edges always split.
+#pragma once
+
+#include "mesh/mesh.h"
+
+namespace vd {
+
+constexpr double kDefaultSharpAngleDeg = 40.0;
+
+// Sets Triangle::face to 1..P for every facet (patch order: by lowest facet
+// index). Returns the number of patches.
+int assign_face_patches(Mesh& surface, double sharp_angle_deg = kDefaultSharpAngleDeg);
+
+// Unit normal of facet t (right-hand rule); zero for a degenerate facet.
+Vec3 facet_normal(const std::vector<Vec3>& points, const Triangle& t);
+double facet_area(const std::vector<Vec3>& points, const Triangle& t);
+
+}  // namespace vd

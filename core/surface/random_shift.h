@@ -1,0 +1,30 @@
+// Random shift of vertex positions (paper §3): moves every vertex by a small
+// seeded random vector so that no five vertices are co-spherical. Surface
+// vertices move only in their tangent plane, vertices on a feature edge only
+// along it, corners not at all, so the surface keeps its shape.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace vd {
+
+struct ShiftOptions {
+  double relative = 1e-4;  // of the local edge length
+  std::uint64_t seed = 1;
+};
+
+struct ShiftStats {
+  int moved_free = 0;       // volume vertices
+  int moved_in_plane = 0;   // smooth surface vertices
+  int moved_on_edge = 0;    // feature-edge vertices
+  int fixed = 0;            // corners, and moves refused because a facet would turn over
+};
+
+// Shifts m.points in place. Vertices of m.triangles are surface vertices;
+// the others (interior vertices) move freely.
+ShiftStats random_shift(Mesh& m, const ShiftOptions& options);
+
+}  // namespace vd

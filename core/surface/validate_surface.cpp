@@ -1,0 +1,186 @@
+#include "surface/validate_surface.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "mesh/error.h"
+#include "surface/edge_map.h"
+
+namespace vd {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using P3 = K::Point_3;
+
+P3 cgal(const Vec3& p) { return {p.x, p.y, p.z}; }
+
+std::string list_facets(const std::vector<int>& ids, size_t max_shown = 10) {
+  std::ostringstream s;
+  for (size_t i = 0; i < ids.size() && i < max_shown; ++i) s << (i ? ", " : "") << ids[i];
+  if (ids.size() > max_shown) s << ", ... (" << ids.size() << " in all)";
+  return s.str();
+}
+
+void check_indices_and_coordinates(const Mesh& m) {
+  if (m.triangles.empty()) throw InputError("the surface has no facets");
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    const Vec3& p = m.points[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError("vertex " + std::to_string(i) + " has a non-finite coordinate");
+  }
+  const int n = static_cast<int>(m.points.size());
+  for (size_t f = 0; f < m.triangles.size(); ++f)
+    for (int v : m.triangles[f].v)
+      if (v < 0 || v >= n)
+        throw InputError("facet " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
+                         ", which does not exist (" + std::to_string(n) + " vertices)");
+}
+
+void check_degenerate(const Mesh& m) {
+  std::vector<int> bad;
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    const auto& v = m.triangles[f].v;
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2] ||
+        CGAL::collinear(cgal(m.points[v[0]]), cgal(m.points[v[1]]), cgal(m.points[v[2]])))
+      bad.push_back(static_cast<int>(f));
+  }
+  if (!bad.empty())
+    throw InputError("degenerate facets (repeated or collinear vertices): " + list_facets(bad));
+}
+
+void check_duplicates(const Mesh& m) {
+  std::map<std::array<int, 3>, int> seen;
+  std::vector<int> bad;
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    auto key = m.triangles[f].v;
+    std::sort(key.begin(), key.end());
+    auto [it, inserted] = seen.emplace(key, static_cast<int>(f));
+    if (!inserted) {
+      bad.push_back(it->second);
+      bad.push_back(static_cast<int>(f));
+    }
+  }
+  if (!bad.empty()) throw InputError("duplicate facets (same three vertices): " + list_facets(bad));
+}
+
+// Across a manifold edge the two facets must run the edge in opposite
+// directions when their regions match as given (or are unknown), and in the
+// same direction when the tags say one of them is turned over.
+void check_orientation(const Mesh& m, const EdgeMap& edges, SurfaceCheck& out) {
+  for (const auto& [key, list] : edges.all()) {
+    if (list.size() == 1) {
+      out.open_edges.push_back(edge_of_key(key));
+      continue;
+    }
+    if (list.size() > 2) {
+      ++out.non_manifold_edges;
+      continue;
+    }
+    const auto [a, b] = edge_of_key(key);
+    const Triangle& t1 = m.triangles[list[0]];
+    const Triangle& t2 = m.triangles[list[1]];
+    const bool same_direction = has_directed_edge(t1, a, b) == has_directed_edge(t2, a, b);
+    const bool tagged = t1.front != kUnknownRegion && t2.front != kUnknownRegion;
+    bool consistent;
+    if (!tagged) consistent = !same_direction;
+    else if (same_direction) consistent = t1.front == t2.back && t1.back == t2.front;
+    else consistent = t1.front == t2.front && t1.back == t2.back;
+    if (!consistent) {
+      std::ostringstream s;
+      s << "inconsistent orientation: facets " << list[0] << " and " << list[1] << " run edge (" << a
+        << ", " << b << ") " << (same_direction ? "in the same direction" : "in opposite directions")
+        << (tagged ? " but their region tags say otherwise" : " (one of them is turned over)");
+      throw InputError(s.str());
+    }
+  }
+  std::sort(out.open_edges.begin(), out.open_edges.end());
+}
+
+int shared_vertices(const Triangle& a, const Triangle& b, int* shared) {
+  int n = 0;
+  for (int u : a.v)
+    for (int w : b.v)
+      if (u == w) shared[n++] = u;
+  return n;
+}
+
+// Do two facets meet in more than the vertices or edge they share?
+bool facets_intersect(const Mesh& m, const Triangle& t1, const Triangle& t2) {
+  int shared[3];
+  const int n = shared_vertices(t1, t2, shared);
+  auto p = [&](int v) { return cgal(m.points[v]); };
+  const K::Triangle_3 T1(p(t1.v[0]), p(t1.v[1]), p(t1.v[2]));
+  const K::Triangle_3 T2(p(t2.v[0]), p(t2.v[1]), p(t2.v[2]));
+  if (n == 0) return CGAL::do_intersect(T1, T2);
+  if (n == 1) {
+    // Sharing vertex s: they overlap iff the edge of one opposite s meets the other.
+    int a[2], b[2], ka = 0, kb = 0;
+    for (int v : t1.v)
+      if (v != shared[0]) a[ka++] = v;
+    for (int v : t2.v)
+      if (v != shared[0]) b[kb++] = v;
+    return CGAL::do_intersect(K::Segment_3(p(b[0]), p(b[1])), T1) ||
+           CGAL::do_intersect(K::Segment_3(p(a[0]), p(a[1])), T2);
+  }
+  if (n == 2) {
+    // Sharing edge uv: they overlap iff coplanar and folded onto each other.
+    const int u = shared[0], v = shared[1];
+    const int a = opposite_vertex(t1, u, v), b = opposite_vertex(t2, u, v);
+    return CGAL::orientation(p(u), p(v), p(a), p(b)) == CGAL::COPLANAR &&
+           CGAL::coplanar_orientation(p(u), p(v), p(a), p(b)) == CGAL::POSITIVE;
+  }
+  return false;  // the same three vertices: reported as a duplicate
+}
+
+}  // namespace
+
+std::vector<std::pair<int, int>> find_self_intersections(const Mesh& m, size_t limit) {
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int>;
+  std::vector<Box> boxes;
+  boxes.reserve(m.triangles.size());
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    const auto& v = m.triangles[f].v;
+    CGAL::Bbox_3 b = cgal(m.points[v[0]]).bbox() + cgal(m.points[v[1]]).bbox() + cgal(m.points[v[2]]).bbox();
+    boxes.emplace_back(b, static_cast<int>(f));
+  }
+  std::vector<std::pair<int, int>> found;
+  try {
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+      if (facets_intersect(m, m.triangles[a.info()], m.triangles[b.info()])) {
+        found.emplace_back(std::min(a.info(), b.info()), std::max(a.info(), b.info()));
+        if (found.size() >= limit) throw found.size();
+      }
+    });
+  } catch (size_t) {
+    // enough examples collected
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+SurfaceCheck validate_surface(const Mesh& surface) {
+  SurfaceCheck out;
+  check_indices_and_coordinates(surface);
+  check_degenerate(surface);
+  check_duplicates(surface);
+  const EdgeMap edges(surface.triangles);
+  check_orientation(surface, edges, out);
+  const auto crossings = find_self_intersections(surface);
+  if (!crossings.empty()) {
+    std::ostringstream s;
+    s << "the surface intersects itself: facet pairs";
+    for (size_t i = 0; i < crossings.size() && i < 10; ++i)
+      s << (i ? ", " : " ") << "(" << crossings[i].first << ", " << crossings[i].second << ")";
+    if (crossings.size() >= 10) s << ", ...";
+    throw InputError(s.str());
+  }
+  return out;
+}
+
+}  // namespace vd

@@ -1,0 +1,31 @@
+// Checks a surface before meshing. Every problem is an InputError (exit 3)
+// whose message names the facets (0-based indices in input order) and, where
+// it helps, the vertices.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace vd {
+
+struct SurfaceCheck {
+  // Edges used by one facet only. Allowed for internal sheets (cracks,
+  // horizons) inside a region; refused once the regions are known when a
+  // facet with an open edge has the exterior on both sides.
+  std::vector<std::pair<int, int>> open_edges;
+  int non_manifold_edges = 0;
+};
+
+// Refuses (throws InputError): no facets, vertex ids out of range, non-finite
+// coordinates, degenerate facets (repeated vertex or collinear vertices),
+// duplicate facets, inconsistent orientation across a manifold edge (or tags
+// that contradict it), and self-intersections (exact predicates).
+SurfaceCheck validate_surface(const Mesh& surface);
+
+// Only the self-intersection part: pairs of intersecting facets (at most
+// `limit` of them).
+std::vector<std::pair<int, int>> find_self_intersections(const Mesh& surface, size_t limit = 20);
+
+}  // namespace vd

@@ -1,0 +1,185 @@
+#include "volume/interior_vertices.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <unordered_map>
+
+#include "geometry/point_grid.h"
+#include "surface/face_patches.h"
+
+namespace vd {
+namespace {
+
+// Facets hashed into a uniform grid by their bounding boxes, to find the
+// facets near a point.
+class FacetGrid {
+ public:
+  FacetGrid(const Mesh& m, double cell) : m_(m), cell_(cell) {
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+      Vec3 lo = m.points[m.triangles[f].v[0]], hi = lo;
+      for (int v : m.triangles[f].v)
+        for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], m.points[v][i]), hi[i] = std::max(hi[i], m.points[v][i]);
+      const auto a = key(lo), b = key(hi);
+      for (long k = a[2]; k <= b[2]; ++k)
+        for (long j = a[1]; j <= b[1]; ++j)
+          for (long i = a[0]; i <= b[0]; ++i) cells_[pack({i, j, k})].push_back(static_cast<int>(f));
+    }
+  }
+  // Is any facet closer to p than r?
+  bool any_within(const Vec3& p, double r) const {
+    const auto a = key(p - Vec3{r, r, r}), b = key(p + Vec3{r, r, r});
+    for (long k = a[2]; k <= b[2]; ++k)
+      for (long j = a[1]; j <= b[1]; ++j)
+        for (long i = a[0]; i <= b[0]; ++i) {
+          auto it = cells_.find(pack({i, j, k}));
+          if (it == cells_.end()) continue;
+          for (int f : it->second) {
+            const auto& t = m_.triangles[f].v;
+            if (point_triangle_distance(p, m_.points[t[0]], m_.points[t[1]], m_.points[t[2]]) < r) return true;
+          }
+        }
+    return false;
+  }
+
+ private:
+  std::array<long, 3> key(const Vec3& p) const {
+    return {long(std::floor(p.x / cell_)), long(std::floor(p.y / cell_)), long(std::floor(p.z / cell_))};
+  }
+  static std::uint64_t pack(const std::array<long, 3>& k) {
+    return (std::uint64_t(k[0] & 0x1fffff) << 42) | (std::uint64_t(k[1] & 0x1fffff) << 21) | std::uint64_t(k[2] & 0x1fffff);
+  }
+  const Mesh& m_;
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+};
+
+class Acceptor {
+ public:
+  Acceptor(const Mesh& m, const SizeField& size, const std::function<int(const Vec3&)>& region_at,
+           const InteriorOptions& o, InteriorStats& stats, double facet_cell)
+      : size_(size), region_at_(region_at), o_(o), stats_(stats), facets_(m, facet_cell), rng_(o.seed) {
+    grid_.build(m.points);
+  }
+
+  // Tries p; `expected` region (>0) or -1 for any non-exterior region.
+  void offer(Vec3 p, int expected) {
+    ++stats_.candidates;
+    const double h = size_.at(p);
+    std::normal_distribution<double> g(0.0, o_.jitter * h / std::sqrt(3.0));
+    p = p + Vec3{g(rng_), g(rng_), g(rng_)};
+    const int r = region_at_(p);
+    if (r <= 0 || (expected > 0 && r != expected)) {
+      ++stats_.rejected_outside;
+      return;
+    }
+    grid_.in_ball(p, o_.min_vertex_gap * h, near_);
+    if (!near_.empty()) {
+      ++stats_.rejected_near_vertex;
+      return;
+    }
+    if (facets_.any_within(p, o_.min_surface_gap * h)) {
+      ++stats_.rejected_near_surface;
+      return;
+    }
+    grid_.update(grid_.size(), p);
+    accepted_.push_back(p);
+  }
+  std::vector<Vec3>& accepted() { return accepted_; }
+
+ private:
+  const SizeField& size_;
+  const std::function<int(const Vec3&)>& region_at_;
+  const InteriorOptions& o_;
+  InteriorStats& stats_;
+  FacetGrid facets_;
+  PointGrid grid_;
+  std::vector<int> near_;
+  std::vector<Vec3> accepted_;
+  std::mt19937_64 rng_;
+};
+
+// Octree leaves no larger than sqrt(2) h at their centre; each leaf offers its
+// centre and its twelve edge mid-points (FCC spacing h for uniform h).
+void octree_points(const Vec3& lo, double side, int depth, const SizeField& size, const InteriorOptions& o,
+                   const std::function<void(const Vec3&)>& emit) {
+  const Vec3 centre = lo + (0.5 * side) * Vec3{1, 1, 1};
+  if (side > std::sqrt(2.0) * size.at(centre) && depth < o.max_octree_depth) {
+    const double half = 0.5 * side;
+    for (int k = 0; k < 2; ++k)
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i)
+          octree_points(lo + half * Vec3{double(i), double(j), double(k)}, half, depth + 1, size, o, emit);
+    return;
+  }
+  emit(centre);
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) {
+        Vec3 p = lo;
+        p[axis] += 0.5 * side;
+        p[u] += a * side;
+        p[v] += b * side;
+        emit(p);
+      }
+  }
+}
+
+}  // namespace
+
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Closest point by regions of the triangle (Voronoi regions of its features).
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return norm(ap);
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return norm(bp);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return norm(p - (a + (d1 / (d1 - d3)) * ab));
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return norm(cp);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return norm(p - (a + (d2 / (d2 - d6)) * ac));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return norm(p - (b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b)));
+  const double denom = 1.0 / (va + vb + vc);
+  return norm(p - (a + (vb * denom) * ab + (vc * denom) * ac));
+}
+
+std::vector<Vec3> generate_interior_vertices(const Mesh& m, const SizeField& size,
+                                             const std::function<int(const Vec3&)>& region_at,
+                                             const InteriorOptions& o, InteriorStats& stats) {
+  if (m.triangles.empty()) return {};
+  double mean_edge = 0;
+  for (const Triangle& t : m.triangles) mean_edge += norm(m.points[t.v[1]] - m.points[t.v[0]]);
+  mean_edge /= m.triangles.size();
+  Acceptor acceptor(m, size, region_at, o, stats, std::max(mean_edge, 1e-12));
+
+  // Stage 1: offsets from the facet barycentres, into each non-exterior side.
+  for (const Triangle& t : m.triangles) {
+    const Vec3 c = (1.0 / 3.0) * (m.points[t.v[0]] + m.points[t.v[1]] + m.points[t.v[2]]);
+    const double hf = (norm(m.points[t.v[1]] - m.points[t.v[0]]) + norm(m.points[t.v[2]] - m.points[t.v[1]]) +
+                       norm(m.points[t.v[0]] - m.points[t.v[2]])) / 3.0;
+    const double d = o.offset * std::min(hf, size.at(c));
+    const Vec3 n = facet_normal(m.points, t);
+    if (t.front > 0) acceptor.offer(c + d * n, t.front);
+    if (t.back > 0) acceptor.offer(c - d * n, t.back);
+  }
+  stats.offset_points = static_cast<long>(acceptor.accepted().size());
+
+  // Stage 2: the octree lattice over the bounding cube.
+  Vec3 lo = m.points[m.triangles[0].v[0]], hi = lo;
+  for (const Triangle& t : m.triangles)
+    for (int v : t.v)
+      for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], m.points[v][i]), hi[i] = std::max(hi[i], m.points[v][i]);
+  const double side = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) * 1.001;
+  octree_points(lo, side, 0, size, o, [&](const Vec3& p) { acceptor.offer(p, -1); });
+  stats.lattice_points = static_cast<long>(acceptor.accepted().size()) - stats.offset_points;
+  return std::move(acceptor.accepted());
+}
+
+}  // namespace vd

@@ -1,0 +1,42 @@
+// Interior vertices (paper §2): first vertices offset inward from the facet
+// barycentres (on both sides of an interface), then an octree whose leaves
+// follow the size field, with points at leaf centres and edge mid-points so
+// that a uniform size gives a face-centred cubic lattice. A candidate is
+// dropped when it is too close to another vertex or to the surface, or (unlike
+// the paper) when it is not inside a region, so that exterior points cannot
+// spoil the surface's Delaunayhood. About 1% jitter.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "mesh/mesh.h"
+#include "volume/size_field.h"
+
+namespace vd {
+
+struct InteriorOptions {
+  double offset = 0.8;            // stage 1: offset x facet size (apex height of a regular tet: 0.816)
+  double min_vertex_gap = 0.65;   // x h: nearer to another vertex is dropped
+  double min_surface_gap = 0.45;  // x h: nearer to a facet is dropped
+  double jitter = 0.01;           // x h
+  std::uint64_t seed = 1;
+  int max_octree_depth = 14;
+};
+
+struct InteriorStats {
+  long offset_points = 0, lattice_points = 0;
+  long candidates = 0, rejected_outside = 0, rejected_near_vertex = 0, rejected_near_surface = 0;
+};
+
+// `region_at(p)` gives the region containing p (0 outside). Returns the new
+// points (not yet in m).
+std::vector<Vec3> generate_interior_vertices(const Mesh& m, const SizeField& size,
+                                             const std::function<int(const Vec3&)>& region_at,
+                                             const InteriorOptions& options, InteriorStats& stats);
+
+// Distance from p to triangle (a, b, c).
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+}  // namespace vd

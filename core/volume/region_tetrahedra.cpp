@@ -1,0 +1,192 @@
+#include "volume/region_tetrahedra.h"
+
+#include <algorithm>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+
+#include "delaunay/delaunay_tetrahedralization.h"
+#include "geometry/predicates.h"
+#include "mesh/error.h"
+
+namespace vd {
+namespace {
+
+std::array<int, 3> sorted3(int a, int b, int c) {
+  std::array<int, 3> k{a, b, c};
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+struct TripleHash {
+  size_t operator()(const std::array<int, 3>& k) const {
+    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
+  }
+};
+
+// Is x on the front side of facet t (where its normal points)? Exact.
+bool on_front_side(const std::vector<Vec3>& p, const Triangle& t, int x) {
+  return orientation(p[t.v[0]], p[t.v[1]], p[t.v[2]], p[x]) > 0;
+}
+
+}  // namespace
+
+double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return dot(cross(b - a, c - a), d - a) / 6.0;
+}
+
+RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& dt) {
+  const auto cells = dt.cells();
+  const int n = static_cast<int>(cells.tets.size());
+  std::unordered_map<std::array<int, 3>, int, TripleHash> facet_of;
+  facet_of.reserve(m.triangles.size() * 2);
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    const auto& v = m.triangles[f].v;
+    facet_of.emplace(sorted3(v[0], v[1], v[2]), static_cast<int>(f));
+  }
+  auto face_facet = [&](int tet, int i) {
+    const auto& t = cells.tets[tet];
+    std::array<int, 3> k;
+    for (int j = 0, c = 0; j < 4; ++j)
+      if (j != i) k[c++] = t[j];
+    std::sort(k.begin(), k.end());
+    auto it = facet_of.find(k);
+    return it == facet_of.end() ? -1 : it->second;
+  };
+
+  // Components of tetrahedra joined across non-facet faces; component 0 is
+  // the one reached from infinity through a non-facet hull face.
+  std::vector<int> comp(n, -1);
+  int components = 0;
+  std::vector<int> stack;
+  auto flood = [&](int seed, int id) {
+    comp[seed] = id;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const int t = stack.back();
+      stack.pop_back();
+      for (int i = 0; i < 4; ++i) {
+        const int u = cells.across[t][i];
+        if (u < 0 || comp[u] >= 0 || face_facet(t, i) >= 0) continue;
+        comp[u] = id;
+        stack.push_back(u);
+      }
+    }
+  };
+  const int outside = components++;
+  for (int t = 0; t < n; ++t)
+    for (int i = 0; i < 4; ++i)
+      if (comp[t] < 0 && cells.across[t][i] < 0 && face_facet(t, i) < 0) flood(t, outside);
+  // Other components in the order of their lowest bounding facet, so that the
+  // numbering depends on the input, not on CGAL's cell order.
+  std::vector<std::pair<int, int>> seeds;  // (lowest facet, tet)
+  {
+    std::vector<int> lowest(n, INT32_MAX);
+    for (int t = 0; t < n; ++t)
+      for (int i = 0; i < 4; ++i) {
+        const int f = face_facet(t, i);
+        if (f >= 0) lowest[t] = std::min(lowest[t], f);
+      }
+    for (int t = 0; t < n; ++t)
+      if (lowest[t] != INT32_MAX) seeds.emplace_back(lowest[t], t);
+    std::sort(seeds.begin(), seeds.end());
+  }
+  for (const auto& [f, t] : seeds)
+    if (comp[t] < 0) flood(t, components++);
+  for (int t = 0; t < n; ++t)
+    if (comp[t] < 0) flood(t, components++);  // enclosed without touching a facet: impossible, but safe
+
+  // For every facet, the component on each side.
+  std::vector<std::array<int, 2>> sides(m.triangles.size(), {-2, -2});  // [front, back]
+  for (int t = 0; t < n; ++t)
+    for (int i = 0; i < 4; ++i) {
+      const int f = face_facet(t, i);
+      if (f < 0) continue;
+      const bool front = on_front_side(m.points, m.triangles[f], cells.tets[t][i]);
+      sides[f][front ? 0 : 1] = comp[t];
+      if (cells.across[t][i] < 0) sides[f][front ? 1 : 0] = outside;  // hull facet: infinity beyond
+    }
+
+  RegionStats stats;
+  std::vector<int> region_of(components, kUnknownRegion);
+  region_of[outside] = 0;
+  stats.regions_from_tags = m.has_region_tags();
+  if (stats.regions_from_tags) {
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+      const Triangle& t = m.triangles[f];
+      const int tags[2] = {t.front, t.back};
+      for (int s = 0; s < 2; ++s) {
+        const int c = sides[f][s];
+        if (c < 0) continue;
+        if (region_of[c] == kUnknownRegion) region_of[c] = tags[s];
+        if (region_of[c] != tags[s]) {
+          std::ostringstream msg;
+          msg << "region tags contradict the surface: facet " << f << " says region " << tags[s] << " on its "
+              << (s == 0 ? "front" : "back") << " side, but that side is "
+              << (c == outside ? "the exterior (region 0)" : "region " + std::to_string(region_of[c]) + " by other facets");
+          throw InputError(msg.str());
+        }
+      }
+    }
+  } else {
+    int next = 1;
+    for (int c = 0; c < components; ++c)
+      if (c != outside) region_of[c] = next++;
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+      m.triangles[f].front = sides[f][0] >= 0 ? region_of[sides[f][0]] : 0;
+      m.triangles[f].back = sides[f][1] >= 0 ? region_of[sides[f][1]] : 0;
+    }
+  }
+
+  std::vector<int> dangling;
+  for (size_t f = 0; f < m.triangles.size(); ++f)
+    if (m.triangles[f].front == 0 && m.triangles[f].back == 0) dangling.push_back(static_cast<int>(f));
+  if (!dangling.empty()) {
+    std::ostringstream msg;
+    msg << "open surface: " << dangling.size() << " facets have the exterior on both sides (they bound no region), e.g. facets";
+    for (size_t i = 0; i < dangling.size() && i < 10; ++i) msg << " " << dangling[i];
+    throw InputError(msg.str());
+  }
+
+  m.tets.clear();
+  std::vector<bool> seen_region;
+  for (int t = 0; t < n; ++t) {
+    const int r = region_of[comp[t]];
+    if (r == 0) {
+      ++stats.tets_in_exterior;
+      continue;
+    }
+    m.tets.push_back({cells.tets[t], r});
+    if (r >= static_cast<int>(seen_region.size())) seen_region.resize(r + 1, false);
+    seen_region[r] = true;
+  }
+  stats.regions = static_cast<int>(std::count(seen_region.begin(), seen_region.end(), true));
+  return stats;
+}
+
+std::vector<double> enclosed_volumes(const Mesh& m) {
+  std::vector<double> vol;
+  const Vec3 o = m.points.empty() ? Vec3{} : m.points.front();
+  for (const Triangle& t : m.triangles) {
+    // Normal points out of `back` and into `front`.
+    const double v = tet_volume(o, m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]]);
+    const int top = std::max(t.front, t.back);
+    if (top < 0) continue;
+    if (top >= static_cast<int>(vol.size())) vol.resize(top + 1, 0.0);
+    if (t.back > 0) vol[t.back] += v;
+    if (t.front > 0) vol[t.front] -= v;
+  }
+  return vol;
+}
+
+std::vector<double> region_volumes(const Mesh& m) {
+  std::vector<double> vol;
+  for (const Tetrahedron& t : m.tets) {
+    if (t.region < 0) continue;
+    if (t.region >= static_cast<int>(vol.size())) vol.resize(t.region + 1, 0.0);
+    vol[t.region] += tet_volume(m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]);
+  }
+  return vol;
+}
+
+}  // namespace vd

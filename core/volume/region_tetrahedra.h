@@ -1,0 +1,35 @@
+// The tetrahedra of each region (paper §6): the Delaunay tetrahedra of the
+// final vertex set, grouped into regions by the recovered surface. Tetrahedra
+// connected without crossing a surface facet form one region; the component
+// touching infinity is region 0 (the exterior) and is dropped.
+#pragma once
+
+#include "mesh/mesh.h"
+
+namespace vd {
+
+class DelaunayTetrahedralization;
+
+struct RegionStats {
+  int regions = 0;            // non-zero regions
+  int tets_in_exterior = 0;   // dropped
+  bool regions_from_tags = false;
+};
+
+// Pre: every facet of surface.triangles is a face of dt. Fills surface.tets
+// (regions > 0 only). When the facets carry region tags, they are checked
+// against the components (InputError on a contradiction); otherwise regions
+// are numbered 1.. by their lowest bounding facet and the facets' front/back
+// are set. Facets with the exterior on both sides are refused (InputError:
+// an open surface that bounds nothing).
+RegionStats build_region_tetrahedra(Mesh& surface, const DelaunayTetrahedralization& dt);
+
+// Signed volume of tetrahedron (a, b, c, d): positive when positively oriented.
+double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+// Volume enclosed by the surface for each region (index = region id), from
+// the facets' front/back tags (divergence theorem).
+std::vector<double> enclosed_volumes(const Mesh& surface);
+// Sum of tetrahedron volumes per region.
+std::vector<double> region_volumes(const Mesh& mesh);
+
+}  // namespace vd

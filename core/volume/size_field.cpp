@@ -1,0 +1,112 @@
+#include "volume/size_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+#include "surface/edge_map.h"
+
+namespace vd {
+
+std::vector<double> SizeField::surface_vertex_sizes(const Mesh& m) {
+  std::vector<double> sum(m.points.size(), 0.0);
+  std::vector<int> count(m.points.size(), 0);
+  const EdgeMap edges(m.triangles);
+  for (const auto& [key, list] : edges.all()) {
+    const auto [a, b] = edge_of_key(key);
+    const double len = norm(m.points[a] - m.points[b]);
+    sum[a] += len, sum[b] += len;
+    ++count[a], ++count[b];
+  }
+  for (size_t v = 0; v < sum.size(); ++v) {
+    sum[v] = count[v] ? sum[v] / count[v] : 0.0;
+    if (v < m.point_size.size() && m.point_size[v] > 0) sum[v] = m.point_size[v];
+  }
+  return sum;
+}
+
+SizeField::SizeField(const Mesh& m, const SizeFieldOptions& o) : uniform_(o.uniform) {
+  const std::vector<double> hv = surface_vertex_sizes(m);
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  double hmin = std::numeric_limits<double>::infinity();
+  for (size_t v = 0; v < m.points.size(); ++v) {
+    if (hv[v] <= 0) continue;
+    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], m.points[v][i]), hi[i] = std::max(hi[i], m.points[v][i]);
+    hmin = std::min(hmin, hv[v]);
+  }
+  if (!std::isfinite(hmin)) {
+    smallest_ = uniform_;
+    return;
+  }
+  const double diag = norm(hi - lo);
+  // About 48 cells along the longest side: the field is smooth by design.
+  step_ = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) / 48.0;
+  if (step_ <= 0) step_ = diag > 0 ? diag : 1.0;
+  origin_ = lo - step_ * Vec3{1, 1, 1};
+  for (int i = 0; i < 3; ++i) n_[i] = static_cast<int>(std::ceil((hi[i] - lo[i]) / step_)) + 3;
+  const double cap = uniform_ > 0 ? uniform_ : std::max(diag / 4.0, hmin);
+  h_.assign(static_cast<size_t>(n_[0]) * n_[1] * n_[2], cap);
+  // Seed the nodes around each surface vertex, then relax outwards.
+  using Item = std::pair<double, size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  auto index = [&](int i, int j, int k) { return (static_cast<size_t>(k) * n_[1] + j) * n_[0] + i; };
+  for (size_t v = 0; v < m.points.size(); ++v) {
+    if (hv[v] <= 0) continue;
+    const Vec3 g = (1.0 / step_) * (m.points[v] - origin_);
+    const int i0 = static_cast<int>(g.x), j0 = static_cast<int>(g.y), k0 = static_cast<int>(g.z);
+    for (int k = k0; k <= k0 + 1; ++k)
+      for (int j = j0; j <= j0 + 1; ++j)
+        for (int i = i0; i <= i0 + 1; ++i) {
+          const Vec3 node_point = origin_ + step_ * Vec3{double(i), double(j), double(k)};
+          const double h = std::min(cap, hv[v] + o.gradation * norm(node_point - m.points[v]));
+          const size_t id = index(i, j, k);
+          if (h < h_[id]) {
+            h_[id] = h;
+            queue.emplace(h, id);
+          }
+        }
+  }
+  while (!queue.empty()) {
+    const auto [h, id] = queue.top();
+    queue.pop();
+    if (h > h_[id]) continue;
+    const int i = static_cast<int>(id % n_[0]), j = static_cast<int>((id / n_[0]) % n_[1]);
+    const int k = static_cast<int>(id / (static_cast<size_t>(n_[0]) * n_[1]));
+    for (int dk = -1; dk <= 1; ++dk)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const int a = i + di, b = j + dj, c = k + dk;
+          if (a < 0 || b < 0 || c < 0 || a >= n_[0] || b >= n_[1] || c >= n_[2]) continue;
+          const double next = h + o.gradation * step_ * std::sqrt(double(di * di + dj * dj + dk * dk));
+          const size_t nid = index(a, b, c);
+          if (next < h_[nid]) {
+            h_[nid] = next;
+            queue.emplace(next, nid);
+          }
+        }
+  }
+  smallest_ = *std::min_element(h_.begin(), h_.end());
+}
+
+double SizeField::at(const Vec3& p) const {
+  if (h_.empty()) return uniform_;
+  Vec3 g = (1.0 / step_) * (p - origin_);
+  int c[3];
+  double t[3];
+  for (int i = 0; i < 3; ++i) {
+    g[i] = std::clamp(g[i], 0.0, double(n_[i] - 1) - 1e-9);
+    c[i] = static_cast<int>(g[i]);
+    t[i] = g[i] - c[i];
+  }
+  double h = 0;
+  for (int dk = 0; dk <= 1; ++dk)
+    for (int dj = 0; dj <= 1; ++dj)
+      for (int di = 0; di <= 1; ++di) {
+        const double w = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dk ? t[2] : 1 - t[2]);
+        h += w * node(std::min(c[0] + di, n_[0] - 1), std::min(c[1] + dj, n_[1] - 1), std::min(c[2] + dk, n_[2] - 1));
+      }
+  return h;
+}
+
+}  // namespace vd

@@ -1,0 +1,82 @@
+"""vdmesh mesh from the command line: the bundled example, exit codes on bad
+input and bad usage, no output left behind by a failed run, the report."""
+import json
+import os
+
+from cli_support import SOURCE, check, data, finish, run, tmpdir
+
+out = tmpdir()
+bracket = os.path.join(SOURCE, "Resources", "examples", "bracket.obj")
+
+# The demo: 128 voxels of 2.5 mm.
+code, stdout, stderr = run("mesh", bracket, "-o", os.path.join(out, "b.vtu"), "--report", os.path.join(out, "b.json"))
+check(code == 0, "bracket meshes (exit %d: %s)" % (code, stderr.strip()[-300:]))
+if code == 0:
+    report = json.load(open(os.path.join(out, "b.json")))
+    check(report["complete"], "report says complete")
+    check(report["quality"]["inverted"] == 0, "no inverted tetrahedra")
+    check(report["counts"]["tetrahedra"] > 0, "tetrahedra in the report")
+    check("vdmesh report" in stdout, "report table printed")
+    code, info, _ = run("info", os.path.join(out, "b.vtu"))
+    check(code == 0 and "volume 2000" in info, "info reads the mesh back with volume 2000: " + info.strip()[:400])
+
+# Bad input: exit 3 with a message naming the problem, and no output file.
+def bad(name, text, needle):
+    path = os.path.join(out, name)
+    with open(path, "w") as f:
+        f.write(text)
+    target = os.path.join(out, name + ".vtu")
+    code, _, err = run("mesh", path, "-o", target)
+    check(code == 3 and needle in err and not os.path.exists(target),
+          "%s: exit 3 naming '%s' (exit %d: %s)" % (name, needle, code, err.strip()[:300]))
+
+tet_off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n"
+bad("open.off", tet_off.replace("4 4 0", "4 3 0").rsplit("3 0 3 2\n", 1)[0], "open surface")
+bad("flipped.off", tet_off.replace("3 0 3 2", "3 0 2 3"), "orientation")
+bad("duplicate.off", tet_off.replace("4 4 0", "4 5 0") + "3 1 2 3\n", "duplicate")
+bad("degenerate.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", "degenerate")
+bad("garbled.off", "OFF\n4 4 0\n0 0 zero\n", "garbled.off")
+bad("empty.off", "", "empty.off")
+# Two tetrahedra piercing each other.
+pierce = ("OFF\n8 8 0\n0 0 0\n2 0 0\n0 2 0\n0 0 2\n0.2 0.2 0.2\n3 0.2 0.2\n0.2 3 0.2\n0.2 0.2 3\n"
+          "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n3 4 6 5\n3 4 5 7\n3 5 6 7\n3 4 7 6\n")
+bad("pierce.off", pierce, "intersects itself")
+code, _, err = run("mesh", os.path.join(out, "does-not-exist.off"), "-o", os.path.join(out, "x.vtu"))
+check(code == 3 and "does-not-exist.off" in err, "missing file: exit 3 naming it (%d: %s)" % (code, err.strip()))
+
+# Usage errors: exit 2.
+for args in (["mesh"], ["mesh", bracket], ["mesh", bracket, "-o", os.path.join(out, "x.vtu"), "--oracle", "magic"],
+             ["mesh", bracket, "-o", os.path.join(out, "x.vtu"), "--seed", "abc"], ["frobnicate"],
+             ["mesh", bracket, "-o", os.path.join(out, "x.unknownext")]):
+    code, _, err = run(*args)
+    check(code == 2, "usage error %s: exit 2 (%d: %s)" % (" ".join(args[:1] + args[3:]), code, err.strip()[:200]))
+
+# A guard that stops Delaunayzation: exit 4, the missing facets beside the
+# output, no output. The almost touching pyramids of the paper need Steiner
+# points, so allowing none must fail.
+def pyramid(cx, cy, cz, height):
+    pts = [(cx - .5, cy - .5, cz), (cx + .5, cy - .5, cz), (cx + .5, cy + .5, cz), (cx - .5, cy + .5, cz),
+           (cx, cy, cz + height)]
+    tris = [(0, 2, 1), (0, 3, 2), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]
+    if height < 0:
+        tris = [(a, c, b) for a, b, c in tris]
+    return pts, tris
+
+p1, t1 = pyramid(0, 0, 0, -1)
+p2, t2 = pyramid(0.1454, 0.3569, 1.0019, -1)
+pyr = os.path.join(out, "pyramids.off")
+with open(pyr, "w") as f:
+    f.write("OFF\n10 12 0\n")
+    for p in p1 + p2:
+        f.write("%r %r %r\n" % p)
+    for a, b, c in t1 + [(a + 5, b + 5, c + 5) for a, b, c in t2]:
+        f.write("3 %d %d %d\n" % (a, b, c))
+target = os.path.join(out, "pyr.vtu")
+code, _, err = run("mesh", pyr, "-o", target, "--max-added", "0")
+missing = os.path.join(out, "pyr.missing.off")
+check(code == 4 and os.path.exists(missing) and not os.path.exists(target),
+      "guard: exit 4, pyr.missing.off written, no output (%d: %s)" % (code, err.strip()[:300]))
+code, _, err = run("mesh", pyr, "-o", target)
+check(code == 0 and os.path.exists(target), "pyramids mesh without the guard (%d: %s)" % (code, err.strip()[:300]))
+
+finish()

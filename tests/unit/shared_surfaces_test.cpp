@@ -1,0 +1,76 @@
+// Every closed surface of the shared corpus that passes validation: all
+// output facets are faces of an exact Delaunay tetrahedralization of the
+// output vertices, regions fill the volume their surface encloses, tags
+// survive. Inputs the validator refuses must be refused for a stated reason.
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <set>
+
+#include "converters/registry.h"
+#include "delaunay/delaunay_tetrahedralization.h"
+#include "mesh/error.h"
+#include "pipeline/mesher.h"
+#include "quality/conformity.h"
+#include "test_support.h"
+
+namespace vd {
+namespace {
+
+struct Case {
+  const char* file;
+  bool valid;  // passes validation (MANIFEST: closed, no self-intersections)
+};
+
+class SharedSurface : public ::testing::TestWithParam<Case> {};
+
+TEST_P(SharedSurface, MeshesConformingOrIsRefused) {
+  VD_REQUIRE_DATA(path, GetParam().file);
+  const Mesh in = io::read_mesh(path);
+  MeshOptions o;
+  if (!GetParam().valid) {
+    EXPECT_THROW(mesh_surface(in, o), InputError);
+    return;
+  }
+  const MeshResult r = mesh_surface(in, o);
+  ASSERT_TRUE(r.report.complete);
+  DelaunayTetrahedralization dt;
+  dt.insert(r.mesh.points);
+  int missing = 0;
+  for (const Triangle& t : r.mesh.triangles) missing += !dt.has_facet(t.v[0], t.v[1], t.v[2]);
+  EXPECT_EQ(missing, 0);
+  const ConformityReport c = check_conformity(r.mesh);
+  EXPECT_TRUE(c.ok(1e-9)) << c.summary();
+  std::set<int> faces_in, faces_out;
+  for (const Triangle& t : in.triangles) faces_in.insert(t.face);
+  for (const Triangle& t : r.mesh.triangles) faces_out.insert(t.face);
+  if (in.has_face_tags()) EXPECT_EQ(faces_in, faces_out);
+  std::cout << "[" << GetParam().file << "] " << in.points.size() << " vertices, " << in.triangles.size()
+            << " facets; added " << r.report.added_surface_vertices << " vertices, "
+            << r.report.added_surface_facets << " facets; " << r.mesh.tets.size() << " tets, "
+            << r.report.regions.regions << " regions\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Corpus, SharedSurface,
+    ::testing::Values(Case{"surface/gmsh_lever.stl", true}, Case{"surface/netgen_part1.stl", true},
+                      Case{"surface/cgal_fandisk.off", true}, Case{"surface/cgal_triceratops.off", true},
+                      Case{"surface/meshlab_casting.off", true}, Case{"surface/cgal_anchor_dense.off", true},
+                      Case{"surface/cgal_turbine.off", true}, Case{"surface/cgal_cheese.off", true},
+                      Case{"surface/c3tm_rocker-arm.obj", true}, Case{"surface/cgal_armadillo.off", true},
+                      Case{"surface/cgal_bunny00.off", true},
+                      Case{"surface-multiregion/cgal_complex_merged.off", true},
+                      Case{"surface-multiregion/cgal_horizons_in_domain.off", true},
+                      Case{"surface-multiregion/cgal_complex_patch-01.off", false},
+                      Case{"plc-sharp/testingdrafts_wedge-1.smesh", true},
+                      Case{"plc-sharp/testingdrafts_slit-1.smesh", true},
+                      Case{"plc-sharp/testingdrafts_spike-1-10.smesh", true}),
+    [](const ::testing::TestParamInfo<Case>& info) {
+      std::string name = info.param.file;
+      for (char& c : name)
+        if (!isalnum(static_cast<unsigned char>(c))) c = '_';
+      return name;
+    });
+
+}  // namespace
+}  // namespace vd
