@@ -1,0 +1,217 @@
+#include "geometry/point_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "geometry/predicates.h"
+
+namespace vd {
+namespace {
+
+// Cells per axis never exceed this, so that a query box spanning the whole
+// set stays a bounded loop even when the points are very unevenly spread.
+constexpr double kMaxCellsPerAxis = 1024;
+// Cell indices are clamped to this so that far-away or huge coordinates
+// cannot overflow the integer keys.
+constexpr double kMaxCellIndex = 1e15;
+
+double largest_extent(const Vec3& lo, const Vec3& hi) {
+  return std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 0.0});
+}
+
+// Average spacing of n points spread over the box: the edge of the cube each
+// point would own. Flat or thin sets are measured as if they had a small
+// thickness, so the cells do not collapse to nothing.
+double average_spacing(const Vec3& lo, const Vec3& hi, int n) {
+  const double extent = largest_extent(lo, hi);
+  if (!(extent > 0) || !std::isfinite(extent)) return 1;
+  const double floor_extent = extent / std::cbrt(std::max(n, 1));
+  double volume = 1;
+  for (int i = 0; i < 3; ++i) volume *= std::max(hi[i] - lo[i], floor_extent);
+  return std::cbrt(volume / std::max(n, 1));
+}
+
+}  // namespace
+
+size_t PointGrid::CellHash::operator()(const CellKey& k) const {
+  // Large odd multipliers spread neighbouring cells over the buckets.
+  const auto h = static_cast<std::uint64_t>(k[0]) * 0x9E3779B97F4A7C15ULL ^
+                 static_cast<std::uint64_t>(k[1]) * 0xC2B2AE3D27D4EB4FULL ^
+                 static_cast<std::uint64_t>(k[2]) * 0x165667B19E3779F9ULL;
+  return static_cast<size_t>(h ^ (h >> 29));
+}
+
+void PointGrid::build(const std::vector<Vec3>& points) {
+  position_ = points;
+  rebuild();
+}
+
+void PointGrid::update(int id, const Vec3& p) {
+  if (id < 0) return;
+  if (static_cast<size_t>(id) < position_.size()) {
+    remove_from_cell(id);
+    position_[static_cast<size_t>(id)] = p;
+  } else {
+    // Appended: ids grow one by one, but tolerate a gap rather than index
+    // out of range (the missing ones sit at p until updated).
+    const size_t first_new = position_.size();
+    position_.resize(static_cast<size_t>(id) + 1, p);
+    for (size_t i = first_new; i + 1 < position_.size(); ++i) {
+      grow_bounds(position_[i]);
+      insert_into_cell(static_cast<int>(i));
+    }
+  }
+  grow_bounds(p);
+  if (needs_rebuild()) {
+    rebuild();
+  } else {
+    insert_into_cell(id);
+  }
+}
+
+PointGrid::CellKey PointGrid::cell_of(const Vec3& p) const {
+  CellKey key;
+  for (int i = 0; i < 3; ++i) {
+    double c = std::floor((p[i] - origin_[i]) / cell_size_);
+    if (!(c == c)) c = 0;  // NaN coordinates all land in one cell
+    key[static_cast<size_t>(i)] =
+        static_cast<std::int64_t>(std::clamp(c, -kMaxCellIndex, kMaxCellIndex));
+  }
+  return key;
+}
+
+void PointGrid::insert_into_cell(int id) { cells_[cell_of(position(id))].push_back(id); }
+
+void PointGrid::remove_from_cell(int id) {
+  const auto it = cells_.find(cell_of(position(id)));
+  if (it == cells_.end()) return;
+  std::vector<int>& ids = it->second;
+  ids.erase(std::remove(ids.begin(), ids.end(), id), ids.end());
+  if (ids.empty()) cells_.erase(it);
+}
+
+void PointGrid::grow_bounds(const Vec3& p) {
+  if (!has_bounds_) {
+    lower_ = upper_ = p;
+    has_bounds_ = true;
+    return;
+  }
+  for (int i = 0; i < 3; ++i) {
+    lower_[i] = std::min(lower_[i], p[i]);
+    upper_[i] = std::max(upper_[i], p[i]);
+  }
+}
+
+bool PointGrid::needs_rebuild() const {
+  // The cells were sized for built_for_count_ points over built_for_extent_;
+  // far more points per cell, or a set that spread far beyond, makes queries
+  // slow (too many points per cell, or too many cells per axis).
+  if (size() >= 2 * std::max(built_for_count_, 4)) return true;
+  const double extent = largest_extent(lower_, upper_);
+  return extent > 2 * built_for_extent_ && extent / cell_size_ > kMaxCellsPerAxis / 4;
+}
+
+void PointGrid::rebuild() {
+  cells_.clear();
+  has_bounds_ = false;
+  for (const Vec3& p : position_) grow_bounds(p);
+  origin_ = lower_;
+  const double extent = largest_extent(lower_, upper_);
+  cell_size_ = average_spacing(lower_, upper_, size());
+  if (extent > 0 && std::isfinite(extent))
+    cell_size_ = std::max(cell_size_, extent / kMaxCellsPerAxis);
+  if (!(cell_size_ > 0) || !std::isfinite(cell_size_)) cell_size_ = 1;
+  built_for_count_ = size();
+  built_for_extent_ = extent;
+  for (int id = 0; id < size(); ++id) insert_into_cell(id);
+}
+
+void PointGrid::in_box(const Vec3& lo_in, const Vec3& hi_in, std::vector<int>& out) const {
+  out.clear();
+  if (position_.empty()) return;
+  // Clamp to the indexed points: a query box far larger than the set must
+  // not turn into a loop over empty cells.
+  Vec3 lo, hi;
+  for (int i = 0; i < 3; ++i) {
+    lo[i] = std::max(lo_in[i], lower_[i]);
+    hi[i] = std::min(hi_in[i], upper_[i]);
+    if (!(lo[i] <= hi[i])) return;
+  }
+  const auto inside = [&](const Vec3& p) {
+    return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z &&
+           p.z <= hi.z;
+  };
+  const CellKey first = cell_of(lo), last = cell_of(hi);
+  double cell_count = 1;
+  for (size_t i = 0; i < 3; ++i) cell_count *= static_cast<double>(last[i] - first[i] + 1);
+  if (cell_count > static_cast<double>(cells_.size())) {
+    // More cells in the range than occupied cells: scanning the points is cheaper.
+    for (int id = 0; id < size(); ++id)
+      if (inside(position(id))) out.push_back(id);
+    return;
+  }
+  CellKey key;
+  for (key[0] = first[0]; key[0] <= last[0]; ++key[0])
+    for (key[1] = first[1]; key[1] <= last[1]; ++key[1])
+      for (key[2] = first[2]; key[2] <= last[2]; ++key[2]) {
+        const auto it = cells_.find(key);
+        if (it == cells_.end()) continue;
+        for (int id : it->second)
+          if (inside(position(id))) out.push_back(id);
+      }
+}
+
+void PointGrid::in_ball(const Vec3& centre, double radius, std::vector<int>& out) const {
+  const Vec3 r{radius, radius, radius};
+  in_box(centre - r, centre + r, out);
+  const double r2 = radius * radius;
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [&](int id) {
+                             const Vec3 d = position(id) - centre;
+                             return dot(d, d) > r2;
+                           }),
+            out.end());
+}
+
+namespace {
+
+// The approximate ball is widened so that no vertex the exact test would
+// call inside or on the sphere is left out by rounding of the centre.
+double safe_radius(const Ball& ball) {
+  const double coordinate_scale =
+      std::max({std::abs(ball.centre.x), std::abs(ball.centre.y), std::abs(ball.centre.z)});
+  return ball.radius * (1 + 1e-6) + 1e-12 * coordinate_scale;
+}
+
+}  // namespace
+
+bool equatorial_sphere_occupants(const PointGrid& grid, int a, int b, int c, std::vector<int>& out) {
+  out.clear();
+  const Vec3 &pa = grid.position(a), &pb = grid.position(b), &pc = grid.position(c);
+  const Ball ball = equatorial_sphere(pa, pb, pc);
+  if (!std::isfinite(ball.radius)) return false;
+  std::vector<int> near;
+  grid.in_ball(ball.centre, safe_radius(ball), near);
+  for (int id : near) {
+    if (id == a || id == b || id == c) continue;
+    if (occupies(side_of_equatorial_sphere(pa, pb, pc, grid.position(id)))) out.push_back(id);
+  }
+  return true;
+}
+
+bool circumsphere_is_empty(const PointGrid& grid, int a, int b, int c, int d) {
+  const Vec3 &pa = grid.position(a), &pb = grid.position(b), &pc = grid.position(c),
+             &pd = grid.position(d);
+  const Ball ball = circumsphere(pa, pb, pc, pd);
+  if (!std::isfinite(ball.radius)) return false;
+  std::vector<int> near;
+  grid.in_ball(ball.centre, safe_radius(ball), near);
+  for (int id : near) {
+    if (id == a || id == b || id == c || id == d) continue;
+    if (occupies(side_of_circumsphere(pa, pb, pc, pd, grid.position(id)))) return false;
+  }
+  return true;
+}
+
+}  // namespace vd

@@ -1,0 +1,73 @@
+// A dynamic spatial index of the growing vertex set: points are appended over
+// time and sometimes moved, and the oracles ask for the ids inside a box or a
+// ball. A uniform hashed grid: the cell size follows the average spacing
+// (bounding-box volume / number of points), and the grid rebuilds itself when
+// the set has doubled or spread well beyond the box it was sized for, so a
+// query stays proportional to the points it returns.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace vd {
+
+class PointGrid {
+ public:
+  // Indexes points[0..n) from scratch (ids are the indices).
+  void build(const std::vector<Vec3>& points);
+  // Point `id` was appended (id == size()) or moved to p.
+  void update(int id, const Vec3& p);
+
+  int size() const { return static_cast<int>(position_.size()); }
+  const Vec3& position(int id) const { return position_[static_cast<size_t>(id)]; }
+  // A box containing every indexed point (after moves it may be larger than
+  // the tight one).
+  const Vec3& lower() const { return lower_; }
+  const Vec3& upper() const { return upper_; }
+
+  // Ids of the points in the closed box [lo, hi], replacing `out`.
+  void in_box(const Vec3& lo, const Vec3& hi, std::vector<int>& out) const;
+  // Ids of the points in the closed ball, replacing `out`.
+  void in_ball(const Vec3& centre, double radius, std::vector<int>& out) const;
+
+ private:
+  using CellKey = std::array<std::int64_t, 3>;
+  struct CellHash {
+    size_t operator()(const CellKey& k) const;
+  };
+
+  CellKey cell_of(const Vec3& p) const;
+  void insert_into_cell(int id);
+  void remove_from_cell(int id);
+  void grow_bounds(const Vec3& p);
+  bool needs_rebuild() const;
+  void rebuild();
+
+  std::vector<Vec3> position_;
+  std::unordered_map<CellKey, std::vector<int>, CellHash> cells_;
+  double cell_size_ = 1;
+  Vec3 origin_;  // corner of cell (0, 0, 0); fixed between rebuilds
+  Vec3 lower_, upper_;
+  bool has_bounds_ = false;
+  // What the current cell size was chosen for.
+  int built_for_count_ = 0;
+  double built_for_extent_ = 0;
+};
+
+// Exact emptiness of the spheres the oracles test, with the convention of
+// predicates.h: a vertex on the sphere occupies it. Only the defining
+// vertices themselves are ignored (by id).
+
+// Ids (other than a, b, c) inside or on the equatorial sphere of (a, b, c),
+// replacing `out`; empty when the sphere is empty. A collinear triangle has no
+// sphere: returns false then (and leaves `out` empty).
+bool equatorial_sphere_occupants(const PointGrid& grid, int a, int b, int c, std::vector<int>& out);
+// Is the circumsphere of tetrahedron (a, b, c, d) free of all other vertices?
+// A flat tetrahedron answers false.
+bool circumsphere_is_empty(const PointGrid& grid, int a, int b, int c, int d);
+
+}  // namespace vd
