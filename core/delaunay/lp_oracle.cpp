@@ -63,7 +63,9 @@ namespace vd {
 namespace {
 
 constexpr double kSampleOffset = 1e-3;      // K, as a fraction of the facet size
-constexpr double kInitialBoxFactor = 1.5;   // B's half-size, in equatorial radii
+// B's initial half-size, in equatorial radii. Measured on 2000 random points:
+// 1.0 gives 44 unknowns on average (1.3 LPs per query), 1.5 gives 86 (1.05).
+constexpr double kInitialBoxFactor = 1.0;
 constexpr int kMaxSampleMoves = 4;          // LOWER_DIM retries
 constexpr double kSampleMoveFactor = 4;     // how much further X goes per retry
 constexpr int kMaxLpRounds = 64;            // safety net; B growth ends far sooner
@@ -164,18 +166,18 @@ void load_rajan_lp(glp_prob* lp, const PointGrid& grid, const std::vector<int>& 
 
 // Runs the floating-point simplex, and GLPK's exact (rational) simplex when
 // the former reports trouble: the problems are tiny, so exactness is cheap
-// where it is needed.
+// where it is needed. No glp_scale_prob: the coefficients are already O(1)
+// (centred on X, divided by the facet size), and GLPK's automatic scaling
+// costs ten times the solve itself on problems of this shape.
 bool run_simplex(glp_prob* lp) {
   glp_smcp parm;
   glp_init_smcp(&parm);
   parm.msg_lev = GLP_MSG_OFF;
-  glp_scale_prob(lp, GLP_SF_AUTO);
   const auto solved = [&](int rc) {
     const int status = glp_get_status(lp);
     return rc == 0 && (status == GLP_OPT || status == GLP_NOFEAS);
   };
   if (solved(glp_simplex(lp, &parm))) return true;
-  glp_unscale_prob(lp);
   glp_std_basis(lp);
   return solved(glp_exact(lp, &parm));
 }
