@@ -1,0 +1,495 @@
+// Abaqus / CalculiX input deck (.inp). Writes *NODE, one *ELEMENT block per
+// region (C3D4 or C3D10, ELSET = the region's name), and per face id an
+// element-based *SURFACE (tetrahedron faces S1..S4) plus an *NSET of its
+// nodes: no *HEADING (a deck allows one, and ours is meant to be included),
+// no 2D elements in a solid deck (CalculiX wants a section for every element).
+// A mesh without tetrahedra is written as S3/STRI65 shells, one ELSET per face.
+// Reads nodes, tetrahedra, triangle shells, ELSETs and element surfaces back.
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "formats.h"
+#include "io_util.h"
+
+namespace vd::io {
+namespace {
+
+using detail::Cursor;
+
+// C3D4 / C3D10 faces S1..S4 by corner (0-based).
+const int kFaces[4][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
+
+// Abaqus names: letters, digits and '_', starting with a letter.
+std::string sanitized(const std::string& name) {
+  std::string r;
+  for (char c : name) r += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  if (r.empty() || !std::isalpha(static_cast<unsigned char>(r[0]))) r = "S" + r;
+  return r;
+}
+
+std::string region_set_name(const Mesh& m, int region) {
+  if (region == kUnknownRegion) return "RegionUnknown";
+  return sanitized(detail::region_name(m, region));
+}
+
+void node_list(detail::Out& out, const std::vector<int>& ids) {
+  for (size_t i = 0; i < ids.size(); ++i) out << ids[i] + 1 << ((i + 1) % 16 == 0 || i + 1 == ids.size() ? "\n" : ", ");
+}
+
+// For each triangle: (tetrahedron, face 0..3) having it as a face, preferring
+// the tetrahedron behind it (its back region); (-1, -1) when none.
+std::vector<std::pair<int, int>> triangle_owners(const Mesh& m) {
+  using Key = std::array<int, 3>;
+  auto key = [](Key k) {
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  std::vector<std::pair<Key, int>> index;
+  index.reserve(m.triangles.size());
+  for (size_t i = 0; i < m.triangles.size(); ++i) index.push_back({key(m.triangles[i].v), static_cast<int>(i)});
+  std::sort(index.begin(), index.end());
+  std::vector<std::pair<int, int>> owner(m.triangles.size(), {-1, -1});
+  for (size_t ti = 0; ti < m.tets.size(); ++ti) {
+    const Tetrahedron& t = m.tets[ti];
+    for (int f = 0; f < 4; ++f) {
+      const Key k = key({t.v[kFaces[f][0]], t.v[kFaces[f][1]], t.v[kFaces[f][2]]});
+      for (auto it = std::lower_bound(index.begin(), index.end(), std::make_pair(k, -1));
+           it != index.end() && it->first == k; ++it) {
+        auto& o = owner[static_cast<size_t>(it->second)];
+        if (o.first < 0 || t.region == m.triangles[static_cast<size_t>(it->second)].back)
+          o = {static_cast<int>(ti), f};
+      }
+    }
+  }
+  return owner;
+}
+
+void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
+  detail::Out out;
+  out.reserve(m.points.size() * 70 + m.tets.size() * 60 + m.triangles.size() * 40 + 1024);
+  out << "** Mesh written by vdmesh: add *MATERIAL, *SOLID SECTION and *STEP.\n";
+  out << "*NODE, NSET=NALL\n";
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    const Vec3& p = m.points[i];
+    out << i + 1 << ", " << p.x << ", " << p.y << ", " << p.z << '\n';
+  }
+  std::map<int, std::vector<size_t>> by_face;
+  for (size_t i = 0; i < m.triangles.size(); ++i) by_face[m.triangles[i].face].push_back(i);
+  auto face_set = [&](int f) { return f == kNoFace ? std::string("FaceNone") : sanitized(detail::face_name(m, f)); };
+
+  if (m.tets.empty()) {
+    const bool quad = !m.triangle_mid.empty();
+    for (const auto& [f, tris] : by_face) {
+      out << "*ELEMENT, TYPE=" << (quad ? "STRI65" : "S3") << ", ELSET=" << face_set(f) << '\n';
+      for (size_t i : tris) {
+        const Triangle& t = m.triangles[i];
+        out << i + 1 << ", " << t.v[0] + 1 << ", " << t.v[1] + 1 << ", " << t.v[2] + 1;
+        if (quad)
+          for (int v : m.triangle_mid[i]) out << ", " << v + 1;
+        out << '\n';
+      }
+    }
+  } else {
+    const bool quad = !m.tet_mid.empty();
+    std::map<int, std::vector<size_t>> by_region;
+    for (size_t i = 0; i < m.tets.size(); ++i) by_region[m.tets[i].region].push_back(i);
+    for (const auto& [r, tets] : by_region) {
+      out << "*ELEMENT, TYPE=" << (quad ? "C3D10" : "C3D4") << ", ELSET=" << region_set_name(m, r) << '\n';
+      for (size_t i : tets) {
+        const Tetrahedron& t = m.tets[i];
+        out << i + 1;
+        for (int v : t.v) out << ", " << v + 1;
+        if (quad)
+          for (int v : m.tet_mid[i]) out << ", " << v + 1;
+        out << '\n';
+      }
+    }
+    const auto owner = triangle_owners(m);
+    for (const auto& [f, tris] : by_face) {
+      bool any = false;
+      for (size_t i : tris) any |= owner[i].first >= 0;
+      if (!any) continue;
+      out << "*SURFACE, NAME=" << face_set(f) << ", TYPE=ELEMENT\n";
+      for (size_t i : tris)
+        if (owner[i].first >= 0) out << owner[i].first + 1 << ", S" << owner[i].second + 1 << '\n';
+    }
+  }
+  for (const auto& [f, tris] : by_face) {
+    std::set<int> nodes;
+    for (size_t i : tris) {
+      nodes.insert(m.triangles[i].v.begin(), m.triangles[i].v.end());
+      if (!m.triangle_mid.empty()) nodes.insert(m.triangle_mid[i].begin(), m.triangle_mid[i].end());
+    }
+    out << "*NSET, NSET=" << face_set(f) << "_Nodes\n";
+    node_list(out, std::vector<int>(nodes.begin(), nodes.end()));
+  }
+  out.save(path);
+}
+
+// ---------------------------------------------------------------------------
+// reader
+
+struct Keyword {
+  std::string name;                           // upper case, without '*'
+  std::map<std::string, std::string> options;  // upper-case keys
+};
+
+class InpReader {
+ public:
+  InpReader(std::string_view data, const std::string& path) : in_(data, path) { in_.set_comma_separates(true); }
+  Mesh read();
+
+ private:
+  Keyword keyword(std::string_view line);
+  bool at_data_line();
+  // The numbers of one data line, continued over lines ending with ','.
+  std::vector<std::string_view> fields(size_t want);
+  void nodes();
+  void elements(const Keyword& k);
+  void elset(const Keyword& k);
+  void surface(const Keyword& k);
+  void skip_data();
+  int node(std::string_view field);
+
+  // Fails naming the first line of the data just read by fields().
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(in_.name() + ":" + std::to_string(data_line_) + ": " + what);
+  }
+
+  Cursor in_;
+  size_t data_line_ = 0;
+  Mesh m_;
+  std::unordered_map<int64_t, int> node_index_;
+  struct Tet {
+    int64_t id;
+    Tetrahedron t;
+    TetMidNodes mid;
+  };
+  std::vector<Tet> tets_;
+  std::unordered_map<int64_t, size_t> tet_of_id_;
+  std::vector<std::string> tet_set_;  // the block's ELSET per tetrahedron
+  std::vector<std::string> tet_region_set_;  // a Region<k> set naming it
+  std::map<std::string, int> shell_face_;   // ELSET of shell elements -> face id
+  struct Shell {
+    int64_t id;
+    Triangle t;
+    TriMidNodes mid;
+    std::string set;
+  };
+  std::vector<Shell> shells_;
+  std::map<std::string, std::vector<int64_t>> elsets_;
+  bool quad_tets_ = false, quad_shells_ = false;
+  std::vector<std::pair<std::string, std::vector<std::pair<int64_t, int>>>> surfaces_;
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> surface_sets_;
+};
+
+std::string upper(std::string_view s) {
+  std::string r(s);
+  for (char& c : r) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return r;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return s;
+}
+
+Keyword InpReader::keyword(std::string_view line) {
+  Keyword k;
+  line.remove_prefix(1);
+  size_t at = 0;
+  bool first = true;
+  while (at <= line.size()) {
+    const size_t comma = std::min(line.find(',', at), line.size());
+    const std::string_view part = trim(line.substr(at, comma - at));
+    if (first) {
+      k.name = upper(part);
+      first = false;
+    } else if (!part.empty()) {
+      const size_t eq = part.find('=');
+      if (eq == std::string_view::npos) k.options[upper(part)] = "";
+      else k.options[upper(trim(part.substr(0, eq)))] = std::string(trim(part.substr(eq + 1)));
+    }
+    at = comma + 1;
+  }
+  return k;
+}
+
+// True when the next non-comment line is data (not a keyword, not the end).
+bool InpReader::at_data_line() {
+  for (;;) {
+    if (in_.at_end()) return false;
+    const std::string_view rest = in_.data().substr(in_.pos());
+    if (rest.compare(0, 2, "**") == 0) {
+      in_.skip_line();
+      continue;
+    }
+    return rest[0] != '*';
+  }
+}
+
+std::vector<std::string_view> InpReader::fields(size_t want) {
+  data_line_ = in_.line();
+  std::vector<std::string_view> f;
+  for (;;) {
+    for (std::string_view t = in_.token_in_line(); !t.empty(); t = in_.token_in_line()) f.push_back(t);
+    // A line ending in a comma continues on the next one.
+    const std::string_view data = in_.data();
+    size_t back = in_.pos();
+    while (back > 0 && (data[back - 1] == ' ' || data[back - 1] == '\t' || data[back - 1] == '\r')) --back;
+    const bool continued = back > 0 && data[back - 1] == ',' && f.size() < want;
+    in_.skip_line();
+    if (!continued || !at_data_line()) break;
+  }
+  return f;
+}
+
+int InpReader::node(std::string_view field) {
+  int64_t id;
+  if (!Cursor::parse_int(field, id)) fail("expected a node number, found '" + std::string(field.substr(0, 40)) + "'");
+  auto it = node_index_.find(id);
+  if (it == node_index_.end()) fail("node " + std::to_string(id) + " does not exist");
+  return it->second;
+}
+
+void InpReader::skip_data() {
+  while (at_data_line()) in_.skip_line();
+}
+
+void InpReader::nodes() {
+  while (at_data_line()) {
+    const size_t line = in_.line();
+    const auto f = fields(4);
+    if (f.empty()) continue;
+    int64_t id;
+    if (!Cursor::parse_int(f[0], id)) fail("expected a node number, found '" + std::string(f[0].substr(0, 40)) + "'");
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) {
+      double v = 0;
+      if (static_cast<size_t>(k + 1) < f.size() && !Cursor::parse_real(f[static_cast<size_t>(k + 1)], v))
+        throw InputError(in_.name() + ":" + std::to_string(line) + ": bad coordinate '" +
+                         std::string(f[static_cast<size_t>(k + 1)].substr(0, 40)) + "'");
+      p[k] = v;
+    }
+    if (!node_index_.emplace(id, static_cast<int>(m_.points.size())).second)
+      throw InputError(in_.name() + ":" + std::to_string(line) + ": node " + std::to_string(id) + " appears twice");
+    m_.points.push_back(p);
+  }
+}
+
+void InpReader::elements(const Keyword& k) {
+  const auto type_it = k.options.find("TYPE");
+  const std::string type = type_it == k.options.end() ? "" : upper(type_it->second);
+  int nodes = 0;
+  bool tet = false;
+  if (type.rfind("C3D4", 0) == 0) nodes = 4, tet = true;
+  else if (type.rfind("C3D10", 0) == 0) nodes = 10, tet = true;
+  else if (type == "S3" || type == "S3R" || type == "CPS3" || type == "CPE3" || type == "M3D3" || type == "R3D3" ||
+           type == "STRI3" || type == "SFM3D3")
+    nodes = 3;
+  else if (type == "STRI65" || type == "S6" || type == "CPS6" || type == "CPE6" || type == "M3D6" || type == "SFM3D6")
+    nodes = 6;
+  if (nodes == 0) return skip_data();
+  const auto set_it = k.options.find("ELSET");
+  const std::string set = set_it == k.options.end() ? "" : set_it->second;
+  while (at_data_line()) {
+    const auto f = fields(static_cast<size_t>(nodes) + 1);
+    if (f.size() != static_cast<size_t>(nodes) + 1)
+      fail(type + " element with " + std::to_string(f.size() ? f.size() - 1 : 0) + " nodes, expected " +
+               std::to_string(nodes));
+    int64_t id;
+    if (!Cursor::parse_int(f[0], id)) fail("expected an element number, found '" + std::string(f[0].substr(0, 40)) + "'");
+    int v[10];
+    for (int j = 0; j < nodes; ++j) v[j] = node(f[static_cast<size_t>(j) + 1]);
+    if (tet) {
+      if (!tet_of_id_.emplace(id, tets_.size()).second) fail("element " + std::to_string(id) + " appears twice");
+      Tet t{id, {}, {}};
+      t.t.v = {v[0], v[1], v[2], v[3]};
+      if (nodes == 10) t.mid = {v[4], v[5], v[6], v[7], v[8], v[9]}, quad_tets_ = true;
+      tets_.push_back(t);
+      tet_set_.push_back(set);
+      tet_region_set_.push_back(detail::id_from_name(set, "Region") >= 0 ? set : "");
+    } else {
+      Shell s{id, {}, {}, set};
+      s.t.v = {v[0], v[1], v[2]};
+      if (nodes == 6) s.mid = {v[3], v[4], v[5]}, quad_shells_ = true;
+      shells_.push_back(s);
+    }
+  }
+}
+
+void InpReader::elset(const Keyword& k) {
+  const auto it = k.options.find("ELSET");
+  if (it == k.options.end()) fail("*ELSET without ELSET=");
+  const bool generate = k.options.count("GENERATE") > 0;
+  std::vector<int64_t>& ids = elsets_[it->second];
+  while (at_data_line()) {
+    const auto f = fields(0);
+    std::vector<int64_t> nums;
+    for (std::string_view t : f) {
+      int64_t v;
+      if (Cursor::parse_int(t, v)) nums.push_back(v);
+    }
+    if (generate) {
+      if (nums.size() < 2) fail("GENERATE needs first, last[, step]");
+      const int64_t step = nums.size() > 2 ? nums[2] : 1;
+      if (step <= 0 || nums[1] < nums[0]) fail("bad GENERATE range");
+      const uint64_t span = static_cast<uint64_t>(nums[1]) - static_cast<uint64_t>(nums[0]);
+      const uint64_t count = span / static_cast<uint64_t>(step) + 1;
+      if (count > 4 * static_cast<uint64_t>(in_.data().size())) fail("GENERATE range larger than the file could use");
+      for (uint64_t i = 0; i < count; ++i)
+        ids.push_back(static_cast<int64_t>(static_cast<uint64_t>(nums[0]) + i * static_cast<uint64_t>(step)));
+    } else {
+      ids.insert(ids.end(), nums.begin(), nums.end());
+    }
+  }
+}
+
+void InpReader::surface(const Keyword& k) {
+  const auto type = k.options.find("TYPE");
+  if (type != k.options.end() && upper(type->second) != "ELEMENT") return skip_data();
+  const auto name = k.options.find("NAME");
+  std::vector<std::pair<std::string, int>> entries;
+  while (at_data_line()) {
+    const auto f = fields(2);
+    if (f.size() < 2) fail("a surface line needs an element (or set) and a face");
+    const std::string face = upper(f[1]);
+    if (face.size() != 2 || face[0] != 'S' || face[1] < '1' || face[1] > '4')
+      fail("tetrahedron faces are S1..S4, not '" + face.substr(0, 40) + "'");
+    entries.push_back({std::string(f[0]), face[1] - '1'});
+  }
+  surface_sets_.push_back({name == k.options.end() ? "" : name->second, std::move(entries)});
+}
+
+Mesh InpReader::read() {
+  while (!in_.at_end()) {
+    const size_t line = in_.line();
+    const std::string_view l = in_.rest_of_line();
+    std::string_view t = trim(l);
+    if (t.empty() || t.compare(0, 2, "**") == 0) continue;
+    if (t[0] != '*') throw InputError(in_.name() + ":" + std::to_string(line) + ": data line outside a keyword");
+    const Keyword k = keyword(t);
+    if (k.name == "NODE") nodes();
+    else if (k.name == "ELEMENT") elements(k);
+    else if (k.name == "ELSET") elset(k);
+    else if (k.name == "SURFACE") surface(k);
+    else if (k.name == "INCLUDE")
+      throw InputError(in_.name() + ":" + std::to_string(line) + ": *INCLUDE is not supported");
+    else skip_data();
+  }
+  // Tetrahedra in element-number order, regions from set names.
+  std::vector<size_t> order(tets_.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return tets_[a].id < tets_[b].id; });
+  for (const auto& [set, ids] : elsets_)
+    if (detail::id_from_name(set, "Region") >= 0)
+      for (int64_t id : ids) {
+        auto it = tet_of_id_.find(id);
+        if (it != tet_of_id_.end()) tet_region_set_[it->second] = set;
+      }
+  std::map<std::string, int> region_of_set;
+  int next_region = 1;
+  auto note = [&](const std::string& s) {
+    const int k = detail::id_from_name(s, "Region");
+    if (k >= 0) region_of_set[s] = k, next_region = std::max(next_region, k + 1);
+  };
+  for (const auto& s : tet_region_set_) note(s);
+  for (const auto& s : tet_set_) note(s);
+  std::vector<size_t> position(tets_.size());
+  for (size_t i : order) {
+    position[i] = m_.tets.size();
+    const std::string& s = !tet_region_set_[i].empty() ? tet_region_set_[i] : tet_set_[i];
+    Tetrahedron t = tets_[i].t;
+    if (!s.empty() && !region_of_set.count(s)) {
+      region_of_set[s] = next_region;
+      m_.region_names[next_region++] = s;
+    }
+    t.region = s.empty() ? kUnknownRegion : region_of_set[s];
+    if (s == "RegionUnknown") t.region = kUnknownRegion;
+    m_.tets.push_back(t);
+    if (quad_tets_) m_.tet_mid.push_back(tets_[i].mid);
+  }
+  // Face ids from names "Face<k>", others numbered after them.
+  std::map<std::string, int> face_of_name;
+  int next_face = 1;
+  auto face_id = [&](const std::string& name) {
+    auto it = face_of_name.find(name);
+    if (it != face_of_name.end()) return it->second;
+    int k = detail::id_from_name(name, "Face");
+    if (k < 1) {
+      k = next_face;
+      if (!name.empty()) m_.face_names[k] = name;
+    }
+    next_face = std::max(next_face, k + 1);
+    return face_of_name[name] = k;
+  };
+  // Names "Face<k>" claim their ids before other names are numbered.
+  for (const auto& [name, entries] : surface_sets_)
+    if (detail::id_from_name(name, "Face") >= 1) face_id(name);
+  for (const Shell& s : shells_)
+    if (detail::id_from_name(s.set, "Face") >= 1) face_id(s.set);
+  for (const auto& [name, entries] : surface_sets_) {
+    const int face = face_id(name);
+    auto add = [&](int64_t eid, int f) {
+      auto it = tet_of_id_.find(eid);
+      if (it == tet_of_id_.end()) return false;
+      const Tetrahedron& t = m_.tets[position[it->second]];
+      const int* c = kFaces[f];
+      // Abaqus faces point into a positive tetrahedron: turn them outward.
+      const bool positive = detail::tet_det(m_, t.v) >= 0;
+      const int a = c[0], b = positive ? c[2] : c[1], d = positive ? c[1] : c[2];
+      Triangle tri;
+      tri.v = {t.v[a], t.v[b], t.v[d]};
+      tri.face = face;
+      m_.triangles.push_back(tri);
+      if (quad_tets_) {
+        const TetMidNodes& mid = m_.tet_mid[position[it->second]];
+        auto edge = [&](int x, int y) {
+          static const int e[4][4] = {{-1, 0, 2, 3}, {0, -1, 1, 4}, {2, 1, -1, 5}, {3, 4, 5, -1}};
+          return mid[static_cast<size_t>(e[x][y])];
+        };
+        m_.triangle_mid.push_back({edge(a, b), edge(b, d), edge(d, a)});
+      }
+      return true;
+    };
+    for (const auto& [target, f] : entries) {
+      int64_t eid;
+      if (Cursor::parse_int(target, eid)) {
+        if (!add(eid, f)) throw InputError(in_.name() + ": surface " + name + " names element " + std::to_string(eid) +
+                                           ", which is not a tetrahedron");
+      } else {
+        auto it = elsets_.find(target);
+        if (it != elsets_.end())
+          for (int64_t id : it->second) add(id, f);
+      }
+    }
+  }
+  if (m_.tets.empty()) {
+    std::stable_sort(shells_.begin(), shells_.end(), [](const Shell& a, const Shell& b) { return a.id < b.id; });
+    for (const Shell& s : shells_) {
+      Triangle t = s.t;
+      t.face = s.set.empty() ? kNoFace : face_id(s.set);
+      if (s.set == "FaceNone") t.face = kNoFace;
+      m_.triangles.push_back(t);
+      if (quad_shells_) m_.triangle_mid.push_back(s.mid);
+    }
+  }
+  detail::require_valid(m_, in_.name());
+  detail::sides_from_tets(m_);
+  return std::move(m_);
+}
+
+Mesh read_abaqus(const std::string& path) {
+  const std::string data = detail::load_file(path);
+  return InpReader(data, path).read();
+}
+
+}  // namespace
+
+Format make_abaqus_format() { return {"abaqus", {".inp"}, true, read_abaqus, write_abaqus}; }
+
+}  // namespace vd::io

@@ -1,0 +1,438 @@
+// Reads Gmsh MSH 2.2 and 4.1, ASCII and binary. Keeps triangles (2, 9) and
+// tetrahedra (4, 11); skips other known element types and other sections.
+// Elements come out in the order of their tags, so files written by vdmesh
+// (grouped by entity, tagged in the original order) read back in order.
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <unordered_map>
+
+#include "gmsh.h"
+#include "io_util.h"
+
+namespace vd::io::detail {
+
+int msh_nodes_per_element(int type) {
+  static const int table[] = {-1, 2,  3, 4,  4,  8,  6,  5,  3,  6,  9,  10, 27, 18, 14, 1,
+                              8,  20, 15, 13, 9, 10, 12, 15, 15, 21, 4,  5,  6,  20, 35, 56};
+  return type >= 1 && type < static_cast<int>(sizeof table / sizeof table[0]) ? table[type] : -1;
+}
+
+namespace {
+
+// Node tag -> point index: a vector for tags up to about twice the count, a
+// hash map beyond (sparse tags), so no allocation follows a tag's size.
+class NodeIndex {
+ public:
+  void init(uint64_t declared, size_t file_bytes) {
+    dense_.assign(capped(declared, file_bytes, 4) * 2 + 1024, -1);
+  }
+  bool add(uint64_t tag, int index) {
+    if (tag < dense_.size()) {
+      if (dense_[tag] >= 0) return false;
+      dense_[tag] = index;
+      return true;
+    }
+    return sparse_.emplace(tag, index).second;
+  }
+  int find(uint64_t tag) const {
+    if (tag < dense_.size()) return dense_[tag];
+    auto it = sparse_.find(tag);
+    return it == sparse_.end() ? -1 : it->second;
+  }
+
+ private:
+  std::vector<int> dense_;
+  std::unordered_map<uint64_t, int> sparse_;
+};
+
+struct Entity {
+  std::vector<int> physicals;
+  std::vector<int> bounding;  // signed surface tags of a volume
+};
+
+struct Element {
+  uint64_t tag;
+  int entity;
+  int physical;  // 2.2 only; 0 when none
+};
+
+class MshReader {
+ public:
+  MshReader(std::string_view data, const std::string& path) : in_(data, path) {}
+  Mesh read();
+
+ private:
+  void read_format();
+  void read_physical_names();
+  void read_entities();
+  void read_nodes22();
+  void read_nodes41();
+  void read_elements22();
+  void read_elements41();
+  void skip_section(std::string_view name);
+  void expect_end(std::string_view name);
+  void add_node(uint64_t tag, Vec3 p);
+  void add_element(int type, uint64_t tag, const uint64_t* nodes, int entity, int physical);
+  uint64_t size_value(const char* what);  // size_t in binary 4.1
+  int int_value(const char* what);        // int in binary
+  double real_value(const char* what);
+  void finish();
+
+  Cursor in_;
+  Mesh m_;
+  double version_ = 0;
+  bool binary_ = false;
+  NodeIndex nodes_;
+  std::map<int, Entity> surfaces_, volumes_;
+  bool have_entities_ = false;
+  std::vector<Element> tri_info_, tet_info_;
+};
+
+uint64_t MshReader::size_value(const char* what) {
+  if (!binary_) return in_.count(what);
+  return in_.get<uint64_t>(what);
+}
+
+int MshReader::int_value(const char* what) {
+  if (!binary_) return in_.int32(what);
+  return in_.get<int32_t>(what);
+}
+
+double MshReader::real_value(const char* what) {
+  if (!binary_) return in_.real(what);
+  const double v = in_.get<double>(what);
+  if (!std::isfinite(v)) in_.fail(std::string(what) + " is not a finite number");
+  return v;
+}
+
+void MshReader::expect_end(std::string_view name) {
+  const std::string end = "$End" + std::string(name.substr(1));
+  const std::string_view t = in_.token(end.c_str());
+  if (t != end) in_.fail("expected " + end + ", found '" + std::string(t.substr(0, 40)) + "'");
+}
+
+void MshReader::skip_section(std::string_view name) {
+  const std::string end = "$End" + std::string(name.substr(1));
+  const size_t at = in_.data().find(end, in_.pos());
+  if (at == std::string_view::npos) in_.fail("section " + std::string(name) + " has no " + end);
+  // Walk to it line by line so errors after it still name the right line.
+  while (in_.pos() < at && !in_.at_end()) in_.skip_line();
+  in_.seek(at + end.size());
+}
+
+void MshReader::read_format() {
+  const std::string_view v = in_.token("the MSH version");
+  if (!Cursor::parse_real(v, version_)) in_.fail("bad MSH version '" + std::string(v.substr(0, 20)) + "'");
+  const int file_type = in_.int32("the file type");
+  const int data_size = in_.int32("the data size");
+  if (!(version_ >= 2 && version_ < 3) && version_ != 4.1)
+    in_.fail("MSH version " + std::string(v) + " is not supported (2.2 and 4.1 are)");
+  if (file_type != 0 && file_type != 1) in_.fail("file type must be 0 (ASCII) or 1 (binary)");
+  binary_ = file_type == 1;
+  if (binary_) {
+    if (data_size != 8) in_.fail("binary data size must be 8, not " + std::to_string(data_size));
+    in_.skip_line();
+    if (in_.get<int32_t>("the endianness check") != 1) in_.fail("big-endian binary MSH is not supported");
+  }
+  expect_end("$MeshFormat");
+}
+
+void MshReader::read_physical_names() {
+  const uint64_t n = in_.count("the number of physical names", in_.remaining());
+  for (uint64_t i = 0; i < n; ++i) {
+    const int dim = in_.int32("a physical dimension");
+    const int tag = in_.int32("a physical tag");
+    std::string_view name = in_.rest_of_line();
+    while (!name.empty() && (name.front() == ' ' || name.front() == '\t')) name.remove_prefix(1);
+    if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = name.substr(1, name.size() - 2);
+    if (dim == 3) m_.region_names[tag] = std::string(name);
+    if (dim == 2) m_.face_names[tag] = std::string(name);
+  }
+  expect_end("$PhysicalNames");
+}
+
+void MshReader::read_entities() {
+  if (version_ < 4) in_.fail("$Entities in a version 2 file");
+  have_entities_ = true;
+  uint64_t count[4];
+  for (uint64_t& c : count) c = size_value("an entity count");
+  for (int dim = 0; dim < 4; ++dim) {
+    for (uint64_t i = 0; i < count[dim]; ++i) {
+      const int tag = int_value("an entity tag");
+      for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) real_value("an entity bounding box");
+      const uint64_t nphys = size_value("a physical tag count");
+      if (nphys > in_.remaining()) in_.fail("too many physical tags");
+      Entity e;
+      for (uint64_t k = 0; k < nphys; ++k) e.physicals.push_back(int_value("a physical tag"));
+      if (dim > 0) {
+        const uint64_t nb = size_value("a bounding entity count");
+        if (nb > in_.remaining()) in_.fail("too many bounding entities");
+        for (uint64_t k = 0; k < nb; ++k) {
+          const int b = int_value("a bounding entity tag");
+          if (dim == 3) e.bounding.push_back(b);
+        }
+      }
+      if (dim == 2) surfaces_[tag] = std::move(e);
+      if (dim == 3) volumes_[tag] = std::move(e);
+    }
+  }
+  expect_end("$Entities");
+}
+
+void MshReader::add_node(uint64_t tag, Vec3 p) {
+  if (!nodes_.add(tag, static_cast<int>(m_.points.size()))) in_.fail("node " + std::to_string(tag) + " appears twice");
+  m_.points.push_back(p);
+}
+
+void MshReader::read_nodes22() {
+  const uint64_t n = in_.count("the number of nodes");
+  nodes_.init(n, in_.remaining());
+  m_.points.reserve(capped(n, in_.remaining(), binary_ ? 28 : 8));
+  if (binary_) in_.skip_line();
+  for (uint64_t i = 0; i < n; ++i) {
+    const uint64_t tag = binary_ ? static_cast<uint64_t>(static_cast<uint32_t>(in_.get<int32_t>("a node tag")))
+                                 : in_.count("a node tag");
+    Vec3 p;
+    p.x = real_value("a node x");
+    p.y = real_value("a node y");
+    p.z = real_value("a node z");
+    add_node(tag, p);
+  }
+  expect_end("$Nodes");
+}
+
+void MshReader::read_nodes41() {
+  const uint64_t blocks = size_value("the number of node blocks");
+  const uint64_t n = size_value("the number of nodes");
+  size_value("the smallest node tag");
+  size_value("the largest node tag");
+  nodes_.init(n, in_.remaining());
+  m_.points.reserve(capped(n, in_.remaining(), binary_ ? 32 : 8));
+  std::vector<uint64_t> tags;
+  for (uint64_t b = 0; b < blocks; ++b) {
+    const int dim = int_value("an entity dimension");
+    int_value("an entity tag");
+    const int parametric = int_value("the parametric flag");
+    const uint64_t count = size_value("the number of nodes in a block");
+    if (count > in_.remaining()) in_.fail("node block larger than the file");
+    if (dim < 0 || dim > 3) in_.fail("entity dimension " + std::to_string(dim));
+    const int extra = parametric ? dim : 0;
+    tags.resize(count);
+    for (uint64_t& t : tags) t = size_value("a node tag");
+    for (uint64_t t : tags) {
+      Vec3 p;
+      p.x = real_value("a node x");
+      p.y = real_value("a node y");
+      p.z = real_value("a node z");
+      for (int k = 0; k < extra; ++k) real_value("a parametric coordinate");
+      add_node(t, p);
+    }
+  }
+  if (m_.points.size() != n) in_.fail("the node blocks hold " + std::to_string(m_.points.size()) +
+                                      " nodes, the header says " + std::to_string(n));
+  expect_end("$Nodes");
+}
+
+void MshReader::add_element(int type, uint64_t tag, const uint64_t* nodes, int entity, int physical) {
+  const bool tri = type == kMshTriangle || type == kMshTriangle6;
+  const bool tet = type == kMshTet || type == kMshTet10;
+  if (!tri && !tet) return;
+  const int k = msh_nodes_per_element(type);
+  int idx[10];
+  for (int j = 0; j < k; ++j) {
+    idx[j] = nodes_.find(nodes[j]);
+    if (idx[j] < 0) in_.fail("element " + std::to_string(tag) + " refers to node " + std::to_string(nodes[j]) +
+                             ", which does not exist");
+  }
+  if (tri) {
+    Triangle t;
+    t.v = {idx[0], idx[1], idx[2]};
+    m_.triangles.push_back(t);
+    if (type == kMshTriangle6) m_.triangle_mid.push_back({idx[3], idx[4], idx[5]});
+    tri_info_.push_back({tag, entity, physical});
+  } else {
+    Tetrahedron t;
+    t.v = {idx[0], idx[1], idx[2], idx[3]};
+    m_.tets.push_back(t);
+    if (type == kMshTet10) {
+      TetMidNodes mid{idx[4], idx[5], idx[6], idx[7], idx[8], idx[9]};
+      swap_tet10_gmsh(mid);
+      m_.tet_mid.push_back(mid);
+    }
+    tet_info_.push_back({tag, entity, physical});
+  }
+}
+
+void MshReader::read_elements22() {
+  const uint64_t n = in_.count("the number of elements");
+  uint64_t nodes[64];
+  if (!binary_) {
+    for (uint64_t i = 0; i < n; ++i) {
+      const uint64_t tag = in_.count("an element tag");
+      const int type = in_.int32("an element type");
+      const int k = msh_nodes_per_element(type);
+      if (k < 0) in_.fail("unknown element type " + std::to_string(type));
+      const uint64_t ntags = in_.count("the number of element tags", 64);
+      int tags[2] = {0, 0};
+      for (uint64_t j = 0; j < ntags; ++j) {
+        const int t = in_.int32("an element tag");
+        if (j < 2) tags[j] = t;
+      }
+      for (int j = 0; j < k; ++j) nodes[j] = in_.count("an element node");
+      add_element(type, tag, nodes, tags[1], tags[0]);
+    }
+  } else {
+    in_.skip_line();
+    uint64_t done = 0;
+    while (done < n) {
+      const int type = in_.get<int32_t>("an element type");
+      const int32_t count = in_.get<int32_t>("an element count");
+      const int32_t ntags = in_.get<int32_t>("a tag count");
+      const int k = msh_nodes_per_element(type);
+      if (k < 0) in_.fail("unknown element type " + std::to_string(type));
+      if (count <= 0 || static_cast<uint64_t>(count) > n - done) in_.fail("bad element block size");
+      if (ntags < 0 || ntags > 64) in_.fail("bad element tag count");
+      for (int32_t e = 0; e < count; ++e) {
+        const uint32_t tag = static_cast<uint32_t>(in_.get<int32_t>("an element tag"));
+        int tags[2] = {0, 0};
+        for (int j = 0; j < ntags; ++j) {
+          const int t = in_.get<int32_t>("an element tag");
+          if (j < 2) tags[j] = t;
+        }
+        for (int j = 0; j < k; ++j) nodes[j] = static_cast<uint32_t>(in_.get<int32_t>("an element node"));
+        add_element(type, tag, nodes, tags[1], tags[0]);
+      }
+      done += static_cast<uint64_t>(count);
+    }
+  }
+  expect_end("$Elements");
+}
+
+void MshReader::read_elements41() {
+  const uint64_t blocks = size_value("the number of element blocks");
+  const uint64_t n = size_value("the number of elements");
+  size_value("the smallest element tag");
+  size_value("the largest element tag");
+  m_.tets.reserve(capped(n, in_.remaining(), binary_ ? 40 : 10));
+  uint64_t nodes[64];
+  uint64_t total = 0;
+  for (uint64_t b = 0; b < blocks; ++b) {
+    const int dim = int_value("an entity dimension");
+    const int entity = int_value("an entity tag");
+    const int type = int_value("an element type");
+    const uint64_t count = size_value("the number of elements in a block");
+    const int k = msh_nodes_per_element(type);
+    if (k < 0) in_.fail("unknown element type " + std::to_string(type));
+    if (dim < 0 || dim > 3) in_.fail("entity dimension " + std::to_string(dim));
+    if (count > in_.remaining()) in_.fail("element block larger than the file");
+    for (uint64_t e = 0; e < count; ++e) {
+      const uint64_t tag = size_value("an element tag");
+      for (int j = 0; j < k; ++j) nodes[j] = size_value("an element node");
+      add_element(type, tag, nodes, entity, 0);
+    }
+    total += count;
+  }
+  if (total != n) in_.fail("the element blocks hold " + std::to_string(total) + " elements, the header says " +
+                           std::to_string(n));
+  expect_end("$Elements");
+}
+
+// Puts elements in tag order (stable, so untagged duplicates keep file order).
+template <class T, class M>
+void sort_by_tag(std::vector<Element>& info, std::vector<T>& elems, std::vector<M>& mids) {
+  bool sorted = true;
+  for (size_t i = 1; i < info.size() && sorted; ++i) sorted = info[i - 1].tag <= info[i].tag;
+  if (sorted) return;
+  std::vector<size_t> order(info.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return info[a].tag < info[b].tag; });
+  auto permute = [&](auto& v) {
+    if (v.size() != order.size()) return;
+    std::remove_reference_t<decltype(v)> out;
+    out.reserve(v.size());
+    for (size_t i : order) out.push_back(v[i]);
+    v.swap(out);
+  };
+  permute(info);
+  permute(elems);
+  permute(mids);
+}
+
+void MshReader::finish() {
+  sort_by_tag(tri_info_, m_.triangles, m_.triangle_mid);
+  sort_by_tag(tet_info_, m_.tets, m_.tet_mid);
+  // An element's tag: its physical group, else its geometrical entity.
+  auto tag_of = [&](const Element& e, const std::map<int, Entity>& entities) {
+    if (version_ < 4) return e.physical != 0 ? e.physical : e.entity;
+    auto it = entities.find(e.entity);
+    if (it != entities.end() && !it->second.physicals.empty()) return it->second.physicals.front();
+    return e.entity;
+  };
+  for (size_t i = 0; i < m_.tets.size(); ++i) m_.tets[i].region = tag_of(tet_info_[i], volumes_);
+  for (size_t i = 0; i < m_.triangles.size(); ++i) m_.triangles[i].face = tag_of(tri_info_[i], surfaces_);
+  if (!m_.tets.empty()) {
+    require_valid(m_, in_.name());
+    sides_from_tets(m_);
+    return;
+  }
+  if (!have_entities_) return;
+  // A surface mesh: the volumes that list a surface as their boundary give
+  // its sides; +s means the surface's normal points out of the volume.
+  std::map<int, std::pair<int, int>> sides;  // surface -> (front, back)
+  for (const auto& [vtag, v] : volumes_) {
+    const int region = v.physicals.empty() ? vtag : v.physicals.front();
+    for (int s : v.bounding) {
+      auto& fb = sides.emplace(std::abs(s), std::make_pair(0, 0)).first->second;
+      (s > 0 ? fb.second : fb.first) = region;
+    }
+  }
+  for (size_t i = 0; i < m_.triangles.size(); ++i) {
+    auto it = sides.find(tri_info_[i].entity);
+    if (it == sides.end()) continue;
+    m_.triangles[i].front = it->second.first;
+    m_.triangles[i].back = it->second.second;
+  }
+}
+
+Mesh MshReader::read() {
+  bool have_format = false;
+  while (!in_.at_end()) {
+    const std::string_view section = in_.token("a section");
+    if (section.empty() || section[0] != '$') in_.fail("expected a $Section, found '" +
+                                                       std::string(section.substr(0, 40)) + "'");
+    if (!have_format && section != "$MeshFormat") in_.fail("the file does not start with $MeshFormat");
+    // Binary 4.1 sections start right after the line of their name.
+    if (binary_ && version_ >= 4 && (section == "$Entities" || section == "$Nodes" || section == "$Elements"))
+      in_.skip_line();
+    if (section == "$MeshFormat") {
+      read_format();
+      have_format = true;
+    } else if (section == "$PhysicalNames") {
+      read_physical_names();
+    } else if (section == "$Entities") {
+      read_entities();
+    } else if (section == "$Nodes") {
+      if (!m_.points.empty()) in_.fail("a second $Nodes section");
+      version_ < 4 ? read_nodes22() : read_nodes41();
+    } else if (section == "$Elements") {
+      if (!m_.triangles.empty() || !m_.tets.empty()) in_.fail("a second $Elements section");
+      version_ < 4 ? read_elements22() : read_elements41();
+    } else {
+      skip_section(section);
+    }
+  }
+  if (!have_format) in_.fail("empty file, expected $MeshFormat");
+  finish();
+  return std::move(m_);
+}
+
+}  // namespace
+
+Mesh read_gmsh(const std::string& path) {
+  const std::string data = load_file(path);
+  return MshReader(data, path).read();
+}
+
+}  // namespace vd::io::detail

@@ -1,0 +1,453 @@
+#include "io_util.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <set>
+#include <unordered_map>
+
+namespace vd::io::detail {
+namespace {
+
+bool ends_with_ci(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && iequals(s.substr(s.size() - suffix.size()), suffix);
+}
+
+std::string gunzip(const std::string& path) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  if (!f) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  std::string out;
+  std::vector<char> chunk(1 << 20);
+  for (;;) {
+    const int n = gzread(f, chunk.data(), static_cast<unsigned>(chunk.size()));
+    if (n < 0) {
+      int code = 0;
+      const std::string msg = gzerror(f, &code);
+      gzclose(f);
+      throw InputError(path + ": byte " + std::to_string(out.size()) + ": bad gzip data: " + msg);
+    }
+    if (n == 0) break;
+    out.append(chunk.data(), static_cast<size_t>(n));
+  }
+  gzclose(f);
+  return out;
+}
+
+}  // namespace
+
+std::string to_lower(std::string_view s) {
+  std::string r(s);
+  for (char& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return r;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
+      return false;
+  return true;
+}
+
+bool starts_with_ci(std::string_view s, std::string_view prefix) {
+  return s.size() >= prefix.size() && iequals(s.substr(0, prefix.size()), prefix);
+}
+
+std::string extension_of(const std::string& path) {
+  std::string_view p(path);
+  if (ends_with_ci(p, ".gz")) p.remove_suffix(3);
+  const size_t slash = p.find_last_of("/\\");
+  const size_t dot = p.rfind('.');
+  if (dot == std::string_view::npos || (slash != std::string_view::npos && dot < slash)) return "";
+  return to_lower(p.substr(dot));
+}
+
+std::string strip_extension(const std::string& path) {
+  std::string_view p(path);
+  if (ends_with_ci(p, ".gz")) p.remove_suffix(3);
+  const std::string ext = extension_of(path);
+  return std::string(p.substr(0, p.size() - ext.size()));
+}
+
+std::string load_file(const std::string& path) {
+  if (ends_with_ci(path, ".gz")) return gunzip(path);
+  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  std::string out;
+  if (std::fseek(f.get(), 0, SEEK_END) == 0) {
+    const long size = std::ftell(f.get());
+    if (size > 0) out.reserve(static_cast<size_t>(size));
+    std::fseek(f.get(), 0, SEEK_SET);
+  }
+  std::vector<char> chunk(1 << 20);
+  size_t n;
+  while ((n = std::fread(chunk.data(), 1, chunk.size(), f.get())) > 0) out.append(chunk.data(), n);
+  if (std::ferror(f.get())) throw InputError(path + ": read error");
+  return out;
+}
+
+void save_file(const std::string& path, std::string_view data) {
+  if (ends_with_ci(path, ".gz")) {
+    gzFile f = gzopen(path.c_str(), "wb6");
+    if (!f) throw InputError(path + ": cannot write: " + std::strerror(errno));
+    size_t done = 0;
+    while (done < data.size()) {
+      const unsigned n = static_cast<unsigned>(std::min<size_t>(data.size() - done, 1u << 30));
+      if (gzwrite(f, data.data() + done, n) != static_cast<int>(n)) {
+        gzclose(f);
+        throw InputError(path + ": write error");
+      }
+      done += n;
+    }
+    if (gzclose(f) != Z_OK) throw InputError(path + ": write error");
+    return;
+  }
+  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
+  if (!f) throw InputError(path + ": cannot write: " + std::strerror(errno));
+  if (std::fwrite(data.data(), 1, data.size(), f.get()) != data.size())
+    throw InputError(path + ": write error");
+  if (std::fclose(f.release()) != 0) throw InputError(path + ": write error");
+}
+
+// ---------------------------------------------------------------------------
+// Cursor
+
+void Cursor::fail(const std::string& what) const {
+  if (binary_) throw InputError(name_ + ": byte " + std::to_string(pos_) + ": " + what);
+  throw InputError(name_ + ":" + std::to_string(line_) + ": " + what);
+}
+
+void Cursor::skip_blanks_in_line() {
+  while (pos_ < data_.size()) {
+    const char c = data_[pos_];
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v' || (comma_ && c == ',')) {
+      ++pos_;
+    } else if (comment_ && c == comment_) {
+      while (pos_ < data_.size() && data_[pos_] != '\n') ++pos_;
+    } else {
+      break;
+    }
+  }
+}
+
+bool Cursor::at_end() {
+  for (;;) {
+    skip_blanks_in_line();
+    if (pos_ >= data_.size()) return true;
+    if (data_[pos_] != '\n') return false;
+    ++pos_;
+    ++line_;
+  }
+}
+
+bool Cursor::line_has_more() {
+  skip_blanks_in_line();
+  return pos_ < data_.size() && data_[pos_] != '\n';
+}
+
+std::string_view Cursor::token_in_line() {
+  if (!line_has_more()) return {};
+  const size_t start = pos_;
+  while (pos_ < data_.size()) {
+    const char c = data_[pos_];
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v' ||
+        (comma_ && c == ',') || (comment_ && c == comment_))
+      break;
+    ++pos_;
+  }
+  return data_.substr(start, pos_ - start);
+}
+
+std::string_view Cursor::token(const char* what) {
+  if (at_end()) fail(std::string("unexpected end of file, expected ") + what);
+  return token_in_line();
+}
+
+void Cursor::skip_line() {
+  while (pos_ < data_.size() && data_[pos_] != '\n') ++pos_;
+  if (pos_ < data_.size()) {
+    ++pos_;
+    ++line_;
+  }
+}
+
+std::string_view Cursor::rest_of_line() {
+  const size_t start = pos_;
+  while (pos_ < data_.size() && data_[pos_] != '\n') ++pos_;
+  std::string_view r = data_.substr(start, pos_ - start);
+  if (pos_ < data_.size()) {
+    ++pos_;
+    ++line_;
+  }
+  while (!r.empty() && (r.back() == '\r' || r.back() == ' ' || r.back() == '\t')) r.remove_suffix(1);
+  return r;
+}
+
+std::string_view Cursor::next_line() {
+  while (!at_end()) {
+    std::string_view r = rest_of_line();
+    while (!r.empty() && (r.front() == ' ' || r.front() == '\t')) r.remove_prefix(1);
+    if (comment_) {
+      const size_t c = r.find(comment_);
+      if (c != std::string_view::npos) r = r.substr(0, c);
+      while (!r.empty() && (r.back() == ' ' || r.back() == '\t')) r.remove_suffix(1);
+    }
+    if (!r.empty()) return r;
+  }
+  return {};
+}
+
+bool Cursor::parse_int(std::string_view t, int64_t& v) {
+  if (!t.empty() && t[0] == '+') t.remove_prefix(1);
+  if (t.empty()) return false;
+  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  return ec == std::errc() && p == t.data() + t.size();
+}
+
+bool Cursor::parse_real(std::string_view t, double& v) {
+  if (!t.empty() && t[0] == '+') t.remove_prefix(1);
+  if (t.empty()) return false;
+  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (ec == std::errc::result_out_of_range) return false;
+  return ec == std::errc() && p == t.data() + t.size() && std::isfinite(v);
+}
+
+int64_t Cursor::integer(const char* what) {
+  const std::string_view t = token(what);
+  int64_t v;
+  if (!parse_int(t, v)) fail(std::string("expected ") + what + " (an integer), found '" +
+                             std::string(t.substr(0, 40)) + "'");
+  return v;
+}
+
+int Cursor::int32(const char* what) {
+  const int64_t v = integer(what);
+  if (v < INT32_MIN || v > INT32_MAX) fail(std::string(what) + " out of range: " + std::to_string(v));
+  return static_cast<int>(v);
+}
+
+uint64_t Cursor::count(const char* what, uint64_t limit) {
+  const int64_t v = integer(what);
+  if (v < 0) fail(std::string("negative ") + what + ": " + std::to_string(v));
+  if (static_cast<uint64_t>(v) > limit) fail(std::string(what) + " too large: " + std::to_string(v));
+  return static_cast<uint64_t>(v);
+}
+
+double Cursor::real(const char* what) {
+  const std::string_view t = token(what);
+  double v;
+  if (!parse_real(t, v))
+    fail(std::string("expected ") + what + " (a finite number), found '" + std::string(t.substr(0, 40)) + "'");
+  return v;
+}
+
+double Cursor::real_in_line(const char* what) {
+  if (!line_has_more()) fail(std::string("missing ") + what);
+  return real(what);
+}
+
+void Cursor::raw(void* out, size_t n, const char* what) {
+  binary_ = true;
+  if (n > data_.size() - pos_) fail(std::string("file ends inside ") + what);
+  std::memcpy(out, data_.data() + pos_, n);
+  pos_ += n;
+}
+
+void Cursor::skip_bytes(uint64_t n, const char* what) {
+  binary_ = true;
+  if (n > data_.size() - pos_) fail(std::string("file ends inside ") + what);
+  pos_ += static_cast<size_t>(n);
+}
+
+void Cursor::skip_newline() {
+  if (pos_ < data_.size() && data_[pos_] == '\r') ++pos_;
+  if (pos_ < data_.size() && data_[pos_] == '\n') {
+    ++pos_;
+    ++line_;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Out
+
+Out& Out::integer(long long v) {
+  char b[24];
+  const auto r = std::to_chars(b, b + sizeof b, v);
+  buf_.append(b, static_cast<size_t>(r.ptr - b));
+  return *this;
+}
+
+Out& Out::operator<<(double v) {
+  char b[32];
+  const auto r = std::to_chars(b, b + sizeof b, v);
+  buf_.append(b, static_cast<size_t>(r.ptr - b));
+  return *this;
+}
+
+// ---------------------------------------------------------------------------
+// Mesh helpers
+
+namespace {
+
+struct PointKey {
+  uint64_t x, y, z;
+  bool operator==(const PointKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct PointKeyHash {
+  size_t operator()(const PointKey& k) const {
+    uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h ^= (k.y + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2));
+    h ^= (k.z + 0x94D049BB133111EBull + (h << 6) + (h >> 2));
+    return static_cast<size_t>(h ^ (h >> 31));
+  }
+};
+uint64_t bits(double d) {
+  if (d == 0) d = 0;  // -0 and +0 are the same point
+  uint64_t b;
+  std::memcpy(&b, &d, sizeof b);
+  return b;
+}
+
+}  // namespace
+
+void weld_points(Mesh& m) {
+  std::unordered_map<PointKey, int, PointKeyHash> seen;
+  seen.reserve(m.points.size());
+  std::vector<int> map(m.points.size());
+  std::vector<Vec3> kept;
+  kept.reserve(m.points.size());
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    const Vec3& p = m.points[i];
+    const auto [it, fresh] = seen.emplace(PointKey{bits(p.x), bits(p.y), bits(p.z)}, static_cast<int>(kept.size()));
+    if (fresh) kept.push_back(p);
+    map[i] = it->second;
+  }
+  m.points = std::move(kept);
+  for (Triangle& t : m.triangles)
+    for (int& v : t.v) v = map[static_cast<size_t>(v)];
+  for (Tetrahedron& t : m.tets)
+    for (int& v : t.v) v = map[static_cast<size_t>(v)];
+}
+
+double tet_det(const Mesh& m, const std::array<int, 4>& v) {
+  const Vec3 a = m.points[static_cast<size_t>(v[0])];
+  return dot(cross(m.points[static_cast<size_t>(v[1])] - a, m.points[static_cast<size_t>(v[2])] - a),
+             m.points[static_cast<size_t>(v[3])] - a);
+}
+
+void sides_from_tets(Mesh& m) {
+  if (m.tets.empty() || m.triangles.empty()) return;
+  // Triangles sorted by their vertex set; tetrahedron faces are looked up.
+  using Key = std::array<int, 3>;
+  auto key_of = [](int a, int b, int c) {
+    Key k{a, b, c};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  std::vector<std::pair<Key, int>> index;
+  index.reserve(m.triangles.size());
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const Triangle& t = m.triangles[i];
+    if (t.front == kUnknownRegion || t.back == kUnknownRegion)
+      index.push_back({key_of(t.v[0], t.v[1], t.v[2]), static_cast<int>(i)});
+  }
+  if (index.empty()) return;
+  std::sort(index.begin(), index.end());
+  std::vector<int> front(m.triangles.size(), kUnknownRegion - 1), back(front);
+  // Faces of a positive tetrahedron (a,b,c,d) whose normal points into it.
+  static const int inward[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+  for (const Tetrahedron& tet : m.tets) {
+    const bool positive = tet_det(m, tet.v) >= 0;
+    for (const auto& f : inward) {
+      const int a = tet.v[f[0]], b = tet.v[f[1]], c = tet.v[f[2]];
+      const Key k = key_of(a, b, c);
+      auto it = std::lower_bound(index.begin(), index.end(), std::make_pair(k, -1));
+      for (; it != index.end() && it->first == k; ++it) {
+        const Triangle& t = m.triangles[static_cast<size_t>(it->second)];
+        // Same cyclic order as the inward face: the tetrahedron is in front.
+        const int s = (t.v[0] == a) ? 0 : (t.v[1] == a ? 1 : 2);
+        const bool same = t.v[(s + 1) % 3] == b;
+        const bool in_front = same == positive;
+        (in_front ? front : back)[static_cast<size_t>(it->second)] = tet.region;
+      }
+    }
+  }
+  for (const auto& [k, i] : index) {
+    Triangle& t = m.triangles[static_cast<size_t>(i)];
+    const size_t u = static_cast<size_t>(i);
+    const bool hit_front = front[u] != kUnknownRegion - 1, hit_back = back[u] != kUnknownRegion - 1;
+    if (!hit_front && !hit_back) continue;
+    if (t.front == kUnknownRegion) t.front = hit_front ? front[u] : 0;
+    if (t.back == kUnknownRegion) t.back = hit_back ? back[u] : 0;
+  }
+}
+
+std::vector<int> region_ids(const Mesh& m) {
+  std::set<int> s;
+  for (const Tetrahedron& t : m.tets) s.insert(t.region);
+  return {s.begin(), s.end()};
+}
+
+std::vector<int> face_ids(const Mesh& m) {
+  std::set<int> s;
+  for (const Triangle& t : m.triangles) s.insert(t.face);
+  return {s.begin(), s.end()};
+}
+
+std::string region_name(const Mesh& m, int region) {
+  auto it = m.region_names.find(region);
+  if (it != m.region_names.end() && !it->second.empty()) return it->second;
+  return "Region" + std::to_string(region);
+}
+
+std::string face_name(const Mesh& m, int face) {
+  auto it = m.face_names.find(face);
+  if (it != m.face_names.end() && !it->second.empty()) return it->second;
+  return "Face" + std::to_string(face);
+}
+
+int id_from_name(std::string_view name, std::string_view prefix) {
+  if (!starts_with_ci(name, prefix) || name.size() == prefix.size() || name.size() > prefix.size() + 9)
+    return -1;
+  int v = 0;
+  for (char c : name.substr(prefix.size())) {
+    if (c < '0' || c > '9') return -1;
+    v = v * 10 + (c - '0');
+  }
+  return v;
+}
+
+void require_valid(const Mesh& m, const std::string& name) {
+  const size_t n = m.points.size();
+  auto bad = [&](const std::string& what, size_t i) {
+    throw InputError(name + ": " + what + " " + std::to_string(i + 1) + " refers to a node that does not exist");
+  };
+  for (size_t i = 0; i < m.triangles.size(); ++i)
+    for (int v : m.triangles[i].v)
+      if (v < 0 || static_cast<size_t>(v) >= n) bad("triangle", i);
+  for (size_t i = 0; i < m.tets.size(); ++i)
+    for (int v : m.tets[i].v)
+      if (v < 0 || static_cast<size_t>(v) >= n) bad("tetrahedron", i);
+  for (size_t i = 0; i < m.triangle_mid.size(); ++i)
+    for (int v : m.triangle_mid[i])
+      if (v < 0 || static_cast<size_t>(v) >= n) bad("triangle", i);
+  for (size_t i = 0; i < m.tet_mid.size(); ++i)
+    for (int v : m.tet_mid[i])
+      if (v < 0 || static_cast<size_t>(v) >= n) bad("tetrahedron", i);
+  if (!m.triangle_mid.empty() && m.triangle_mid.size() != m.triangles.size())
+    throw InputError(name + ": some triangles are second order and some are not");
+  if (!m.tet_mid.empty() && m.tet_mid.size() != m.tets.size())
+    throw InputError(name + ": some tetrahedra are second order and some are not");
+  if (!m.point_size.empty() && m.point_size.size() != m.points.size())
+    throw InputError(name + ": mesh sizes do not match the nodes");
+  for (const Vec3& p : m.points)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError(name + ": a node coordinate is not a finite number");
+}
+
+}  // namespace vd::io::detail

@@ -1,0 +1,177 @@
+// Shared plumbing of the format readers and writers: whole-file loading (with
+// gzip), a cursor that parses text and binary without iostreams and reports
+// "FILE:LINE: what" errors, an output buffer, and mesh post-processing that
+// several formats need (welding, region sides from tetrahedra, checks).
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mesh/error.h"
+#include "mesh/mesh.h"
+
+namespace vd::io::detail {
+
+// The bytes of `path`, gunzipped when it ends in ".gz". Throws InputError.
+std::string load_file(const std::string& path);
+// Writes `data` to `path`, gzipped when it ends in ".gz". Throws InputError.
+void save_file(const std::string& path, std::string_view data);
+
+// Lower-case extension with the dot (".msh"), looking through a trailing ".gz".
+std::string extension_of(const std::string& path);
+// `path` without a trailing ".gz" and without its extension.
+std::string strip_extension(const std::string& path);
+std::string to_lower(std::string_view s);
+bool iequals(std::string_view a, std::string_view b);
+bool starts_with_ci(std::string_view s, std::string_view prefix);
+
+// Never reserve more than the file could hold: counts come from the input.
+inline size_t capped(uint64_t count, size_t file_bytes, size_t min_bytes_per_item) {
+  const uint64_t most = file_bytes / (min_bytes_per_item ? min_bytes_per_item : 1) + 1;
+  return static_cast<size_t>(count < most ? count : most);
+}
+
+// A read position in a loaded file. Text tokens are separated by white space
+// (optionally commas); `comment` starts a comment to the end of the line.
+// Binary reads share the position, so mixed files (Gmsh, legacy VTK) need one
+// cursor. Errors name the line while no binary was read, else the byte offset.
+class Cursor {
+ public:
+  Cursor(std::string_view data, std::string name) : data_(data), name_(std::move(name)) {}
+
+  void set_comment(char c) { comment_ = c; }
+  void set_comma_separates(bool on) { comma_ = on; }
+
+  // Skips blanks, newlines and comments; true at the end of the data.
+  bool at_end();
+  // The next token; fails at the end of the data.
+  std::string_view token(const char* what);
+  // The next token on the current line, or "" when the line has no more.
+  std::string_view token_in_line();
+  bool line_has_more();
+  // Moves to the start of the next line.
+  void skip_line();
+  // The rest of the current line (without the newline), moving past it.
+  std::string_view rest_of_line();
+  // The next non-empty line, trimmed, moving past it; "" at end of data.
+  std::string_view next_line();
+
+  int64_t integer(const char* what);
+  int int32(const char* what);
+  // A count: non-negative and at most `limit`.
+  uint64_t count(const char* what, uint64_t limit = UINT64_C(1) << 40);
+  double real(const char* what);  // finite only
+  // The same, but the value must be on the current line.
+  double real_in_line(const char* what);
+  // Parses a whole token as a number; false when it is not one.
+  static bool parse_int(std::string_view t, int64_t& v);
+  static bool parse_real(std::string_view t, double& v);
+
+  // Binary: `n` bytes copied out; fails when the data ends first.
+  void raw(void* out, size_t n, const char* what);
+  template <class T>
+  T get(const char* what) {
+    T v;
+    raw(&v, sizeof v, what);
+    return v;
+  }
+  template <class T>
+  T get_be(const char* what) {
+    unsigned char b[sizeof(T)];
+    raw(b, sizeof b, what);
+    for (size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
+    T v;
+    std::memcpy(&v, b, sizeof v);
+    return v;
+  }
+  // Skips exactly one line end ("\n" or "\r\n") when there is one.
+  void skip_newline();
+  void skip_bytes(uint64_t n, const char* what);
+
+  size_t pos() const { return pos_; }
+  void seek(size_t p) { pos_ = p < data_.size() ? p : data_.size(); }
+  size_t line() const { return line_; }
+  size_t remaining() const { return data_.size() - pos_; }
+  std::string_view data() const { return data_; }
+  const std::string& name() const { return name_; }
+
+  [[noreturn]] void fail(const std::string& what) const;
+
+ private:
+  void skip_blanks_in_line();
+  std::string_view data_;
+  std::string name_;
+  size_t pos_ = 0;
+  size_t line_ = 1;
+  char comment_ = 0;
+  bool comma_ = false;
+  bool binary_ = false;
+};
+
+// Appends text and binary to one growing buffer; save() writes it out.
+class Out {
+ public:
+  Out() { buf_.reserve(1 << 16); }
+  Out& operator<<(std::string_view s) {
+    buf_.append(s.data(), s.size());
+    return *this;
+  }
+  Out& operator<<(char c) {
+    buf_.push_back(c);
+    return *this;
+  }
+  Out& operator<<(const char* s) { return *this << std::string_view(s); }
+  Out& operator<<(const std::string& s) { return *this << std::string_view(s); }
+  Out& operator<<(int v) { return integer(v); }
+  Out& operator<<(long v) { return integer(v); }
+  Out& operator<<(long long v) { return integer(v); }
+  Out& operator<<(unsigned v) { return integer(v); }
+  Out& operator<<(unsigned long v) { return integer(static_cast<long long>(v)); }
+  Out& operator<<(double v);  // shortest text that reads back exactly
+  Out& integer(long long v);
+  template <class T>
+  void raw(T v) {
+    buf_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  template <class T>
+  void raw_be(T v) {
+    char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof v);
+    for (size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
+    buf_.append(b, sizeof b);
+  }
+  void reserve(size_t n) { buf_.reserve(n); }
+  std::string& str() { return buf_; }
+  void save(const std::string& path) const { save_file(path, buf_); }
+
+ private:
+  std::string buf_;
+};
+
+// Merges points with identical coordinates (+0 == -0) and renumbers triangles.
+void weld_points(Mesh& m);
+// Fills each triangle's unknown front/back from the tetrahedra that have it as
+// a face; a side without a tetrahedron is the exterior (0). Triangles that
+// are no tetrahedron's face keep unknown sides.
+void sides_from_tets(Mesh& m);
+// The region ids used by the tetrahedra, and the face ids of the triangles.
+std::vector<int> region_ids(const Mesh& m);
+std::vector<int> face_ids(const Mesh& m);
+// Name of a region / face for formats that store names.
+std::string region_name(const Mesh& m, int region);
+std::string face_name(const Mesh& m, int face);
+// When `name` is "<prefix><k>" (case-insensitive) returns k, else -1.
+int id_from_name(std::string_view name, std::string_view prefix);
+// A tetrahedron's signed volume x 6.
+double tet_det(const Mesh& m, const std::array<int, 4>& v);
+
+}  // namespace vd::io::detail
+
+namespace vd::io::detail {
+// Throws InputError naming `name` when an element refers to a missing point,
+// or side arrays do not match their elements: a last guard after parsing.
+void require_valid(const Mesh& m, const std::string& name);
+}  // namespace vd::io::detail

@@ -1,0 +1,117 @@
+// Medit / INRIA .mesh (ASCII): Vertices with a reference, Triangles with
+// ref = face id, Tetrahedra with ref = region. Other sections are skipped.
+// Second-order meshes are written with their corner nodes only.
+#include <map>
+
+#include "formats.h"
+#include "io_util.h"
+
+namespace vd::io {
+namespace {
+
+using detail::Cursor;
+
+// Numbers per entry of the sections we skip.
+int skipped_section_width(const std::string& key) {
+  static const std::map<std::string, int> widths = {
+      {"edges", 3},          {"corners", 1},          {"ridges", 1},
+      {"requiredvertices", 1}, {"requirededges", 1},    {"requiredtriangles", 1},
+      {"quadrilaterals", 5},   {"hexahedra", 9},        {"prisms", 7},
+      {"pyramids", 6},         {"normals", 3},          {"tangents", 3},
+      {"normalatvertices", 2}, {"tangentatedges", 3},   {"normalattrianglevertices", 3},
+      {"requiredquadrilaterals", 1}, {"requiredtetrahedra", 1}, {"requiredhexahedra", 1},
+      {"tangentatvertices", 2}, {"normalatquadrilateralvertices", 3}};
+  auto it = widths.find(key);
+  return it == widths.end() ? -1 : it->second;
+}
+
+Mesh read_medit(const std::string& path) {
+  const std::string data = detail::load_file(path);
+  Cursor in(data, path);
+  in.set_comment('#');
+  Mesh m;
+  uint64_t nv = 0;
+  auto vertex = [&](const char* what) {
+    const int64_t v = in.integer(what);
+    if (v < 1 || static_cast<uint64_t>(v) > nv)
+      in.fail(std::string(what) + " " + std::to_string(v) + " does not exist (" + std::to_string(nv) + " vertices)");
+    return static_cast<int>(v - 1);
+  };
+  bool have_vertices = false;
+  while (!in.at_end()) {
+    const std::string key = detail::to_lower(in.token("a keyword"));
+    if (key == "meshversionformatted") {
+      const int64_t v = in.integer("the mesh version");
+      if (v < 1 || v > 4) in.fail("unsupported mesh version " + std::to_string(v));
+    } else if (key == "dimension") {
+      const int64_t d = in.integer("the dimension");
+      if (d != 3) in.fail("only 3D meshes are supported (Dimension " + std::to_string(d) + ")");
+    } else if (key == "vertices") {
+      if (have_vertices) in.fail("a second Vertices section");
+      have_vertices = true;
+      nv = in.count("the number of vertices", INT32_MAX);
+      m.points.reserve(detail::capped(nv, data.size(), 8));
+      for (uint64_t i = 0; i < nv; ++i) {
+        Vec3 p;
+        p.x = in.real("a vertex x");
+        p.y = in.real("a vertex y");
+        p.z = in.real("a vertex z");
+        in.integer("a vertex reference");
+        m.points.push_back(p);
+      }
+    } else if (key == "triangles") {
+      const uint64_t n = in.count("the number of triangles", data.size());
+      m.triangles.reserve(detail::capped(n, data.size(), 8));
+      for (uint64_t i = 0; i < n; ++i) {
+        Triangle t;
+        for (int& v : t.v) v = vertex("a triangle vertex");
+        t.face = in.int32("a triangle reference");
+        m.triangles.push_back(t);
+      }
+    } else if (key == "tetrahedra") {
+      const uint64_t n = in.count("the number of tetrahedra", data.size());
+      m.tets.reserve(detail::capped(n, data.size(), 10));
+      for (uint64_t i = 0; i < n; ++i) {
+        Tetrahedron t;
+        for (int& v : t.v) v = vertex("a tetrahedron vertex");
+        t.region = in.int32("a tetrahedron reference");
+        m.tets.push_back(t);
+      }
+    } else if (key == "end") {
+      break;
+    } else {
+      const int width = skipped_section_width(key);
+      if (width < 0) in.fail("unknown section '" + key.substr(0, 40) + "'");
+      const uint64_t n = in.count("a section size", data.size());
+      for (uint64_t i = 0; i < n * static_cast<uint64_t>(width); ++i) in.token("a section value");
+    }
+  }
+  detail::require_valid(m, path);
+  detail::sides_from_tets(m);
+  return m;
+}
+
+void write_medit(const Mesh& m, const std::string& path, const WriteOptions&) {
+  detail::Out out;
+  out.reserve(m.points.size() * 64 + m.triangles.size() * 32 + m.tets.size() * 40 + 256);
+  out << "MeshVersionFormatted 2\nDimension 3\n\nVertices\n" << m.points.size() << '\n';
+  for (const Vec3& p : m.points) out << p.x << ' ' << p.y << ' ' << p.z << " 0\n";
+  if (!m.triangles.empty()) {
+    out << "\nTriangles\n" << m.triangles.size() << '\n';
+    for (const Triangle& t : m.triangles)
+      out << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.face << '\n';
+  }
+  if (!m.tets.empty()) {
+    out << "\nTetrahedra\n" << m.tets.size() << '\n';
+    for (const Tetrahedron& t : m.tets)
+      out << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.v[3] + 1 << ' ' << t.region << '\n';
+  }
+  out << "\nEnd\n";
+  out.save(path);
+}
+
+}  // namespace
+
+Format make_medit_format() { return {"medit", {".mesh"}, true, read_medit, write_medit}; }
+
+}  // namespace vd::io

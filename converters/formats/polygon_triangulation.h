@@ -1,0 +1,21 @@
+// Triangulation of one planar facet of a PLC (TetGen .poly/.smesh): polygons
+// in a plane, some nested in others; a nested polygon bounds a hole when a
+// hole point lies in it, else it only splits the facet.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace vd::io::detail {
+
+// Triangles (point indices) covering the facet, each turned like the facet's
+// first polygon. Polygons with fewer than 3 vertices (segments, points in the
+// facet) are ignored. Never fails: a polygon ear clipping cannot finish is
+// completed as a fan.
+std::vector<std::array<int, 3>> triangulate_facet(const std::vector<Vec3>& points,
+                                                  const std::vector<std::vector<int>>& polygons,
+                                                  const std::vector<Vec3>& holes);
+
+}  // namespace vd::io::detail

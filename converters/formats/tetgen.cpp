@@ -1,0 +1,170 @@
+// TetGen's mesh files: X.node (points), X.ele (tetrahedra, the first
+// attribute is the region), X.face (triangles, the marker is the face id).
+// Any of them, or the base X, names the set; reading takes the ones present.
+// Numbering starts at 0 or 1, as the first node says. Ten-node tetrahedra are
+// read by their corners; second-order meshes are written linear.
+#include <filesystem>
+
+#include "formats.h"
+#include "io_util.h"
+#include "tetgen_files.h"
+
+namespace vd::io {
+namespace detail {
+
+std::string tetgen_base(const std::string& path) {
+  const std::string ext = extension_of(path);
+  if (ext == ".node" || ext == ".ele" || ext == ".face" || ext == ".poly" || ext == ".smesh")
+    return strip_extension(path);
+  return path;
+}
+
+int read_tetgen_nodes(Cursor& in, Mesh& m) {
+  const uint64_t n = in.count("the number of nodes", INT32_MAX);
+  const int64_t dim = in.integer("the dimension");
+  if (dim != 3) in.fail("only 3D node files are supported (dimension " + std::to_string(dim) + ")");
+  in.count("the number of attributes");
+  in.count("the boundary marker flag");
+  m.points.reserve(capped(n, in.remaining(), 8));
+  int first = 0;
+  for (uint64_t i = 0; i < n; ++i) {
+    const int64_t id = in.integer("a node number");
+    if (i == 0) {
+      if (id != 0 && id != 1) in.fail("the first node must be numbered 0 or 1, not " + std::to_string(id));
+      first = static_cast<int>(id);
+    }
+    if (id != first + static_cast<int64_t>(i))
+      in.fail("node numbers must be consecutive: expected " + std::to_string(first + i) + ", found " +
+              std::to_string(id));
+    Vec3 p;
+    p.x = in.real("a node x");
+    p.y = in.real("a node y");
+    p.z = in.real("a node z");
+    m.points.push_back(p);
+    in.skip_line();  // attributes, marker
+  }
+  return first;
+}
+
+int tetgen_vertex(Cursor& in, const Mesh& m, int first, const char* what) {
+  const int64_t id = in.integer(what);
+  if (id < first || static_cast<uint64_t>(id - first) >= m.points.size())
+    in.fail(std::string(what) + " " + std::to_string(id) + " does not exist");
+  return static_cast<int>(id - first);
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::Cursor;
+
+void read_ele(const std::string& path, Mesh& m, int first) {
+  const std::string data = detail::load_file(path);
+  Cursor in(data, path);
+  in.set_comment('#');
+  const uint64_t n = in.count("the number of tetrahedra", data.size());
+  const int64_t k = in.integer("the nodes per tetrahedron");
+  if (k != 4 && k != 10) in.fail("tetrahedra must have 4 or 10 nodes, not " + std::to_string(k));
+  const uint64_t nattr = in.count("the number of attributes", 1 << 20);
+  m.tets.reserve(detail::capped(n, data.size(), 10));
+  for (uint64_t i = 0; i < n; ++i) {
+    in.integer("a tetrahedron number");
+    Tetrahedron t;
+    for (int& v : t.v) v = detail::tetgen_vertex(in, m, first, "a tetrahedron node");
+    for (int64_t j = 4; j < k; ++j) detail::tetgen_vertex(in, m, first, "a tetrahedron node");
+    if (nattr > 0) {
+      const double a = in.real("a region attribute");
+      if (a < -2e9 || a > 2e9) in.fail("region attribute out of range");
+      t.region = static_cast<int>(a);
+    }
+    m.tets.push_back(t);
+    in.skip_line();
+  }
+}
+
+void read_face(const std::string& path, Mesh& m, int first) {
+  const std::string data = detail::load_file(path);
+  Cursor in(data, path);
+  in.set_comment('#');
+  const uint64_t n = in.count("the number of faces", data.size());
+  const uint64_t markers = in.count("the boundary marker flag");
+  m.triangles.reserve(detail::capped(n, data.size(), 8));
+  for (uint64_t i = 0; i < n; ++i) {
+    in.integer("a face number");
+    Triangle t;
+    for (int& v : t.v) v = detail::tetgen_vertex(in, m, first, "a face node");
+    if (markers) t.face = in.int32("a face marker");
+    m.triangles.push_back(t);
+    in.skip_line();  // adjacent tetrahedra
+  }
+}
+
+bool exists(const std::string& p) {
+  std::error_code ec;
+  return std::filesystem::exists(p, ec) || std::filesystem::exists(p + ".gz", ec);
+}
+
+std::string existing(const std::string& p) {
+  std::error_code ec;
+  return std::filesystem::exists(p, ec) ? p : p + ".gz";
+}
+
+Mesh read_tetgen(const std::string& path) {
+  const std::string base = detail::tetgen_base(path);
+  const std::string node = base + ".node";
+  if (!exists(node)) throw InputError(path + ": the TetGen node file " + node + " does not exist");
+  Mesh m;
+  const std::string data = detail::load_file(existing(node));
+  Cursor in(data, existing(node));
+  in.set_comment('#');
+  const int first = detail::read_tetgen_nodes(in, m);
+  if (exists(base + ".ele")) read_ele(existing(base + ".ele"), m, first);
+  if (exists(base + ".face")) read_face(existing(base + ".face"), m, first);
+  detail::require_valid(m, path);
+  detail::sides_from_tets(m);
+  return m;
+}
+
+void write_tetgen(const Mesh& m, const std::string& path, const WriteOptions&) {
+  const std::string base = detail::tetgen_base(path);
+  const bool gz = path.size() > 3 && detail::iequals(path.substr(path.size() - 3), ".gz");
+  const std::string suffix = gz ? ".gz" : "";
+  {
+    detail::Out out;
+    out.reserve(m.points.size() * 64 + 64);
+    out << m.points.size() << " 3 0 0\n";
+    for (size_t i = 0; i < m.points.size(); ++i) {
+      const Vec3& p = m.points[i];
+      out << i + 1 << ' ' << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    }
+    out.save(base + ".node" + suffix);
+  }
+  if (!m.tets.empty()) {
+    detail::Out out;
+    out.reserve(m.tets.size() * 48 + 64);
+    out << m.tets.size() << " 4 1\n";
+    for (size_t i = 0; i < m.tets.size(); ++i) {
+      const Tetrahedron& t = m.tets[i];
+      out << i + 1 << ' ' << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.v[3] + 1 << ' '
+          << t.region << '\n';
+    }
+    out.save(base + ".ele" + suffix);
+  }
+  if (!m.triangles.empty()) {
+    detail::Out out;
+    out.reserve(m.triangles.size() * 40 + 64);
+    out << m.triangles.size() << " 1\n";
+    for (size_t i = 0; i < m.triangles.size(); ++i) {
+      const Triangle& t = m.triangles[i];
+      out << i + 1 << ' ' << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.face << '\n';
+    }
+    out.save(base + ".face" + suffix);
+  }
+}
+
+}  // namespace
+
+Format make_tetgen_format() { return {"tetgen", {".node", ".ele", ".face"}, true, read_tetgen, write_tetgen}; }
+
+}  // namespace vd::io

@@ -1,0 +1,131 @@
+// TetGen piecewise linear complexes: .poly (facets of several polygons, with
+// facet holes) and .smesh (one polygon per facet). Polygons are triangulated
+// in their facet plane; the facet marker is the face id (else the facet's
+// position, 1-based). The global hole and region lists are read past: the
+// Mesh has no place for them. Writing gives one triangle per facet.
+#include <filesystem>
+
+#include "formats.h"
+#include "io_util.h"
+#include "polygon_triangulation.h"
+#include "tetgen_files.h"
+
+namespace vd::io {
+namespace {
+
+using detail::Cursor;
+
+Mesh read_plc(const std::string& path) {
+  const bool poly = detail::extension_of(path) == ".poly";
+  const std::string data = detail::load_file(path);
+  Cursor in(data, path);
+  in.set_comment('#');
+  Mesh m;
+  int first = 0;
+  // Part 1: nodes, here or (count 0) in the .node file beside it.
+  {
+    const size_t mark = in.pos();
+    const size_t line = in.line();
+    if (in.at_end()) in.fail("empty file");
+    int64_t n;
+    if (!Cursor::parse_int(in.token("the number of nodes"), n)) in.fail("expected the number of nodes");
+    if (n == 0) {
+      in.skip_line();
+      const std::string node = detail::tetgen_base(path) + ".node";
+      std::error_code ec;
+      if (!std::filesystem::exists(node, ec)) in.fail("no nodes here and no " + node);
+      const std::string nodes = detail::load_file(node);
+      Cursor nin(nodes, node);
+      nin.set_comment('#');
+      first = detail::read_tetgen_nodes(nin, m);
+    } else {
+      in.seek(mark);
+      (void)line;
+      first = detail::read_tetgen_nodes(in, m);
+    }
+  }
+  // Part 2: facets.
+  const uint64_t nf = in.count("the number of facets", data.size());
+  const uint64_t markers = in.count("the boundary marker flag");
+  in.skip_line();
+  m.triangles.reserve(detail::capped(nf, data.size(), 8));
+  std::vector<std::vector<int>> polygons;
+  std::vector<Vec3> holes;
+  for (uint64_t f = 0; f < nf; ++f) {
+    polygons.clear();
+    holes.clear();
+    int face = static_cast<int>(std::min<uint64_t>(f + 1, INT32_MAX));
+    if (poly) {
+      const uint64_t np = in.count("the number of polygons", data.size());
+      uint64_t nh = 0;
+      if (in.line_has_more()) nh = in.count("the number of facet holes", data.size());
+      if (in.line_has_more() && markers) face = in.int32("a facet marker");
+      in.skip_line();
+      for (uint64_t p = 0; p < np; ++p) {
+        const uint64_t k = in.count("the number of polygon vertices", data.size());
+        std::vector<int> loop;
+        for (uint64_t j = 0; j < k; ++j) loop.push_back(detail::tetgen_vertex(in, m, first, "a polygon vertex"));
+        polygons.push_back(std::move(loop));
+        in.skip_line();
+      }
+      for (uint64_t h = 0; h < nh; ++h) {
+        in.integer("a hole number");
+        Vec3 p;
+        p.x = in.real("a hole x");
+        p.y = in.real("a hole y");
+        p.z = in.real("a hole z");
+        holes.push_back(p);
+        in.skip_line();
+      }
+    } else {
+      const uint64_t k = in.count("the number of facet vertices", data.size());
+      std::vector<int> loop;
+      for (uint64_t j = 0; j < k; ++j) loop.push_back(detail::tetgen_vertex(in, m, first, "a facet vertex"));
+      if (in.line_has_more() && markers) face = in.int32("a facet marker");
+      polygons.push_back(std::move(loop));
+      in.skip_line();
+    }
+    for (const auto& t : detail::triangulate_facet(m.points, polygons, holes)) {
+      Triangle tri;
+      tri.v = t;
+      tri.face = face < 0 ? kNoFace : face;
+      m.triangles.push_back(tri);
+    }
+  }
+  // Parts 3 and 4 (holes, regions) are optional; check they parse.
+  if (!in.at_end()) {
+    const uint64_t nh = in.count("the number of holes", data.size());
+    for (uint64_t h = 0; h < nh; ++h) {
+      in.integer("a hole number");
+      for (int k = 0; k < 3; ++k) in.real("a hole coordinate");
+      in.skip_line();
+    }
+  }
+  return m;
+}
+
+void write_plc(const Mesh& m, const std::string& path, const WriteOptions&) {
+  const bool poly = detail::extension_of(path) == ".poly";
+  detail::Out out;
+  out.reserve(m.points.size() * 64 + m.triangles.size() * 40 + 256);
+  out << "# written by vdmesh\n" << m.points.size() << " 3 0 0\n";
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    const Vec3& p = m.points[i];
+    out << i + 1 << ' ' << p.x << ' ' << p.y << ' ' << p.z << '\n';
+  }
+  out << m.triangles.size() << " 1\n";
+  for (const Triangle& t : m.triangles) {
+    if (poly) out << "1 0 " << t.face << "\n";
+    out << "3 " << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1;
+    if (!poly) out << ' ' << t.face;
+    out << '\n';
+  }
+  out << "0\n0\n";
+  out.save(path);
+}
+
+}  // namespace
+
+Format make_tetgen_plc_format() { return {"tetgen-plc", {".poly", ".smesh"}, false, read_plc, write_plc}; }
+
+}  // namespace vd::io

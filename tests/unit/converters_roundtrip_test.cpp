@@ -1,0 +1,417 @@
+// Round trips through every format: read(write(m)) keeps what the format can
+// carry. Volume meshes are a unit cube split into 6 positive tetrahedra in
+// two regions, with its 12 boundary triangles (face id per cube side) and
+// the interface triangles between the regions (face 7).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include "converters/registry.h"
+#include "mesh/error.h"
+#include "mesh/shapes.h"
+#include "test_support.h"
+
+namespace vd {
+namespace {
+
+Vec3 corner(int i) { return {double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)}; }
+
+double det(const Mesh& m, const std::array<int, 4>& t) {
+  const Vec3 a = m.points[t[0]];
+  return dot(cross(m.points[t[1]] - a, m.points[t[2]] - a), m.points[t[3]] - a);
+}
+
+// Scaled and shifted so coordinates have many significant digits.
+Mesh cube_tets() {
+  Mesh m;
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 c = corner(i);
+    m.points.push_back({0.1 + c.x * 1.7, -2.3 + c.y * 0.3, 1e-3 + c.z / 3.0});
+  }
+  const int axes[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (const auto& a : axes) {
+    const int v1 = 1 << a[0], v2 = v1 | (1 << a[1]);
+    Tetrahedron t;
+    t.v = {0, v1, v2, 7};
+    if (det(m, t.v) < 0) std::swap(t.v[1], t.v[2]);
+    const Vec3 c = corner(v1) + corner(v2);
+    t.region = c.x >= c.y ? 1 : 2;
+    m.tets.push_back(t);
+  }
+  // Faces seen once are the boundary, faces of two regions the interface.
+  std::map<std::array<int, 3>, std::vector<std::pair<std::array<int, 3>, int>>> faces;
+  static const int inward[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+  for (const Tetrahedron& t : m.tets)
+    for (const auto& f : inward) {
+      std::array<int, 3> tri{t.v[f[0]], t.v[f[2]], t.v[f[1]]};  // outward
+      std::array<int, 3> key = tri;
+      std::sort(key.begin(), key.end());
+      faces[key].push_back({tri, t.region});
+    }
+  for (const auto& [key, sides] : faces) {
+    if (sides.size() == 1) {
+      Triangle tri;
+      tri.v = sides[0].first;
+      tri.back = sides[0].second;
+      tri.front = 0;
+      const Vec3 n = cross(m.points[tri.v[1]] - m.points[tri.v[0]], m.points[tri.v[2]] - m.points[tri.v[0]]);
+      int axis = 0;
+      for (int k = 1; k < 3; ++k)
+        if (std::abs(n[k]) > std::abs(n[axis])) axis = k;
+      tri.face = 1 + 2 * axis + (n[axis] > 0 ? 1 : 0);
+      m.triangles.push_back(tri);
+    } else if (sides[0].second != sides[1].second) {
+      // Normal from region 1 into region 2.
+      const auto& s1 = sides[0].second == 1 ? sides[0] : sides[1];
+      Triangle tri;
+      tri.v = s1.first;
+      tri.back = 1;
+      tri.front = 2;
+      tri.face = 7;
+      m.triangles.push_back(tri);
+    }
+  }
+  return m;
+}
+
+// Adds a mid node on every edge of every element.
+Mesh second_order(Mesh m) {
+  std::map<std::pair<int, int>, int> mid;
+  auto node = [&](int a, int b) {
+    const auto key = std::minmax(a, b);
+    auto it = mid.find(key);
+    if (it != mid.end()) return it->second;
+    m.points.push_back(0.5 * (m.points[a] + m.points[b]));
+    const int id = static_cast<int>(m.points.size()) - 1;
+    mid.emplace(key, id);
+    return id;
+  };
+  for (const Tetrahedron& t : m.tets) {
+    const auto& v = t.v;
+    m.tet_mid.push_back({node(v[0], v[1]), node(v[1], v[2]), node(v[2], v[0]), node(v[0], v[3]),
+                         node(v[1], v[3]), node(v[2], v[3])});
+  }
+  for (const Triangle& t : m.triangles) {
+    const auto& v = t.v;
+    m.triangle_mid.push_back({node(v[0], v[1]), node(v[1], v[2]), node(v[2], v[0])});
+  }
+  return m;
+}
+
+struct Variant {
+  std::string file;
+  io::WriteOptions options;
+  bool triangle_order = true;  // false: triangles compared as a set
+  bool sides = true;           // front/back come back
+  bool second_order = true;
+};
+
+std::string describe(const Variant& v) {
+  return v.file + (v.options.binary ? " binary" : " ascii") + " msh" + std::to_string(v.options.msh_version);
+}
+
+// A triangle turned so its smallest vertex is first (same orientation).
+std::array<int, 3> rotated(std::array<int, 3> v) {
+  while (v[0] != std::min({v[0], v[1], v[2]})) v = {v[1], v[2], v[0]};
+  return v;
+}
+
+using TriRecord = std::tuple<std::array<int, 3>, int, int, int, std::array<int, 3>>;
+std::vector<TriRecord> triangle_records(const Mesh& m, bool sides, bool ordered) {
+  std::vector<TriRecord> r;
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const Triangle& t = m.triangles[i];
+    std::array<int, 3> mid{-1, -1, -1};
+    if (!m.triangle_mid.empty()) {
+      // Rotate the mid nodes with the corners.
+      std::array<int, 3> v = t.v, md = m.triangle_mid[i];
+      while (v[0] != std::min({v[0], v[1], v[2]})) v = {v[1], v[2], v[0]}, md = {md[1], md[2], md[0]};
+      mid = md;
+    }
+    r.emplace_back(rotated(t.v), t.face, sides ? t.front : 0, sides ? t.back : 0, mid);
+  }
+  if (!ordered) std::sort(r.begin(), r.end());
+  return r;
+}
+
+void expect_same_volume_mesh(const Mesh& a, const Mesh& b, const Variant& v) {
+  SCOPED_TRACE(describe(v));
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (size_t i = 0; i < a.points.size(); ++i) {
+    EXPECT_EQ(a.points[i].x, b.points[i].x) << "point " << i;
+    EXPECT_EQ(a.points[i].y, b.points[i].y) << "point " << i;
+    EXPECT_EQ(a.points[i].z, b.points[i].z) << "point " << i;
+  }
+  ASSERT_EQ(a.tets.size(), b.tets.size());
+  for (size_t i = 0; i < a.tets.size(); ++i) {
+    EXPECT_EQ(a.tets[i].v, b.tets[i].v) << "tet " << i;
+    EXPECT_EQ(a.tets[i].region, b.tets[i].region) << "tet " << i;
+    EXPECT_GT(det(b, b.tets[i].v), 0) << "tet " << i;
+  }
+  ASSERT_EQ(a.tet_mid.size(), b.tet_mid.size());
+  for (size_t i = 0; i < a.tet_mid.size(); ++i) EXPECT_EQ(a.tet_mid[i], b.tet_mid[i]) << "tet " << i;
+  ASSERT_EQ(a.triangles.size(), b.triangles.size());
+  ASSERT_EQ(a.triangle_mid.size(), b.triangle_mid.size());
+  EXPECT_EQ(triangle_records(a, v.sides, v.triangle_order), triangle_records(b, v.sides, v.triangle_order));
+}
+
+std::vector<Variant> volume_variants() {
+  std::vector<Variant> v;
+  for (int version : {22, 41})
+    for (bool binary : {false, true}) v.push_back({"cube.msh", {binary, version}});
+  for (bool binary : {false, true}) {
+    v.push_back({"cube.vtk", {binary, 41}});
+    v.push_back({"cube.vtu", {binary, 41}});
+  }
+  v.push_back({"cube.msh.gz", {true, 41}});
+  v.push_back({"cube.vtu.gz", {false, 41}});
+  v.push_back({"cube.inp", {}, false});
+  v.push_back({"cube.mesh", {}, true, true, false});
+  v.push_back({"cube.node", {}, true, true, false});
+  return v;
+}
+
+TEST(ConvertersRoundTrip, CubeTetsAreValid) {
+  const Mesh m = cube_tets();
+  EXPECT_EQ(m.tets.size(), 6u);
+  int boundary = 0, interface = 0;
+  for (const Triangle& t : m.triangles) (t.face == 7 ? interface : boundary)++;
+  EXPECT_EQ(boundary, 12);
+  EXPECT_EQ(interface, 2);
+  for (const Tetrahedron& t : m.tets) EXPECT_GT(det(m, t.v), 0);
+}
+
+TEST(ConvertersRoundTrip, VolumeFormatsKeepEverything) {
+  const Mesh m = cube_tets();
+  for (const Variant& v : volume_variants()) {
+    const std::string path = test::temp_path(v.file);
+    io::write_mesh(m, path, v.options);
+    const Mesh back = io::read_mesh(path);
+    expect_same_volume_mesh(m, back, v);
+  }
+}
+
+TEST(ConvertersRoundTrip, SecondOrderVolumeFormats) {
+  const Mesh m = second_order(cube_tets());
+  // 8 corners + 19 edges (12 cube edges, 6 face diagonals, 1 body diagonal).
+  ASSERT_EQ(m.points.size(), 27u);
+  for (const Variant& v : volume_variants()) {
+    if (!v.second_order) continue;
+    const std::string path = test::temp_path("p2." + v.file);
+    io::write_mesh(m, path, v.options);
+    const Mesh back = io::read_mesh(path);
+    expect_same_volume_mesh(m, back, v);
+  }
+}
+
+TEST(ConvertersRoundTrip, GmshKeepsNamesAndSparseTags) {
+  Mesh m = cube_tets();
+  for (Tetrahedron& t : m.tets) t.region = t.region == 1 ? 10 : 20;
+  for (Triangle& t : m.triangles) {
+    for (int* side : {&t.front, &t.back})
+      if (*side > 0) *side = *side == 1 ? 10 : 20;
+    t.face += 100;
+  }
+  m.region_names[10] = "steel";
+  m.face_names[107] = "contact";
+  for (int version : {22, 41})
+    for (bool binary : {false, true}) {
+      const Variant v{"names.msh", {binary, version}};
+      const std::string path = test::temp_path("v" + std::to_string(version) + (binary ? "b" : "a") + ".msh");
+      io::write_mesh(m, path, v.options);
+      const Mesh back = io::read_mesh(path);
+      expect_same_volume_mesh(m, back, v);
+      EXPECT_EQ(back.region_names.at(10), "steel");
+      EXPECT_EQ(back.region_names.at(20), "Region20");
+      EXPECT_EQ(back.face_names.at(107), "contact");
+      EXPECT_EQ(back.face_names.at(101), "Face101");
+    }
+}
+
+TEST(ConvertersRoundTrip, AbaqusRegionNamesAndSets) {
+  Mesh m = cube_tets();
+  m.region_names[2] = "Copper";
+  const std::string path = test::temp_path("named.inp");
+  io::write_mesh(m, path);
+  const Mesh back = io::read_mesh(path);
+  ASSERT_EQ(back.tets.size(), m.tets.size());
+  // Region 1 keeps its id (ELSET Region1); "Copper" gets the next free id.
+  std::set<int> regions;
+  for (size_t i = 0; i < m.tets.size(); ++i) {
+    EXPECT_EQ(back.tets[i].v, m.tets[i].v);
+    if (m.tets[i].region == 1) EXPECT_EQ(back.tets[i].region, 1);
+    else EXPECT_EQ(back.region_names.at(back.tets[i].region), "Copper");
+    regions.insert(back.tets[i].region);
+  }
+  EXPECT_EQ(regions.size(), 2u);
+}
+
+// Surfaces: a subdivided box (6 faces) and an icosphere.
+Mesh tagged_surface() {
+  Mesh m = shapes::box({-1.25, 0.5, 3}, {2.5, 1.75, 4.125}, 2);
+  shapes::append(m, shapes::icosphere({5, 5, 5}, 0.7, 1, 2, 7));
+  return m;
+}
+
+struct SurfaceVariant {
+  std::string file;
+  bool binary = false;
+  bool faces = true;  // face ids come back
+  bool sides = false;  // front/back come back
+  bool exact = true;   // coordinates exact (binary STL is float)
+  bool welds = false;  // the reader merges equal points (STL)
+};
+
+TEST(ConvertersRoundTrip, SurfaceFormats) {
+  const Mesh m = tagged_surface();
+  const std::vector<SurfaceVariant> variants = {
+      {"s.off", false, false},          {"s.obj"},
+      {"s.stl", false, true, false, true, true}, {"s.stl", true, false, false, false, true},
+      {"s.smesh"},                      {"s.poly"},
+      {"s.mesh"},                       {"s.msh", false, true, true},
+      {"s.msh", true, true, true},      {"s.vtu", true, true, true},
+      {"s.vtk", false, true, true},     {"s.inp"},
+      {"s.off.gz", false, false},       {"s.face"},
+  };
+  for (const SurfaceVariant& v : variants) {
+    SCOPED_TRACE(v.file + (v.binary ? " binary" : ""));
+    const std::string path = test::temp_path((v.binary ? "b" : "a") + v.file);
+    io::WriteOptions options;
+    options.binary = v.binary;
+    io::write_mesh(m, path, options);
+    const Mesh back = io::read_mesh(path);
+    ASSERT_EQ(back.points.size(), m.points.size());
+    ASSERT_EQ(back.triangles.size(), m.triangles.size());
+    EXPECT_TRUE(back.tets.empty());
+    auto same_point = [&](const Vec3& a, const Vec3& b) {
+      if (v.exact) return a.x == b.x && a.y == b.y && a.z == b.z;
+      return b.x == double(float(a.x)) && b.y == double(float(a.y)) && b.z == double(float(a.z));
+    };
+    if (!v.welds)
+      for (size_t i = 0; i < m.points.size(); ++i) EXPECT_TRUE(same_point(m.points[i], back.points[i])) << "point " << i;
+    for (size_t i = 0; i < m.triangles.size(); ++i) {
+      const Triangle& a = m.triangles[i];
+      const Triangle& b = back.triangles[i];
+      if (v.welds) {
+        // Points are renumbered by welding: compare the corners' coordinates.
+        for (int k = 0; k < 3; ++k) EXPECT_TRUE(same_point(m.points[a.v[k]], back.points[b.v[k]])) << "triangle " << i;
+      } else {
+        EXPECT_EQ(rotated(a.v), rotated(b.v)) << "triangle " << i;
+      }
+      EXPECT_EQ(b.face, v.faces ? a.face : kNoFace) << "triangle " << i;
+      if (v.sides) {
+        EXPECT_EQ(b.front, a.front) << "triangle " << i;
+        EXPECT_EQ(b.back, a.back) << "triangle " << i;
+      }
+    }
+  }
+}
+
+// Counts from /work/shared/data/MANIFEST.tsv.
+struct SharedSurface {
+  const char* file;
+  size_t vertices, facets;
+};
+
+TEST(ConvertersRoundTrip, ReadsSharedSurfaces) {
+  const SharedSurface files[] = {
+      {"surface/cgal_fandisk.off", 6475, 12946},     {"surface/netgen_part1.stl", 190, 380},
+      {"surface/meshlab_casting.off", 5096, 10224},  {"surface/cgal_anchor_dense.off", 3793, 7598},
+      {"surface/cgal_turbine.off", 9210, 18460},     {"surface/cgal_cheese.off", 8629, 17786},
+      {"surface/gmsh_lever.stl", 377, 774},          {"surface/cgal_bunny00.off", 37706, 75408},
+      {"surface/cgal_armadillo.off", 26002, 52000},  {"surface/c3tm_rocker-arm.obj", 10044, 20088},
+      {"surface/cgal_triceratops.off", 2832, 5660},
+      {"surface-multiregion/cgal_complex_merged.off", 1599, 3310},
+      {"surface-multiregion/cgal_horizons.off", 1682, 3200},
+  };
+  for (const SharedSurface& f : files) {
+    SCOPED_TRACE(f.file);
+    const std::string path = test::data_file(f.file);
+    if (path.empty()) GTEST_SKIP() << "shared data not found: " << f.file << " (set VDMESH_DATA)";
+    const Mesh m = io::read_mesh(path);
+    EXPECT_EQ(m.points.size(), f.vertices);
+    EXPECT_EQ(m.triangles.size(), f.facets);
+    // Closed surfaces: every edge is used an even number of times.
+    std::map<std::pair<int, int>, int> edges;
+    for (const Triangle& t : m.triangles)
+      for (int k = 0; k < 3; ++k) edges[std::minmax(t.v[k], t.v[(k + 1) % 3])]++;
+    // Surfaces of the multi-region set may be open or non-manifold.
+    if (std::string(f.file).rfind("surface/", 0) == 0)
+      for (const auto& [e, n] : edges) ASSERT_EQ(n % 2, 0) << "edge " << e.first << "-" << e.second;
+  }
+}
+
+TEST(ConvertersRoundTrip, ReadsSharedGzippedObj) {
+  VD_REQUIRE_DATA(path, "surface-large/openfoam_buildings.obj.gz");
+  const Mesh m = io::read_mesh(path);
+  EXPECT_EQ(m.points.size(), 200062u);
+  EXPECT_EQ(m.triangles.size(), 400020u);
+}
+
+// PLC files: polygons triangulated; a quad facet gives 2 triangles, a facet
+// with k vertices k-2 (no holes); the area of each facet is kept.
+double area(const Mesh& m, const Triangle& t) {
+  return 0.5 * norm(cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]));
+}
+
+TEST(ConvertersRoundTrip, ReadsSharedSmesh) {
+  // V, facets, triangles after ear clipping (sum of k-2 over the facets).
+  const struct {
+    const char* file;
+    size_t vertices, facets, triangles;
+  } files[] = {{"plc-sharp/testingdrafts_wedge-1.smesh", 6, 5, 8},
+               {"plc-sharp/testingdrafts_slit-1.smesh", 14, 13, 24},
+               {"plc-sharp/testingdrafts_spike-1-10.smesh", 11, 11, 18}};
+  for (const auto& f : files) {
+    SCOPED_TRACE(f.file);
+    const std::string path = test::data_file(f.file);
+    if (path.empty()) GTEST_SKIP() << "shared data not found: " << f.file;
+    const Mesh m = io::read_mesh(path);
+    EXPECT_EQ(m.points.size(), f.vertices);
+    EXPECT_EQ(m.triangles.size(), f.triangles);
+    std::set<int> faces;
+    for (const Triangle& t : m.triangles) {
+      faces.insert(t.face);
+      EXPECT_GT(area(m, t), 0);
+    }
+    EXPECT_LE(faces.size(), f.facets);
+    // Closed: every edge twice.
+    std::map<std::pair<int, int>, int> edges;
+    for (const Triangle& t : m.triangles)
+      for (int k = 0; k < 3; ++k) edges[std::minmax(t.v[k], t.v[(k + 1) % 3])]++;
+    for (const auto& [e, n] : edges) EXPECT_EQ(n, 2) << "edge " << e.first << "-" << e.second;
+  }
+}
+
+TEST(ConvertersRoundTrip, ReadsSharedPolyWithFacetHole) {
+  VD_REQUIRE_DATA(path, "surface-multiregion/tetgen_example.poly");
+  const Mesh m = io::read_mesh(path);
+  EXPECT_EQ(m.points.size(), 28u);
+  // 23 facets of quads (2 triangles each), except facet 3: a square with a
+  // square hole (8 triangles around the hole).
+  EXPECT_EQ(m.triangles.size(), 22u * 2 + 8);
+  std::map<int, double> face_area;
+  for (const Triangle& t : m.triangles) face_area[t.face] += area(m, t);
+  // Markers in the file: 1, 9, 3, 2, 4.
+  EXPECT_EQ(face_area.size(), 5u);
+  // Facet 1 (marker 1): the 2 x 2 bottom; marker 2: the 2 x 2 top at z = 5.
+  EXPECT_DOUBLE_EQ(face_area.at(1), 4.0);
+  EXPECT_DOUBLE_EQ(face_area.at(2), 4.0);
+  // Marker 3: the y = 0 side (2 x 4 minus the 1.5 x 0.5 hole), four more
+  // sides of the lower box (2x4, 2x3, 2x3.. by the file's coordinates).
+  double y0 = 0;
+  for (const Triangle& t : m.triangles) {
+    if (t.face != 3) continue;
+    bool on_y0 = true;
+    for (int v : t.v) on_y0 &= m.points[v].y == 0;
+    if (on_y0 && m.points[t.v[0]].z <= 4 && m.points[t.v[1]].z <= 4 && m.points[t.v[2]].z <= 4) y0 += area(m, t);
+  }
+  EXPECT_DOUBLE_EQ(y0, 8.0 - 1.5 * 0.5);
+}
+
+}  // namespace
+}  // namespace vd
