@@ -24,7 +24,7 @@ bool looks_binary(std::string_view data) {
   size_t i = 0;
   while (i < data.size() && std::isspace(static_cast<unsigned char>(data[i]))) ++i;
   const bool solid_word = detail::starts_with_ci(data.substr(i), "solid");
-  return !solid_word && expected <= data.size();
+  return !solid_word;  // an ASCII file starts with "solid"
 }
 
 Mesh read_binary(std::string_view data, const std::string& path) {

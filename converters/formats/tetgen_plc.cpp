@@ -24,9 +24,8 @@ Mesh read_plc(const std::string& path) {
   int first = 0;
   // Part 1: nodes, here or (count 0) in the .node file beside it.
   {
-    const size_t mark = in.pos();
-    const size_t line = in.line();
     if (in.at_end()) in.fail("empty file");
+    const size_t mark = in.pos();  // after at_end(): seeking back crosses no line
     int64_t n;
     if (!Cursor::parse_int(in.token("the number of nodes"), n)) in.fail("expected the number of nodes");
     if (n == 0) {
@@ -40,7 +39,6 @@ Mesh read_plc(const std::string& path) {
       first = detail::read_tetgen_nodes(nin, m);
     } else {
       in.seek(mark);
-      (void)line;
       first = detail::read_tetgen_nodes(in, m);
     }
   }

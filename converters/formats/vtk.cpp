@@ -174,8 +174,9 @@ void LegacyReader::attributes(uint64_t n, bool cell_data) {
 }
 
 Mesh LegacyReader::read() {
-  const std::string_view head = in_.rest_of_line();
-  if (!detail::starts_with_ci(head, "# vtk DataFile Version")) in_.fail("not a legacy VTK file (no '# vtk DataFile Version' line)");
+  if (!detail::starts_with_ci(in_.data(), "# vtk DataFile Version"))
+    in_.fail("not a legacy VTK file (no '# vtk DataFile Version' line)");
+  in_.rest_of_line();
   in_.rest_of_line();  // title
   const std::string_view fmt = in_.token("ASCII or BINARY");
   if (detail::iequals(fmt, "BINARY")) binary_ = true;
@@ -202,6 +203,8 @@ Mesh LegacyReader::read() {
     } else if (keyword == "cells") {
       const uint64_t a = in_.count("the number of cells", in_.remaining());
       const uint64_t b = in_.count("the cell list size", in_.remaining());
+      // Peek at the next token; at_end() first so seeking back crosses no line.
+      if (in_.at_end()) in_.fail("unexpected end of file in CELLS");
       const size_t mark = in_.pos();
       const std::string_view next = in_.token("the cells");
       if (detail::iequals(next, "OFFSETS")) {
