@@ -5,6 +5,7 @@
 // Mesh has no place for them. Writing gives one triangle per facet.
 #include <filesystem>
 
+#include "surface/orient_surface.h"
 #include "formats.h"
 #include "io_util.h"
 #include "polygon_triangulation.h"
@@ -99,6 +100,9 @@ Mesh read_plc(const std::string& path) {
       in.skip_line();
     }
   }
+  // TetGen's facets carry no orientation; vdmesh's facets do (normal into
+  // `front`), so orient them as a solid's boundary.
+  orient_consistently(m);
   return m;
 }
 

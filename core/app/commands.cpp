@@ -25,6 +25,8 @@ const char* kMeshHelp =
     "  --size H                target edge length inside (default: from the surface, graded)\n"
     "  --gradation G           largest growth of the size per unit distance (default 0.3)\n"
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
+    "  --sliver-angle DEG      boundary slivers under this dihedral angle are removed (default 10)\n"
+    "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
     "  --oracle dt|lp|sphere   facet Delaunayhood test (default dt, the exact tetrahedralization)\n"
     "  --lp-limit N            largest LP solved by the lp oracle (default: no limit)\n"
     "  --no-flips              only splits: every added vertex lies on an input facet\n"
@@ -125,6 +127,8 @@ int mesh_command(const std::vector<std::string>& raw) {
   opt.size.uniform = args.number("--size", 0.0);
   opt.size.gradation = args.number("--gradation", opt.size.gradation);
   opt.interior = !args.flag("--no-interior");
+  opt.slivers.sliver_angle_deg = args.number("--sliver-angle", opt.slivers.sliver_angle_deg);
+  opt.remove_slivers = !args.flag("--keep-slivers");
   opt.oracle_options.lp_limit = static_cast<int>(args.integer("--lp-limit", -1));
   opt.delaunayzation.flips = !args.flag("--no-flips");
   opt.delaunayzation.flip_angle_deg = args.number("--flip-angle", opt.delaunayzation.flip_angle_deg);

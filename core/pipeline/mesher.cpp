@@ -160,6 +160,13 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     report.regions = build_region_tetrahedra(m, dt);
     report.regions.regions_from_tags = from_tags;
   }
+  if (options.remove_slivers) {
+    timer.start("slivers");
+    SliverOptions so = options.slivers;
+    so.ridge_angle_deg = options.delaunayzation.flip_angle_deg;
+    report.slivers = remove_boundary_slivers(m, so);
+    report.output_facets = static_cast<int>(m.triangles.size());
+  }
   for (const Tetrahedron& t : m.tets) {
     if (t.region >= static_cast<int>(report.tets_per_region.size())) report.tets_per_region.resize(t.region + 1, 0);
     ++report.tets_per_region[t.region];

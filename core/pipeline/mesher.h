@@ -17,6 +17,7 @@
 #include "volume/interior_vertices.h"
 #include "volume/region_tetrahedra.h"
 #include "volume/size_field.h"
+#include "volume/sliver_removal.h"
 
 namespace vd {
 
@@ -31,6 +32,8 @@ struct MeshOptions {
   bool interior = true;              // interior vertices (paper §2); --no-interior turns them off
   SizeFieldOptions size;             // --size H, gradation
   InteriorOptions interior_options;
+  bool remove_slivers = true;
+  SliverOptions slivers;             // --sliver-angle
   // Called at the start of each phase; empty: silent.
   std::function<void(const std::string& phase)> progress;
 };
@@ -49,6 +52,7 @@ struct MeshReport {
   long interior_vertices = 0;
   InteriorStats interior;
   double smallest_size = 0;          // of the size field
+  SliverStats slivers;
   QualitySummary quality;
   std::vector<std::pair<std::string, double>> seconds;  // per phase, in order
   bool complete = false;

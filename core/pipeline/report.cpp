@@ -53,6 +53,8 @@ std::string report_json(const MeshReport& r) {
     << ", \"rejected_outside\": " << r.interior.rejected_outside << ", \"rejected_near_vertex\": "
     << r.interior.rejected_near_vertex << ", \"rejected_near_surface\": " << r.interior.rejected_near_surface
     << ", \"smallest_size\": " << num(r.smallest_size) << "},\n";
+  s << "  \"slivers\": {\"before\": " << r.slivers.slivers_before << ", \"removed_boundary\": "
+    << r.slivers.removed_boundary << ", \"after\": " << r.slivers.slivers_after << "},\n";
   s << "  \"shift\": {\"free\": " << r.shift.moved_free << ", \"in_plane\": " << r.shift.moved_in_plane
     << ", \"on_edge\": " << r.shift.moved_on_edge << ", \"fixed\": " << r.shift.fixed << "},\n";
   s << "  \"seconds\": {";
@@ -95,6 +97,8 @@ std::string report_table(const MeshReport& r) {
   row("tetrahedra", std::to_string(q.tets) + (per_region.empty() ? "" : " (" + per_region + ")"));
   row("dihedral angle (deg)", "min " + num(q.min_dihedral_deg) + ", max " + num(q.max_dihedral_deg));
   row("radius ratio", "min " + num(q.min_radius_ratio) + ", mean " + num(q.mean_radius_ratio));
+  row("slivers removed (case A)", std::to_string(r.slivers.removed_boundary) + " of " +
+                                       std::to_string(r.slivers.slivers_before));
   row("tets under 5 / 10 deg", std::to_string(q.below_5_deg) + " / " + std::to_string(q.below_10_deg));
   std::string times;
   double total = 0;

@@ -1,5 +1,6 @@
 #include "surface/random_shift.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 

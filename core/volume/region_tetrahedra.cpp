@@ -1,6 +1,7 @@
 #include "volume/region_tetrahedra.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <map>
 #include <sstream>
 #include <unordered_map>

@@ -90,11 +90,11 @@ Mesh box_in_box() {
 Mesh sphere_with_interior(bool lattice) {
   Mesh m = shapes::icosphere({0, 0, 0}, 1.0, 2, 1, 1);
   if (lattice) {
-    const double h = 0.18;
+    const double h = 0.1;
     for (double x = -1; x <= 1; x += h)
       for (double y = -1; y <= 1; y += h)
         for (double z = -1; z <= 1; z += h)
-          if (std::sqrt(x * x + y * y + z * z) < 0.93) m.points.push_back({x + 0.01, y + 0.013, z + 0.007});
+          if (std::sqrt(x * x + y * y + z * z) < 0.97) m.points.push_back({x + 0.01, y + 0.013, z + 0.007});
   }
   return m;
 }
@@ -216,7 +216,10 @@ TEST(PaperCases, SameSeedSameMesh) {
   for (size_t i = 0; i < a.mesh.tets.size(); ++i) EXPECT_EQ(a.mesh.tets[i].v, b.mesh.tets[i].v);
   o.seed = 8;
   const MeshResult c = mesh_surface(in, o);
-  EXPECT_NE(a.mesh.points[0].x, c.mesh.points[0].x);  // the seed does change the shift
+  bool differs = false;  // the seed does change the shift (corners stay put)
+  for (size_t i = 0; i < std::min(a.mesh.points.size(), c.mesh.points.size()); ++i)
+    differs = differs || a.mesh.points[i].x != c.mesh.points[i].x || a.mesh.points[i].y != c.mesh.points[i].y;
+  EXPECT_TRUE(differs);
 }
 
 TEST(PaperCases, GuardStopsWithTheMissingFacets) {

@@ -19,8 +19,16 @@ namespace {
 
 struct Case {
   const char* file;
-  bool valid;  // passes validation (MANIFEST: closed, no self-intersections)
+  bool valid;             // passes validation (MANIFEST: closed, no self-intersections)
+  bool interior = false;  // with interior vertices (default size field)
 };
+
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+  std::string name = info.param.file;
+  for (char& c : name)
+    if (!isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
 
 class SharedSurface : public ::testing::TestWithParam<Case> {};
 
@@ -28,6 +36,7 @@ TEST_P(SharedSurface, MeshesConformingOrIsRefused) {
   VD_REQUIRE_DATA(path, GetParam().file);
   const Mesh in = io::read_mesh(path);
   MeshOptions o;
+  o.interior = GetParam().interior;
   if (!GetParam().valid) {
     EXPECT_THROW(mesh_surface(in, o), InputError);
     return;
@@ -64,13 +73,20 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"surface-multiregion/cgal_complex_patch-01.off", false},
                       Case{"plc-sharp/testingdrafts_wedge-1.smesh", true},
                       Case{"plc-sharp/testingdrafts_slit-1.smesh", true},
-                      Case{"plc-sharp/testingdrafts_spike-1-10.smesh", true}),
-    [](const ::testing::TestParamInfo<Case>& info) {
-      std::string name = info.param.file;
-      for (char& c : name)
-        if (!isalnum(static_cast<unsigned char>(c))) c = '_';
-      return name;
-    });
+                      Case{"plc-sharp/testingdrafts_spike-1-10.smesh", true},
+                      Case{"surface-large/openfoam_buildings.obj.gz", false}),
+    case_name);
+
+// The same checks with interior vertices on the smaller inputs.
+INSTANTIATE_TEST_SUITE_P(
+    CorpusWithInterior, SharedSurface,
+    ::testing::Values(Case{"surface/gmsh_lever.stl", true, true}, Case{"surface/cgal_fandisk.off", true, true},
+                      Case{"surface/netgen_part1.stl", true, true},
+                      Case{"surface-multiregion/cgal_complex_merged.off", true, true},
+                      Case{"plc-sharp/testingdrafts_wedge-1.smesh", true, true},
+                      Case{"plc-sharp/testingdrafts_slit-1.smesh", true, true},
+                      Case{"plc-sharp/testingdrafts_spike-1-10.smesh", true, true}),
+    case_name);
 
 }  // namespace
 }  // namespace vd
