@@ -3,7 +3,6 @@
 #include <utility>
 
 #include "surface/edge_map.h"
-#include "volume/region_tetrahedra.h"
 
 namespace vd {
 
@@ -42,7 +41,7 @@ int orient_consistently(Mesh& m) {
     for (int f : members) {
       Triangle t = m.triangles[f];
       if (flip[f]) std::swap(t.v[1], t.v[2]);
-      volume += tet_volume(o, m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]]);
+      volume += dot(cross(m.points[t.v[0]] - o, m.points[t.v[1]] - o), m.points[t.v[2]] - o);
     }
     if (volume < 0)
       for (int f : members) flip[f] = !flip[f];
