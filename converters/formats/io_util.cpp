@@ -22,7 +22,7 @@ std::string gunzip(const std::string& path) {
   gzFile f = gzopen(path.c_str(), "rb");
   if (!f) throw InputError(path + ": cannot open: " + std::strerror(errno));
   std::string out;
-  std::vector<char> chunk(1 << 20);
+  std::vector<char> chunk(1 << 16);
   for (;;) {
     const int n = gzread(f, chunk.data(), static_cast<unsigned>(chunk.size()));
     if (n < 0) {
@@ -78,15 +78,20 @@ std::string load_file(const std::string& path) {
   if (ends_with_ci(path, ".gz")) return gunzip(path);
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  // Read straight into the string (sized from the file), then any rest.
   std::string out;
+  long size = 0;
   if (std::fseek(f.get(), 0, SEEK_END) == 0) {
-    const long size = std::ftell(f.get());
-    if (size > 0) out.reserve(static_cast<size_t>(size));
+    size = std::ftell(f.get());
     std::fseek(f.get(), 0, SEEK_SET);
   }
-  std::vector<char> chunk(1 << 20);
+  if (size > 0) {
+    out.resize(static_cast<size_t>(size));
+    out.resize(std::fread(out.data(), 1, out.size(), f.get()));
+  }
+  char chunk[1 << 14];
   size_t n;
-  while ((n = std::fread(chunk.data(), 1, chunk.size(), f.get())) > 0) out.append(chunk.data(), n);
+  while ((n = std::fread(chunk, 1, sizeof chunk, f.get())) > 0) out.append(chunk, n);
   if (std::ferror(f.get())) throw InputError(path + ": read error");
   return out;
 }

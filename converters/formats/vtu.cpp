@@ -39,29 +39,46 @@ void base64_append(std::string& out, const unsigned char* p, size_t n) {
   }
 }
 
-// Decodes base64, skipping white space; false on a bad character.
+// Decodes base64, skipping white space and padding; false on a bad character.
 bool base64_decode(std::string_view in, std::string& out) {
   static const std::array<int8_t, 256> table = [] {
     std::array<int8_t, 256> t;
     t.fill(-1);
     for (int i = 0; i < 64; ++i) t[static_cast<unsigned char>(kB64[i])] = static_cast<int8_t>(i);
+    t['='] = t[' '] = t['\n'] = t['\r'] = t['\t'] = -2;
     return t;
   }();
-  out.clear();
-  out.reserve(in.size() / 4 * 3);
+  out.resize(in.size() / 4 * 3 + 3);
+  char* o = out.data();
+  const unsigned char* p = reinterpret_cast<const unsigned char*>(in.data());
+  const unsigned char* end = p + in.size();
   uint32_t acc = 0;
   int bits = 0;
-  for (char ch : in) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    if (c == '=' || c == ' ' || c == '\n' || c == '\r' || c == '\t') continue;
-    if (table[c] < 0) return false;
-    acc = (acc << 6) | static_cast<uint32_t>(table[c]);
+  // Four characters at a time while they are all data, else one by one.
+  while (p < end) {
+    if (end - p >= 4) {
+      const int a = table[p[0]], b = table[p[1]], c = table[p[2]], d = table[p[3]];
+      if ((a | b | c | d) >= 0 && bits == 0) {
+        const uint32_t v = (uint32_t(a) << 18) | (uint32_t(b) << 12) | (uint32_t(c) << 6) | uint32_t(d);
+        o[0] = static_cast<char>(v >> 16);
+        o[1] = static_cast<char>((v >> 8) & 0xFF);
+        o[2] = static_cast<char>(v & 0xFF);
+        o += 3;
+        p += 4;
+        continue;
+      }
+    }
+    const int v = table[*p++];
+    if (v == -2) continue;
+    if (v < 0) return false;
+    acc = (acc << 6) | static_cast<uint32_t>(v);
     bits += 6;
     if (bits >= 8) {
       bits -= 8;
-      out += static_cast<char>((acc >> bits) & 0xFF);
+      *o++ = static_cast<char>((acc >> bits) & 0xFF);
     }
   }
+  out.resize(static_cast<size_t>(o - out.data()));
   return true;
 }
 
@@ -290,6 +307,8 @@ std::string VtuReader::decoded_bytes(const Tag& t, std::string_view text, size_t
   } else {
     src = text;
   }
+  // Binary text is measured in characters below: start at the first one.
+  while (!src.empty() && std::isspace(static_cast<unsigned char>(src.front()))) src.remove_prefix(1);
   if (!compressed_) {
     if (base64) {
       // The header alone tells how much to decode (appended arrays run on).
@@ -400,7 +419,21 @@ std::vector<T> VtuReader::values(const Tag& t, uint64_t expected) {
   if (format != "binary" && format != "appended") fail(t.begin, "unknown format '" + format.substr(0, 40) + "'");
   const std::string bytes = decoded_bytes(t, text, size, expected);
   out.resize(expected);
-  for (size_t i = 0; i < expected; ++i) out[i] = convert<T>(bytes.data() + i * size, type);
+  // One loop per stored type: the type is looked up once, not per value.
+  auto copy = [&](auto stored) {
+    using S = decltype(stored);
+    for (size_t i = 0; i < expected; ++i) {
+      S v;
+      std::memcpy(&v, bytes.data() + i * sizeof(S), sizeof(S));
+      if constexpr (std::is_same_v<T, S>) out[i] = v;
+      else out[i] = convert<T>(reinterpret_cast<const char*>(&v), type);
+    }
+  };
+  if (type == "Float64") copy(double{});
+  else if (type == "Int64") copy(int64_t{});
+  else if (type == "Int32") copy(int32_t{});
+  else if (type == "UInt8") copy(uint8_t{});
+  else for (size_t i = 0; i < expected; ++i) out[i] = convert<T>(bytes.data() + i * size, type);
   return out;
 }
 

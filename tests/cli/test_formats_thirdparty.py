@@ -1,0 +1,254 @@
+"""Third-party readers accept what `vdmesh convert` writes.
+
+A 3x3x3 block of cubes, each split into 6 positive tetrahedra (162 in all),
+two regions (x < 1.5 is region 1), the 6 block sides as faces 1..6 and the
+region interface as face 7, is written as a Medit .mesh, converted by the
+CLI to every volume format, and read back with meshio (counts, volume, tag
+sets), Gmsh (the .msh and the legacy .vtk) and VTK (the .vtk and .vtu).
+Exits non-zero on the first failed check; prints every check it made.
+Needs VDMESH_BIN (the CLI); without it the test says so and passes.
+"""
+import itertools
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+N = 3
+FAILED = []
+
+
+def check(ok, what):
+    print(("ok    " if ok else "FAIL  ") + what)
+    if not ok:
+        FAILED.append(what)
+
+
+def block_mesh():
+    idx = {}
+    pts = []
+    for k, j, i in itertools.product(range(N + 1), repeat=3):
+        idx[(i, j, k)] = len(pts)
+        pts.append((float(i), float(j), float(k)))
+    pts = np.array(pts)
+    tets, regions = [], []
+    for i, j, k in itertools.product(range(N), repeat=3):
+        corner = [idx[(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))] for c in range(8)]
+        for a in itertools.permutations(range(3)):
+            v1 = 1 << a[0]
+            v2 = v1 | (1 << a[1])
+            t = [corner[0], corner[v1], corner[v2], corner[7]]
+            p = pts[t]
+            if np.linalg.det(np.array([p[1] - p[0], p[2] - p[0], p[3] - p[0]])) < 0:
+                t[1], t[2] = t[2], t[1]
+            tets.append(t)
+            regions.append(1 if i + 0.5 < 1.5 else 2)
+    faces = {}
+    for t, r in zip(tets, regions):
+        for f in ((1, 3, 2), (0, 2, 3), (0, 3, 1), (0, 1, 2)):
+            tri = (t[f[0]], t[f[2]], t[f[1]])  # outward
+            faces.setdefault(tuple(sorted(tri)), []).append((tri, r))
+    tris, face_ids = [], []
+    for sides in faces.values():
+        if len(sides) == 1:
+            tri = sides[0][0]
+            p = pts[list(tri)]
+            n = np.cross(p[1] - p[0], p[2] - p[0])
+            axis = int(np.argmax(np.abs(n)))
+            tris.append(tri)
+            face_ids.append(1 + 2 * axis + (1 if n[axis] > 0 else 0))
+        elif sides[0][1] != sides[1][1]:
+            tris.append(sides[0][0] if sides[0][1] == 1 else sides[1][0])
+            face_ids.append(7)
+    return pts, np.array(tets), np.array(regions), np.array(tris), np.array(face_ids)
+
+
+def write_medit(path, pts, tets, regions, tris, face_ids):
+    with open(path, "w") as f:
+        f.write("MeshVersionFormatted 2\nDimension 3\nVertices\n%d\n" % len(pts))
+        for p in pts:
+            f.write("%.17g %.17g %.17g 0\n" % tuple(p))
+        f.write("Triangles\n%d\n" % len(tris))
+        for t, r in zip(tris, face_ids):
+            f.write("%d %d %d %d\n" % (t[0] + 1, t[1] + 1, t[2] + 1, r))
+        f.write("Tetrahedra\n%d\n" % len(tets))
+        for t, r in zip(tets, regions):
+            f.write("%d %d %d %d %d\n" % (t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1, r))
+        f.write("End\n")
+
+
+def signed_volumes(points, tets):
+    p = points[tets]
+    return np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0]) / 6.0
+
+
+def check_meshio(path, fmt, n_tets, n_tris, volume):
+    import meshio
+
+    m = meshio.read(path)
+    tets = np.concatenate([c.data for c in m.cells if c.type == "tetra"] or [np.zeros((0, 4), int)])
+    tris = np.concatenate([c.data for c in m.cells if c.type == "triangle"] or [np.zeros((0, 3), int)])
+    vols = signed_volumes(m.points, tets)
+    check(len(tets) == n_tets, "meshio %s: %d tetrahedra (expected %d)" % (fmt, len(tets), n_tets))
+    check(bool(np.all(vols > 0)), "meshio %s: every tetrahedron positive" % fmt)
+    check(abs(vols.sum() - volume) < 1e-9, "meshio %s: volume %.12g (expected %g)" % (fmt, vols.sum(), volume))
+
+    def tags(name, cell_type):
+        if name not in m.cell_data:
+            return None
+        out = set()
+        for block, data in zip(m.cells, m.cell_data[name]):
+            if block.type == cell_type:
+                out |= set(int(x) for x in np.asarray(data).ravel())
+        return out
+
+    if fmt == "msh":
+        check(len(tris) == n_tris, "meshio msh: %d triangles (expected %d)" % (len(tris), n_tris))
+        check(tags("gmsh:physical", "tetra") == {1, 2}, "meshio msh: physical volumes {1, 2}")
+        check(tags("gmsh:physical", "triangle") == set(range(1, 8)), "meshio msh: physical surfaces 1..7")
+    elif fmt in ("vtu", "vtk"):
+        check(len(tris) == n_tris, "meshio %s: %d triangles (expected %d)" % (fmt, len(tris), n_tris))
+        check(tags("region", "tetra") == {1, 2}, "meshio %s: region array {1, 2} on tetrahedra" % fmt)
+        check(tags("face", "triangle") == set(range(1, 8)), "meshio %s: face array 1..7 on triangles" % fmt)
+    elif fmt == "mesh":
+        check(len(tris) == n_tris, "meshio mesh: %d triangles (expected %d)" % (len(tris), n_tris))
+        check(tags("medit:ref", "tetra") == {1, 2}, "meshio mesh: tetrahedron refs {1, 2}")
+        check(tags("medit:ref", "triangle") == set(range(1, 8)), "meshio mesh: triangle refs 1..7")
+    elif fmt == "inp":
+        sets = {k.upper() for k in m.cell_sets}
+        check({"REGION1", "REGION2"} <= sets, "meshio inp: element sets Region1, Region2 (%s)" % sorted(sets))
+        check({"FACE%d_NODES" % k for k in range(1, 8)} <= {k.upper() for k in m.point_sets},
+              "meshio inp: node sets Face1_Nodes..Face7_Nodes")
+
+
+def check_gmsh(path, n_tets, volume, physical):
+    import gmsh
+
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.open(path)
+        types, tags, nodes = gmsh.model.mesh.getElements(3)
+        count = sum(len(t) for t in tags)
+        check(count == n_tets, "gmsh %s: %d volume elements (expected %d)" % (os.path.basename(path), count, n_tets))
+        node_tags, coords, _ = gmsh.model.mesh.getNodes()
+        xyz = dict(zip(node_tags, coords.reshape(-1, 3)))
+        total = 0.0
+        positive = True
+        for t, n in zip(types, nodes):
+            if t != 4:
+                continue
+            quad = n.reshape(-1, 4)
+            pts = np.array([[xyz[v] for v in q] for q in quad])
+            vols = signed_volumes(pts.reshape(-1, 3), np.arange(len(pts) * 4).reshape(-1, 4))
+            positive &= bool(np.all(vols > 0))
+            total += vols.sum()
+        check(positive, "gmsh %s: every tetrahedron positive" % os.path.basename(path))
+        check(abs(total - volume) < 1e-9, "gmsh %s: volume %.12g" % (os.path.basename(path), total))
+        if physical:
+            groups = gmsh.model.getPhysicalGroups()
+            check(set(g for d, g in groups if d == 3) == {1, 2}, "gmsh msh: physical volumes {1, 2}")
+            check(set(g for d, g in groups if d == 2) == set(range(1, 8)), "gmsh msh: physical surfaces 1..7")
+            names = {gmsh.model.getPhysicalName(3, 1), gmsh.model.getPhysicalName(3, 2)}
+            check(names == {"Region1", "Region2"}, "gmsh msh: physical names Region1, Region2")
+    finally:
+        gmsh.finalize()
+
+
+def check_vtk(path, n_tets, volume):
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    reader = vtk.vtkXMLUnstructuredGridReader() if path.endswith(".vtu") else vtk.vtkUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    grid = reader.GetOutput()
+    types = vtk_to_numpy(grid.GetCellTypesArray())
+    check(int((types == 10).sum()) == n_tets, "vtk %s: %d tetrahedra" % (os.path.basename(path), (types == 10).sum()))
+    region = grid.GetCellData().GetArray("region")
+    check(region is not None, "vtk %s: cell array 'region'" % os.path.basename(path))
+    if region is not None:
+        r = vtk_to_numpy(region)
+        check(set(r[types == 10].tolist()) == {1, 2}, "vtk %s: regions {1, 2}" % os.path.basename(path))
+    quality = vtk.vtkMeshQuality()
+    quality.SetInputData(grid)
+    quality.SetTetQualityMeasureToVolume()
+    quality.Update()
+    q = vtk_to_numpy(quality.GetOutput().GetCellData().GetArray("Quality"))[types == 10]
+    check(bool(np.all(q > 0)) and abs(q.sum() - volume) < 1e-9,
+          "vtk %s: signed volumes positive, total %.12g" % (os.path.basename(path), q.sum()))
+
+
+def check_calculix(inp, tmp):
+    """The .inp plus material, sections and a step is a valid CalculiX deck:
+    block clamped at z = 0 (Face5), pressure on z = N (Face6) pushes it down."""
+    import shutil
+
+    if not shutil.which("ccx"):
+        print("skip  CalculiX: ccx not installed")
+        return
+    deck = os.path.join(tmp, "job.inp")
+    with open(deck, "w") as f:
+        f.write("*HEADING\nvdmesh converter check\n*INCLUDE, INPUT=%s\n"
+                "*MATERIAL, NAME=STEEL\n*ELASTIC\n210000, 0.3\n"
+                "*SOLID SECTION, ELSET=Region1, MATERIAL=STEEL\n*SOLID SECTION, ELSET=Region2, MATERIAL=STEEL\n"
+                "*STEP\n*STATIC\n*BOUNDARY\nFace5_Nodes, 1, 3, 0.\n*DLOAD\nFace6, P, 10.\n"
+                "*NODE PRINT, NSET=NALL\nU\n*END STEP\n" % os.path.basename(inp))
+    run = subprocess.run(["ccx", "job"], cwd=tmp, capture_output=True, text=True, timeout=300)
+    check(run.returncode == 0 and "error" not in run.stdout.lower(), "ccx runs the deck (exit %d)" % run.returncode)
+    uz = []
+    dat = os.path.join(tmp, "job.dat")
+    if os.path.exists(dat):
+        for line in open(dat):
+            parts = line.split()
+            if len(parts) == 4 and parts[0].isdigit():
+                uz.append(float(parts[3]))
+    check(len(uz) > 0 and min(uz) < 0 and max(uz) <= 1e-12, "ccx: pressure on Face6 moves the block down (min uz %s)"
+          % (min(uz) if uz else None))
+
+
+def main():
+    binary = os.environ.get("VDMESH_BIN", "")
+    if not binary or not os.access(binary, os.X_OK):
+        print("skipped: VDMESH_BIN (the vdmesh CLI) not set or not built: %r" % binary)
+        return 0
+    pts, tets, regions, tris, face_ids = block_mesh()
+    volume = float(N ** 3)
+    with tempfile.TemporaryDirectory() as tmp:
+        src = os.path.join(tmp, "block.mesh")
+        write_medit(src, pts, tets, regions, tris, face_ids)
+        outputs = {}
+        for ext in ("msh", "vtu", "vtk", "inp", "mesh", "node"):
+            out = os.path.join(tmp, "out." + ext)
+            run = subprocess.run([binary, "convert", src, out], capture_output=True, text=True)
+            check(run.returncode == 0, "vdmesh convert block.mesh out.%s (exit %d %s)" %
+                  (ext, run.returncode, run.stderr.strip()[:200]))
+            if run.returncode == 0:
+                outputs[ext] = out
+        for ext, out in outputs.items():
+            fmt = "tetgen" if ext == "node" else ext
+            path = out[:-5] + ".ele" if ext == "node" else out
+            try:
+                check_meshio(path, fmt, len(tets), len(tris), volume)
+            except Exception as e:  # a reader that raises is a failed check
+                check(False, "meshio %s raised %s: %s" % (fmt, type(e).__name__, e))
+        if "msh" in outputs:
+            check_gmsh(outputs["msh"], len(tets), volume, True)
+        if "vtk" in outputs:
+            check_gmsh(outputs["vtk"], len(tets), volume, False)
+        for ext in ("vtk", "vtu"):
+            if ext in outputs:
+                check_vtk(outputs[ext], len(tets), volume)
+        if "inp" in outputs:
+            check_calculix(outputs["inp"], tmp)
+        if "msh" in outputs:
+            gmsh_check = subprocess.run(["gmsh", outputs["msh"], "-check"], capture_output=True, text=True, cwd=tmp)
+            check(gmsh_check.returncode == 0, "gmsh -check out.msh (exit %d)" % gmsh_check.returncode)
+    print("%d check(s) failed" % len(FAILED) if FAILED else "all checks passed")
+    return 1 if FAILED else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
