@@ -307,8 +307,10 @@ std::string VtuReader::decoded_bytes(const Tag& t, std::string_view text, size_t
   } else {
     src = text;
   }
-  // Binary text is measured in characters below: start at the first one.
-  while (!src.empty() && std::isspace(static_cast<unsigned char>(src.front()))) src.remove_prefix(1);
+  // Base64 text is measured in characters below: start at the first one
+  // (raw appended bytes are taken as they are).
+  if (base64)
+    while (!src.empty() && std::isspace(static_cast<unsigned char>(src.front()))) src.remove_prefix(1);
   if (!compressed_) {
     if (base64) {
       // The header alone tells how much to decode (appended arrays run on).
