@@ -4,7 +4,8 @@ Usage: python3 make_corpus.py CONVERTER
 CONVERTER is a program called as `CONVERTER IN OUT [binary] [22]` that
 converts with vd::io (the dev helper in build folders does). Each seed is
 the selector byte of its extension (see kExtensions in fuzz_readers.cpp)
-followed by the file's bytes.
+followed by the file's bytes. seed_vtu_zlib and seed_vtu_appended are the
+files tests/unit/converters_vtu_test.cpp writes, with the selector byte 5.
 """
 import gzip
 import os
