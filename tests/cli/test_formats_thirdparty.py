@@ -227,6 +227,25 @@ def main():
                   (ext, run.returncode, run.stderr.strip()[:200]))
             if run.returncode == 0:
                 outputs[ext] = out
+        # The binary and MSH 2.2 variants, read by meshio and Gmsh.
+        for name, flags in (("bin.msh", ["--binary"]), ("v22.msh", ["--msh-version", "22"]),
+                            ("bin22.msh", ["--binary", "--msh-version", "22"]), ("bin.vtu", ["--binary"]),
+                            ("bin.vtk", ["--binary"])):
+            out = os.path.join(tmp, name)
+            run = subprocess.run([binary, "convert", src, out] + flags, capture_output=True, text=True)
+            check(run.returncode == 0, "vdmesh convert block.mesh %s %s (exit %d %s)" %
+                  (name, " ".join(flags), run.returncode, run.stderr.strip()[:200]))
+            if run.returncode != 0:
+                continue
+            ext = name.split(".")[-1]
+            try:
+                check_meshio(out, ext, len(tets), len(tris), volume)
+            except Exception as e:
+                check(False, "meshio %s raised %s: %s" % (name, type(e).__name__, e))
+            if ext == "msh":
+                check_gmsh(out, len(tets), volume, True)
+            if ext in ("vtk", "vtu"):
+                check_vtk(out, len(tets), volume)
         for ext, out in outputs.items():
             fmt = "tetgen" if ext == "node" else ext
             path = out[:-5] + ".ele" if ext == "node" else out
