@@ -51,8 +51,9 @@ struct Tetrahedron {
   int region = kUnknownRegion;
 };
 
-// Second-order nodes, in the edge order shared by Gmsh, VTK and Abaqus:
-// tetrahedron (01, 12, 20, 03, 13, 23), triangle (01, 12, 20).
+// Second-order nodes, in the edge order of VTK and Abaqus: tetrahedron
+// (01, 12, 20, 03, 13, 23), triangle (01, 12, 20). Gmsh swaps the last two
+// tetrahedron edges (..., 03, 23, 13); its reader and writer convert.
 using TetMidNodes = std::array<int, 6>;
 using TriMidNodes = std::array<int, 3>;
 
