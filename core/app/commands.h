@@ -10,5 +10,6 @@ namespace vd::app {
 int mesh_command(const std::vector<std::string>& args);
 int convert_command(const std::vector<std::string>& args);
 int info_command(const std::vector<std::string>& args);
+int compare_command(const std::vector<std::string>& args);  // app/compare_command.cpp
 
 }  // namespace vd::app

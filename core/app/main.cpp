@@ -15,6 +15,7 @@ const char* kUsage =
     "  vdmesh mesh INPUT -o OUTPUT [options]   tetrahedra of a closed tagged surface\n"
     "  vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--from FMT] [--to FMT]\n"
     "  vdmesh info MESH                         counts, regions, faces, quality\n"
+    "  vdmesh compare INPUT [--size H] [--json OUT.json] [--svg OUT.svg]   vdmesh and TetGen side by side\n"
     "run 'vdmesh mesh --help' for the meshing options\n";
 
 }  // namespace
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
     if (command == "mesh") return vd::app::mesh_command(args);
     if (command == "convert") return vd::app::convert_command(args);
     if (command == "info") return vd::app::info_command(args);
+    if (command == "compare") return vd::app::compare_command(args);
     std::fprintf(stderr, "vdmesh: unknown command '%s'\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const vd::UsageError& e) {

@@ -1,0 +1,363 @@
+// vdmesh compare: vdmesh and TetGen side by side on the same input (issue 6).
+// Both meshers run in their own process (vdmesh: this program's hidden
+// `compare --worker`), so a crash or a timeout of either is a reported result;
+// both meshes are read back from files and go through the same checks
+// (core/compare/mesh_checks.h).
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "app/commands.h"
+#include "compare/child_process.h"
+#include "compare/compare_report.h"
+#include "compare/mesh_checks.h"
+#include "compare/svg_histogram.h"
+#include "compare/tetgen_runner.h"
+#include "converters/registry.h"
+#include "mesh/error.h"
+#include "pipeline/mesher.h"
+#include "surface/face_patches.h"
+
+namespace vd::app {
+namespace {
+
+using namespace vd::compare;
+
+const char* kCompareHelp =
+    "usage: vdmesh compare INPUT [options]\n"
+    "  Meshes INPUT with vdmesh and with TetGen, each in its own process, twice:\n"
+    "    boundary  vdmesh --no-interior   against  tetgen -pYA   (the input surface kept)\n"
+    "    quality   vdmesh [--size H]      against  tetgen -pq1.414aV A, V chosen for a similar count\n"
+    "  and checks both meshes the same way: validity, boundary conformity with the input, face and region\n"
+    "  tags, region volumes against the input surface, quality. Prints a side-by-side table.\n"
+    "options:\n"
+    "  --size H            vdmesh's edge length in the quality run (default: vdmesh's own size field)\n"
+    "  --json FILE.json    everything measured, per run and mesher\n"
+    "  --svg FILE.svg      dihedral-angle histograms side by side\n"
+    "  --keep-dir DIR      keep the meshers' input, output (.vtu copies too) and logs in DIR\n"
+    "  --runs LIST         boundary,quality (default both)\n"
+    "  --timeout S         time limit of each mesher run in seconds (default 600)\n"
+    "  --tetgen PROGRAM    the TetGen program (default tetgen, from PATH)\n"
+    "  --seed N            vdmesh's seed (default 1)\n"
+    "  --sharp-angle DEG   face ids for input without them (default 40), given to both meshers\n"
+    "  --quiet             no progress lines\n"
+    "exit codes: 0 vdmesh meshed every run and its meshes pass the checks (TetGen's result never changes\n"
+    "  the exit code); 3 INPUT unreadable, or vdmesh refused it; 4 vdmesh could not recover every facet;\n"
+    "  5 a vdmesh mesh failed a check; 1 vdmesh crashed or timed out; 2 usage. The table and the JSON are\n"
+    "  written whenever INPUT could be read.\n";
+
+class Args {
+ public:
+  explicit Args(std::vector<std::string> a) : a_(std::move(a)) {}
+  bool flag(const std::string& name) {
+    for (size_t i = 0; i < a_.size(); ++i)
+      if (a_[i] == name) {
+        a_.erase(a_.begin() + static_cast<long>(i));
+        return true;
+      }
+    return false;
+  }
+  std::string value(const std::string& name, const std::string& fallback = "") {
+    for (size_t i = 0; i < a_.size(); ++i)
+      if (a_[i] == name) {
+        if (i + 1 >= a_.size()) throw UsageError(name + " needs a value");
+        std::string v = a_[i + 1];
+        a_.erase(a_.begin() + static_cast<long>(i), a_.begin() + static_cast<long>(i) + 2);
+        return v;
+      }
+    return fallback;
+  }
+  double number(const std::string& name, double fallback) {
+    const std::string v = value(name);
+    if (v.empty()) return fallback;
+    double x = 0;
+    auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+    if (ec != std::errc() || ptr != v.data() + v.size() || !std::isfinite(x))
+      throw UsageError(name + ": not a number: '" + v + "'");
+    return x;
+  }
+  std::vector<std::string> positionals() const {
+    for (const auto& s : a_)
+      if (s.size() > 1 && s[0] == '-' && s[1] == '-') throw UsageError("unknown option " + s);
+    return a_;
+  }
+
+ private:
+  std::vector<std::string> a_;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+  if (!f) throw UsageError("cannot write " + path);
+}
+
+// The input exactly as both meshers get it. Input without face ids gets them
+// here (smooth patches, as `vdmesh mesh` would), so that TetGen's facet
+// markers and vdmesh's face ids are the same. Returns the patch count in
+// `patches` (0 when the input had face ids).
+Mesh load_compare_input(const std::string& path, double sharp_angle_deg, int* patches = nullptr) {
+  Mesh m = io::read_mesh(path);
+  m.tets.clear();
+  m.tet_mid.clear();
+  m.triangle_mid.clear();
+  if (m.triangles.empty()) throw InputError(path + ": no surface facets to mesh");
+  const int p = m.has_face_tags() ? 0 : assign_face_patches(m, sharp_angle_deg);
+  if (patches) *patches = p;
+  return m;
+}
+
+// The child side: mesh INPUT with vdmesh and write BASE.node/.ele/.face and
+// BASE.report.json. Exit codes as `vdmesh mesh`.
+int compare_worker(const std::vector<std::string>& raw) {
+  Args args(raw);
+  MeshOptions opt;
+  opt.interior = !args.flag("--no-interior");
+  opt.size.uniform = args.number("--size", 0.0);
+  opt.seed = static_cast<std::uint64_t>(args.number("--seed", 1));
+  const double sharp = args.number("--sharp-angle", kDefaultSharpAngleDeg);
+  opt.sharp_angle_deg = sharp;
+  const auto pos = args.positionals();
+  if (pos.size() != 2) throw UsageError("compare --worker INPUT BASE [options]");
+  const std::string base = pos[1];
+  const Mesh input = load_compare_input(pos[0], sharp);
+  MeshResult partial;
+  try {
+    const MeshResult result = mesh_surface(input, opt, &partial);
+    io::write_mesh(result.mesh, base + ".node", {}, "tetgen");
+    write_text(base + ".report.json", report_json(result.report));
+    return 0;
+  } catch (const RecoveryError&) {
+    write_text(base + ".report.json", report_json(partial.report));
+    throw;
+  }
+}
+
+struct Settings {
+  std::string input;
+  std::string dir;
+  bool keep = false;
+  double timeout = 600;
+  std::string tetgen = "tetgen";
+  double seed = 1;
+  double sharp = kDefaultSharpAngleDeg;
+  bool quiet = false;
+};
+
+void progress(const Settings& s, const std::string& what) {
+  if (!s.quiet) std::fprintf(stderr, "vdmesh compare: %s\n", what.c_str());
+}
+
+void check_run(CheckedRun& r, const InputSurface& surface, const Settings& s, const std::string& name) {
+  if (!r.run.meshed) return;
+  r.checks = check_mesh(surface, r.run.mesh);
+  r.checked = true;
+  if (s.keep) {
+    r.mesh_file = (std::filesystem::path(s.dir) / (name + ".vtu")).string();
+    io::write_mesh(r.run.mesh, r.mesh_file, {}, "vtu");
+  }
+  // The meshes can be large; the checks keep what the report needs.
+  r.run.mesh = Mesh();
+}
+
+CheckedRun run_vdmesh(const Settings& s, const std::string& name, const std::vector<std::string>& options) {
+  CheckedRun r;
+  MesherRun& run = r.run;
+  run.mesher = "vdmesh";
+  run.label = "vdmesh";
+  for (const auto& o : options) run.label += " " + o;
+  const std::string base = (std::filesystem::path(s.dir) / name).string();
+  run.log_path = base + ".log";
+  for (const char* ext : {".node", ".ele", ".face", ".report.json"}) std::remove((base + ext).c_str());
+  std::vector<std::string> argv = {self_executable(), "compare", "--worker", s.input, base, "--seed",
+                                   std::to_string(static_cast<long>(s.seed)), "--sharp-angle", std::to_string(s.sharp)};
+  argv.insert(argv.end(), options.begin(), options.end());
+  for (size_t i = 0; i < argv.size(); ++i) run.command += (i ? " " : "") + argv[i];
+  run.process = run_child(argv, run.log_path, s.timeout);
+  r.report_json = read_text(base + ".report.json");
+  if (!run.process.ok()) {
+    run.failure = failure_text(run.process, run.log_path);
+    return r;
+  }
+  try {
+    run.mesh = io::read_mesh(base + ".node", "tetgen");
+    run.meshed = !run.mesh.tets.empty();
+    if (!run.meshed) run.failure = "no tetrahedra in the output";
+  } catch (const std::exception& e) {
+    run.failure = std::string("output not readable: ") + e.what();
+  }
+  return r;
+}
+
+double total_volume(const MeshChecks& c) {
+  double v = 0;
+  for (const auto& r : c.regions) v += r.volume;
+  return v;
+}
+
+std::string format_g(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", x);
+  return b;
+}
+
+// Exit code for vdmesh's side of one run (0: fine).
+int vdmesh_exit(const CheckedRun& r) {
+  if (!r.run.meshed) {
+    const int code = r.run.process.exit_code;
+    if (r.run.process.started && !r.run.process.timed_out && r.run.process.signal == 0 && (code == 3 || code == 4))
+      return code;
+    return 1;
+  }
+  return r.passed() ? 0 : 5;
+}
+
+}  // namespace
+
+int compare_command(const std::vector<std::string>& raw) {
+  if (!raw.empty() && raw[0] == "--worker") return compare_worker({raw.begin() + 1, raw.end()});
+  Args args(raw);
+  if (args.flag("--help") || args.flag("-h")) {
+    std::fputs(kCompareHelp, stdout);
+    return 0;
+  }
+  Settings s;
+  const double size = args.number("--size", 0.0);
+  const std::string json_path = args.value("--json"), svg_path = args.value("--svg");
+  const std::string keep_dir = args.value("--keep-dir");
+  const std::string runs = args.value("--runs", "boundary,quality");
+  s.timeout = args.number("--timeout", s.timeout);
+  s.tetgen = args.value("--tetgen", s.tetgen);
+  s.seed = args.number("--seed", 1);
+  s.sharp = args.number("--sharp-angle", s.sharp);
+  s.quiet = args.flag("--quiet");
+  const auto pos = args.positionals();
+  if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh compare --help)");
+  if (size < 0) throw UsageError("--size must be positive");
+  if (s.timeout <= 0) throw UsageError("--timeout must be positive");
+  if (s.seed < 0 || s.seed != std::floor(s.seed)) throw UsageError("--seed must be a non-negative integer");
+  const bool do_boundary = runs.find("boundary") != std::string::npos;
+  const bool do_quality = runs.find("quality") != std::string::npos;
+  if (!do_boundary && !do_quality) throw UsageError("--runs takes boundary, quality or both");
+  s.input = std::filesystem::absolute(pos[0]).string();
+
+  // Unreadable input: nothing to compare (exit 3 through main).
+  Comparison cmp;
+  int patches = 0;
+  const Mesh input = load_compare_input(s.input, s.sharp, &patches);
+  cmp.input = pos[0];
+  cmp.input_vertices = static_cast<long>(input.points.size());
+  cmp.input_facets = static_cast<long>(input.triangles.size());
+  cmp.face_patches = patches;
+  cmp.size = size;
+  cmp.tetgen_program = s.tetgen;
+  cmp.timeout_seconds = s.timeout;
+
+  if (!keep_dir.empty()) {
+    std::filesystem::create_directories(keep_dir);
+    s.dir = std::filesystem::absolute(keep_dir).string();
+    s.keep = true;
+  } else {
+    std::string tmpl = (std::filesystem::temp_directory_path() / "vdmesh-compare-XXXXXX").string();
+    if (!mkdtemp(tmpl.data())) throw std::runtime_error("cannot create a temporary folder in " + tmpl);
+    s.dir = tmpl;
+  }
+  cmp.work_dir = s.dir;
+  cmp.kept = s.keep;
+  // The temporary folder goes whatever happens below.
+  struct Cleanup {
+    std::string dir;
+    ~Cleanup() {
+      std::error_code ignored;
+      if (!dir.empty()) std::filesystem::remove_all(dir, ignored);
+    }
+  } cleanup{s.keep ? std::string() : s.dir};
+
+  const InputSurface surface(input);
+  const std::vector<RegionPoint> regions = region_points(surface);
+  cmp.region_tags = surface.region_tags();
+  cmp.region_points = static_cast<int>(regions.size());
+  const std::string dir = s.dir;
+  auto at = [&](const std::string& name) { return (std::filesystem::path(dir) / name).string(); };
+
+  if (do_boundary) {
+    RunPair r;
+    r.name = "boundary";
+    r.title = "boundary-preserving";
+    progress(s, "boundary run, vdmesh --no-interior");
+    r.vdmesh = run_vdmesh(s, "boundary-vdmesh", {"--no-interior"});
+    check_run(r.vdmesh, surface, s, "boundary-vdmesh");
+    progress(s, "boundary run, tetgen -pYA");
+    r.tetgen.run = run_tetgen(input, regions, "pYA", at("boundary-tetgen"), s.tetgen, s.timeout);
+    r.tetgen_attempts.emplace_back("-pYA", r.tetgen.run.meshed ? static_cast<long>(r.tetgen.run.mesh.tets.size()) : -1);
+    check_run(r.tetgen, surface, s, "boundary-tetgen");
+    cmp.runs.push_back(std::move(r));
+  }
+  if (do_quality) {
+    RunPair r;
+    r.name = "quality";
+    r.title = "quality";
+    std::vector<std::string> vopt;
+    if (size > 0) vopt = {"--size", format_g(size)};
+    progress(s, "quality run, vdmesh" + (size > 0 ? " --size " + format_g(size) : std::string()));
+    r.vdmesh = run_vdmesh(s, "quality-vdmesh", vopt);
+    check_run(r.vdmesh, surface, s, "quality-vdmesh");
+    // TetGen's volume bound: twice vdmesh's mean tetrahedron volume, then
+    // once more scaled by the count ratio when the count is off by more than
+    // 25% (TetGen's count goes about as 1 / bound once the bound rules).
+    double bound = 0;
+    long target = 0;
+    if (r.vdmesh.checked && r.vdmesh.checks.tets > 0) {
+      target = r.vdmesh.checks.tets;
+      bound = 2.0 * total_volume(r.vdmesh.checks) / target;
+      r.sizing = "tetgen volume bound a = 2 x vdmesh's mean tetrahedron volume, rescaled once by the count ratio "
+                 "when the count differs by more than 25%";
+    } else if (size > 0) {
+      bound = size * size * size / (6.0 * std::sqrt(2.0));
+      r.sizing = "vdmesh failed: tetgen volume bound a = volume of the regular tetrahedron of edge --size";
+    } else {
+      r.sizing = "vdmesh failed: tetgen without a volume bound";
+    }
+    auto attempt = [&](double a, const std::string& name) {
+      const std::string sw = "pq1.414" + (a > 0 ? "a" + format_g(a) : std::string()) + "A";
+      progress(s, "quality run, tetgen -" + sw);
+      MesherRun t = run_tetgen(input, regions, sw, at(name), s.tetgen, s.timeout);
+      r.tetgen_attempts.emplace_back("-" + sw, t.meshed ? static_cast<long>(t.mesh.tets.size()) : -1);
+      return t;
+    };
+    MesherRun best = attempt(bound, "quality-tetgen");
+    if (target > 0 && best.meshed) {
+      const double ratio = double(best.mesh.tets.size()) / target;
+      if (ratio < 0.8 || ratio > 1.25) {
+        MesherRun second = attempt(bound * ratio, "quality-tetgen-2");
+        const double ratio2 = second.meshed ? double(second.mesh.tets.size()) / target : 0;
+        if (second.meshed && std::abs(std::log(ratio2)) < std::abs(std::log(ratio))) best = std::move(second);
+      }
+    }
+    r.tetgen.run = std::move(best);
+    check_run(r.tetgen, surface, s, "quality-tetgen");
+    cmp.runs.push_back(std::move(r));
+  }
+
+  std::fputs(comparison_table(cmp).c_str(), stdout);
+  if (!json_path.empty()) write_text(json_path, comparison_json(cmp));
+  if (!svg_path.empty())
+    write_text(svg_path, histogram_svg("vdmesh and TetGen: " + std::filesystem::path(pos[0]).filename().string(),
+                                       histogram_panels(cmp)));
+  for (const RunPair& r : cmp.runs)
+    if (const int code = vdmesh_exit(r.vdmesh)) return code;
+  return 0;
+}
+
+}  // namespace vd::app

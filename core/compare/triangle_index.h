@@ -1,0 +1,39 @@
+// Closest-triangle and nearby-triangle queries over a fixed set of triangles
+// (CGAL's AABB tree, inexact double arithmetic: the checks of compare
+// measure distances, they take no combinatorial decisions from them).
+#pragma once
+
+#include <array>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace vd::compare {
+
+class TriangleIndex {
+ public:
+  // Ids are positions in `triangles`. Triangles of zero area are left out
+  // (they have no closest point worth asking about).
+  explicit TriangleIndex(const std::vector<std::array<Vec3, 3>>& triangles);
+  ~TriangleIndex();
+  TriangleIndex(const TriangleIndex&) = delete;
+  TriangleIndex& operator=(const TriangleIndex&) = delete;
+
+  bool empty() const;
+  struct Hit {
+    int id = -1;
+    double distance = std::numeric_limits<double>::infinity();
+  };
+  Hit closest(const Vec3& p) const;
+  // Ids of the triangles at most `d` from p, replacing `out`.
+  void within(const Vec3& p, double d, std::vector<int>& out) const;
+  double distance(int id, const Vec3& p) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vd::compare

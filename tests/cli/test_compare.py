@@ -1,0 +1,283 @@
+"""vdmesh compare: both meshers on the paper's pyramids (§9.8), the paper's
+sphere (§9.4) and a shared input; the figures of the JSON are recomputed here
+from the kept meshes with meshio and numpy, independently of the C++ checks;
+TetGen failing (self-intersecting input, a crash, a timeout) still gives
+vdmesh's side."""
+import json
+import math
+import os
+import stat
+import time
+import xml.etree.ElementTree as ET
+
+import meshio
+import numpy as np
+
+from cli_support import check, data, finish, run, tmpdir
+
+out = tmpdir()
+
+
+def write_off(path, pts, tris):
+    with open(path, "w") as f:
+        f.write("OFF\n%d %d 0\n" % (len(pts), len(tris)))
+        f.writelines("%r %r %r\n" % tuple(p) for p in pts)
+        f.writelines("3 %d %d %d\n" % tuple(t) for t in tris)
+
+
+def pyramid(cx, cy, cz, height):
+    pts = [(cx - .5, cy - .5, cz), (cx + .5, cy - .5, cz), (cx + .5, cy + .5, cz), (cx - .5, cy + .5, cz),
+           (cx, cy, cz + height)]
+    tris = [(0, 2, 1), (0, 3, 2), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]
+    if height < 0:
+        tris = [(a, c, b) for a, b, c in tris]
+    return pts, tris
+
+
+def icosphere(levels):
+    t = (1 + math.sqrt(5)) / 2
+    pts = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+           (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    pts = [tuple(c / math.sqrt(sum(x * x for x in p)) for c in p) for p in pts]
+    tris = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+            (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+            (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    for _ in range(levels):
+        mid = {}
+
+        def m(a, b):
+            k = (min(a, b), max(a, b))
+            if k not in mid:
+                p = [(x + y) / 2 for x, y in zip(pts[a], pts[b])]
+                n = math.sqrt(sum(x * x for x in p))
+                pts.append(tuple(x / n for x in p))
+                mid[k] = len(pts) - 1
+            return mid[k]
+        nxt = []
+        for a, b, c in tris:
+            ab, bc, ca = m(a, b), m(b, c), m(c, a)
+            nxt += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        tris = nxt
+    return pts, tris
+
+
+def enclosed_volume(pts, tris):
+    """Volume enclosed by an outward-oriented closed surface (divergence theorem)."""
+    p = np.asarray(pts, dtype=float)
+    t = np.asarray(tris)
+    return float(np.einsum("ij,ij->i", p[t[:, 0]], np.cross(p[t[:, 1]], p[t[:, 2]])).sum() / 6.0)
+
+
+def independent(vtu):
+    """Counts, volumes and angles of a kept mesh, from meshio and numpy alone."""
+    m = meshio.read(vtu)
+    blocks = [i for i, c in enumerate(m.cells) if c.type == "tetra"]
+    tets = np.vstack([m.cells[i].data for i in blocks])
+    region = np.concatenate([np.asarray(m.cell_data["region"][i]).ravel() for i in blocks])
+    P = m.points
+    a, b, c, d = (P[tets[:, k]] for k in range(4))
+    vol = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) / 6.0
+    # Dihedral angles: pi minus the angle between the outward normals of the
+    # two faces at an edge.
+    corners = [a, b, c, d]
+    normals = []
+    for k in range(4):
+        f = [corners[j] for j in range(4) if j != k]
+        n = np.cross(f[1] - f[0], f[2] - f[0])
+        n *= -np.sign(np.einsum("ij,ij->i", n, corners[k] - f[0]))[:, None]
+        normals.append(n / np.linalg.norm(n, axis=1)[:, None])
+    angles = np.array([180.0 - np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", normals[k], normals[l]), -1, 1)))
+                       for k in range(4) for l in range(k + 1, 4)])
+    # Boundary faces: faces of one tetrahedron, or of two in different regions.
+    faces = np.sort(np.vstack([tets[:, [1, 2, 3]], tets[:, [0, 2, 3]], tets[:, [0, 1, 3]], tets[:, [0, 1, 2]]]), axis=1)
+    owner = np.tile(region, 4)
+    key, inverse, count = np.unique(faces, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    lo = np.full(len(key), np.iinfo(np.int64).max)
+    hi = np.full(len(key), np.iinfo(np.int64).min)
+    np.minimum.at(lo, inverse, owner)
+    np.maximum.at(hi, inverse, owner)
+    boundary = key[(count == 1) | (lo != hi)]
+    regions = {}
+    for r in np.unique(region):
+        regions[int(r)] = float(vol[region == r].sum())
+    return {"tetrahedra": len(tets), "vertices": len(np.unique(tets)), "inverted": int((vol <= 0).sum()),
+            "volume": float(vol.sum()), "regions": regions, "min_dihedral": float(angles.min()),
+            "max_dihedral": float(angles.max()), "boundary_vertices": len(np.unique(boundary)),
+            "slivers10": int((angles.min(axis=0) < 10).sum())}
+
+
+def compare(name, path, *extra, expect=0):
+    keep = os.path.join(out, name)
+    js, svg = os.path.join(out, name + ".json"), os.path.join(out, name + ".svg")
+    t0 = time.time()
+    code, stdout, stderr = run("compare", path, "--json", js, "--svg", svg, "--keep-dir", keep, "--quiet", *extra)
+    expected = expect if isinstance(expect, tuple) else (expect,)
+    check(code in expected, "%s: compare exits %s (got %d: %s)" % (name, expected, code, (stderr or stdout).strip()[-400:]))
+    if code == 5:
+        check("vdmesh" in stdout and ": " in stdout, "%s: exit 5 and the failed checks listed" % name)
+    report = json.load(open(js)) if os.path.exists(js) else None
+    check(report is not None, "%s: JSON written" % name)
+    check("vdmesh" in stdout and "tetgen -p" in stdout, "%s: table printed with both columns" % name)
+    return report, stdout, svg, time.time() - t0
+
+
+def verify(name, report, input_volume, input_surface_vertices):
+    """Every figure of the JSON against the kept meshes, recomputed here.
+    TetGen must pass every check (it keeps the input's points); vdmesh's
+    figures must be right whether or not its mesh passes (its flips within a
+    face may move the boundary off the input: the JSON must then say so)."""
+    for r in report["runs"]:
+        for mesher in ("vdmesh", "tetgen"):
+            m = r[mesher]
+            what = "%s %s %s" % (name, r["name"], m["label"])
+            check(m["meshed"], what + ": meshed (%s)" % m["status"])
+            if not m["meshed"]:
+                continue
+            if mesher == "tetgen":
+                check(m["passed_checks"], what + ": checks pass (%s)" % m["checks"]["problems"])
+            ind = independent(m["mesh_file"])
+            check(ind["tetrahedra"] == m["tetrahedra"] and ind["vertices"] == m["vertices"],
+                  what + ": %d tetrahedra, %d vertices (JSON %d, %d)" % (
+                      ind["tetrahedra"], ind["vertices"], m["tetrahedra"], m["vertices"]))
+            check(ind["inverted"] == 0 == m["checks"]["inverted"], what + ": no inverted tetrahedra")
+            check(abs(ind["min_dihedral"] - m["min_dihedral_deg"]) < 1e-6 and
+                  abs(ind["max_dihedral"] - m["max_dihedral_deg"]) < 1e-6,
+                  what + ": dihedral angles %.6f..%.6f (JSON %.6f..%.6f)" % (
+                      ind["min_dihedral"], ind["max_dihedral"], m["min_dihedral_deg"], m["max_dihedral_deg"]))
+            check(ind["slivers10"] == m["slivers_below_10_deg"], what + ": %d tetrahedra under 10 degrees" % ind["slivers10"])
+            added = ind["boundary_vertices"] - input_surface_vertices
+            check(added == m["boundary_vertices_added"],
+                  what + ": %d boundary vertices added (JSON %d)" % (added, m["boundary_vertices_added"]))
+            json_regions = {g["region"]: g["volume"] for g in m["checks"]["regions"]}
+            check(all(abs(json_regions.get(k, 0) - v) <= 1e-9 * abs(v) for k, v in ind["regions"].items()),
+                  what + ": region volumes as in the JSON %s" % ind["regions"])
+            # The volume error against the input surface, as measured here, is
+            # the one the JSON reports (the reference of each region is summed
+            # there per region, here over the whole surface).
+            rel = abs(ind["volume"] - input_volume) / max(abs(ind["volume"]), abs(input_volume))
+            if len(ind["regions"]) == 1:
+                check(abs(rel - m["checks"]["max_relative_volume_error"]) <= 1e-9,
+                      what + ": volume error %.3e as in the JSON (%.3e)" % (rel, m["checks"]["max_relative_volume_error"]))
+            if mesher == "tetgen":
+                check(rel < 1e-12, what + ": volume %.12g, the input's %.12g (relative %.1e)" % (
+                    ind["volume"], input_volume, rel))
+            else:
+                check(m["checks"]["volumes_ok"] == (m["checks"]["max_relative_volume_error"] <=
+                                                     m["checks"]["volume_tolerance"]),
+                      what + ": volume %.12g, the input's %.12g (relative %.1e): volumes_ok %s" % (
+                          ind["volume"], input_volume, rel, m["checks"]["volumes_ok"]))
+            if mesher == "vdmesh" and not m["passed_checks"]:
+                print("note %s: vdmesh's mesh fails checks: %s" % (what, m["checks"]["problems"]))
+            if mesher == "tetgen" and r["name"] == "boundary":
+                check(added == 0, what + ": -Y adds no boundary vertex")
+
+
+def check_svg(name, svg, panels):
+    try:
+        root = ET.parse(svg).getroot()
+        texts = [t.text or "" for t in root.iter("{http://www.w3.org/2000/svg}text")]
+        check(sum("tetgen" in t for t in texts) == panels // 2 and sum("vdmesh" in t for t in texts) >= panels // 2,
+              "%s: SVG with %d histogram panels" % (name, panels))
+    except Exception as e:  # noqa: BLE001
+        check(False, "%s: SVG readable (%s)" % (name, e))
+
+
+# The paper's two almost touching pyramids (§9.8): two regions.
+p1, t1 = pyramid(0, 0, 0, -1)
+p2, t2 = pyramid(0.1454, 0.3569, 1.0019, -1)
+pyr = os.path.join(out, "pyramids.off")
+pts, tris = p1 + p2, t1 + [(a + 5, b + 5, c + 5) for a, b, c in t2]
+write_off(pyr, pts, tris)
+report, stdout, svg, _ = compare("pyramids", pyr)
+if report:
+    check([r["name"] for r in report["runs"]] == ["boundary", "quality"], "pyramids: both runs")
+    verify("pyramids", report, enclosed_volume(pts, tris), 10)
+    check_svg("pyramids", svg, 4)
+    q = report["runs"][1]
+    check(len(q["tetgen_attempts"]) >= 1 and q["tetgen_attempts"][0]["switches"].startswith("-pq1.414a"),
+          "pyramids: quality run bounds TetGen's volume (%s)" % q["tetgen_attempts"])
+
+# The paper's sphere (§9.4): an icosphere of 1280 facets, with --size.
+sp, st = icosphere(3)
+sphere = os.path.join(out, "sphere.off")
+write_off(sphere, sp, st)
+# vdmesh's flips within the one smooth face of the sphere take its boundary
+# off the input (the JSON and exit 5 say so; the figures are checked anyway).
+report, stdout, svg, _ = compare("sphere", sphere, "--size", "0.15", expect=(0, 5))
+if report:
+    verify("sphere", report, enclosed_volume(sp, st), len(sp))
+    q = report["runs"][1]
+    nv, nt = q["vdmesh"].get("tetrahedra", 0), q["tetgen"].get("tetrahedra", 0)
+    check(nv > 0 and 0.5 < nt / nv < 2, "sphere: similar counts in the quality run (vdmesh %d, tetgen %d)" % (nv, nt))
+
+# A shared input.
+shared = data("surface/netgen_part1.stl")
+if shared:
+    m = meshio.read(shared)
+    tri = np.vstack([c.data for c in m.cells if c.type == "triangle"])
+    # STL repeats vertices per facet: merge them as the readers do.
+    uniq, inv = np.unique(m.points, axis=0, return_inverse=True)
+    tri = inv.ravel()[tri]
+    # vdmesh's quality mesh of this part moves boundary faces off the input
+    # (flips across ridges within a smooth patch): exit 5 says so.
+    report, stdout, svg, _ = compare("netgen_part1", shared, expect=(0, 5))
+    if report:
+        verify("netgen_part1", report, abs(enclosed_volume(uniq, tri)), len(np.unique(tri)))
+        check_svg("netgen_part1", svg, 4)
+
+# TetGen fails on a self-intersecting surface (two tetrahedra piercing each
+# other); vdmesh refuses it too, naming the facets: exit 3, both sides reported.
+pierce = os.path.join(out, "pierce.off")
+with open(pierce, "w") as f:
+    f.write("OFF\n8 8 0\n0 0 0\n2 0 0\n0 2 0\n0 0 2\n0.2 0.2 0.2\n3 0.2 0.2\n0.2 3 0.2\n0.2 0.2 3\n"
+            "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n3 4 6 5\n3 4 5 7\n3 5 6 7\n3 4 7 6\n")
+report, stdout, _, _ = compare("pierce", pierce, "--runs", "boundary", expect=3)
+if report:
+    b = report["runs"][0]
+    check(not b["tetgen"]["meshed"] and "intersect" in b["tetgen"]["failure"],
+          "pierce: TetGen's failure reported with its message (%s)" % b["tetgen"]["failure"])
+    check(not b["vdmesh"]["meshed"] and "intersects itself" in b["vdmesh"]["failure"] and
+          b["vdmesh"]["status"] == "exit 3", "pierce: vdmesh's refusal reported (%s)" % b["vdmesh"]["failure"])
+    check("FAILED" in stdout, "pierce: the table says FAILED")
+
+# TetGen crashing or hanging: vdmesh's side is still measured and checked,
+# and the exit code is vdmesh's (0).
+def fake_tetgen(name, body):
+    path = os.path.join(out, name)
+    with open(path, "w") as f:
+        f.write("#!/bin/sh\n" + body + "\n")
+    os.chmod(path, os.stat(path).st_mode | stat.S_IEXEC)
+    return path
+
+crash = fake_tetgen("crashing-tetgen", "echo 'meshing...'; kill -SEGV $$")
+report, stdout, _, _ = compare("crash", pyr, "--tetgen", crash)
+if report:
+    for r in report["runs"]:
+        check(not r["tetgen"]["meshed"] and "signal 11" in r["tetgen"]["status"],
+              "crash, %s: TetGen's crash reported (%s)" % (r["name"], r["tetgen"]["failure"]))
+        check(r["vdmesh"]["meshed"] and r["vdmesh"]["tetrahedra"] > 0 and r["vdmesh"]["passed_checks"],
+              "crash, %s: vdmesh's side reported and checked" % r["name"])
+    check(report["runs"][1]["tetgen_attempts"] and "sizing" in report["runs"][1], "crash: attempts recorded")
+
+hang = fake_tetgen("hanging-tetgen", "sleep 60")
+report, stdout, _, seconds = compare("hang", pyr, "--tetgen", hang, "--timeout", "3", "--runs", "boundary")
+if report:
+    t = report["runs"][0]["tetgen"]
+    check(not t["meshed"] and "timed out" in t["status"] and seconds < 30,
+          "hang: TetGen stopped at the time limit (%s, compare took %.1f s)" % (t["status"], seconds))
+    check(report["runs"][0]["vdmesh"]["passed_checks"], "hang: vdmesh's side reported")
+
+missing = os.path.join(out, "no-such-tetgen")
+report, stdout, _, _ = compare("missing", pyr, "--tetgen", missing, "--runs", "boundary")
+if report:
+    t = report["runs"][0]["tetgen"]
+    check(not t["meshed"] and t["failure"], "missing TetGen program reported (%s)" % t["failure"])
+
+# Usage and unreadable input.
+code, _, err = run("compare")
+check(code == 2, "compare without INPUT: exit 2 (%d)" % code)
+code, _, err = run("compare", os.path.join(out, "does-not-exist.off"))
+check(code == 3 and "does-not-exist.off" in err, "compare on a missing file: exit 3 (%d: %s)" % (code, err.strip()))
+
+finish()
