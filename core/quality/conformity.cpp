@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "mesh/tet_faces.h"
 #include "volume/region_tetrahedra.h"
 
 namespace vd {
@@ -20,19 +21,11 @@ ConformityReport check_conformity(const Mesh& m) {
   for (size_t t = 0; t < m.tets.size(); ++t) {
     const auto& v = m.tets[t].v;
     if (tet_volume(m.points[v[0]], m.points[v[1]], m.points[v[2]], m.points[v[3]]) <= 0) ++r.inverted;
-    for (int i = 0; i < 4; ++i) {
-      std::array<int, 3> k;
-      for (int j = 0, c = 0; j < 4; ++j)
-        if (j != i) k[c++] = v[j];
-      std::sort(k.begin(), k.end());
-      faces[k].push_back({static_cast<int>(t), v[i]});
-    }
+    for (int i = 0; i < 4; ++i) faces[sorted_triple(face_opposite(v, i))].push_back({static_cast<int>(t), v[i]});
   }
   std::map<std::array<int, 3>, int> facet_of;
   for (size_t f = 0; f < m.triangles.size(); ++f) {
-    auto k = m.triangles[f].v;
-    std::sort(k.begin(), k.end());
-    facet_of[k] = static_cast<int>(f);
+    facet_of[sorted_triple(m.triangles[f].v)] = static_cast<int>(f);
   }
   for (const auto& [k, sides] : faces) {
     if (sides.size() > 2) ++r.non_manifold_faces;
@@ -40,9 +33,7 @@ ConformityReport check_conformity(const Mesh& m) {
     if (boundary && !facet_of.count(k)) ++r.faces_not_on_surface;
   }
   for (const Triangle& t : m.triangles) {
-    auto k = t.v;
-    std::sort(k.begin(), k.end());
-    auto it = faces.find(k);
+    auto it = faces.find(sorted_triple(t.v));
     int front_region = 0, back_region = 0;
     if (it != faces.end())
       for (const Side& s : it->second) {

@@ -29,6 +29,22 @@ const std::vector<int>& EdgeMap::facets(int a, int b) const {
   return it == map_.end() ? none : it->second;
 }
 
+std::vector<double> surface_vertex_sizes(const Mesh& m, const EdgeMap& edges) {
+  std::vector<double> sum(m.points.size(), 0.0);
+  std::vector<int> count(m.points.size(), 0);
+  for (const auto& [key, list] : edges.all()) {
+    const auto [a, b] = edge_of_key(key);
+    const double len = norm(m.points[a] - m.points[b]);
+    sum[a] += len, sum[b] += len;
+    ++count[a], ++count[b];
+  }
+  for (size_t v = 0; v < sum.size(); ++v) {
+    sum[v] = count[v] ? sum[v] / count[v] : 0.0;
+    if (v < m.point_size.size() && m.point_size[v] > 0) sum[v] = m.point_size[v];
+  }
+  return sum;
+}
+
 bool has_directed_edge(const Triangle& t, int a, int b) {
   for (int i = 0; i < 3; ++i)
     if (t.v[i] == a && t.v[(i + 1) % 3] == b) return true;

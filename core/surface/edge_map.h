@@ -36,6 +36,11 @@ class EdgeMap {
   std::unordered_map<std::uint64_t, std::vector<int>> map_;
 };
 
+// Local size at each vertex: the mean length of its surface edges, replaced
+// by the input's point size where one is given (> 0); 0 for a vertex on no
+// edge and without a size.
+std::vector<double> surface_vertex_sizes(const Mesh& m, const EdgeMap& edges);
+
 // Does facet t use the directed edge a -> b (in its cyclic order)?
 bool has_directed_edge(const Triangle& t, int a, int b);
 // The vertex of t that is neither a nor b.

@@ -38,18 +38,7 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options) {
   const EdgeMap edges(m.triangles);
 
   // Local size: mean length of the incident surface edges, else the given size.
-  std::vector<double> size(n, 0.0);
-  std::vector<int> count(n, 0);
-  for (const auto& [key, list] : edges.all()) {
-    const auto [a, b] = edge_of_key(key);
-    const double len = norm(m.points[a] - m.points[b]);
-    size[a] += len, size[b] += len;
-    ++count[a], ++count[b];
-  }
-  for (size_t v = 0; v < n; ++v) {
-    if (count[v]) size[v] /= count[v];
-    if (!m.point_size.empty() && m.point_size[v] > 0) size[v] = m.point_size[v];
-  }
+  const std::vector<double> size = surface_vertex_sizes(m, edges);
 
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> unit(0.5, 1.0);

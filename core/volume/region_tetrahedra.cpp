@@ -8,16 +8,11 @@
 
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "geometry/predicates.h"
+#include "mesh/tet_faces.h"
 #include "mesh/error.h"
 
 namespace vd {
 namespace {
-
-std::array<int, 3> sorted3(int a, int b, int c) {
-  std::array<int, 3> k{a, b, c};
-  std::sort(k.begin(), k.end());
-  return k;
-}
 
 struct TripleHash {
   size_t operator()(const std::array<int, 3>& k) const {
@@ -43,15 +38,10 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
   facet_of.reserve(m.triangles.size() * 2);
   for (size_t f = 0; f < m.triangles.size(); ++f) {
     const auto& v = m.triangles[f].v;
-    facet_of.emplace(sorted3(v[0], v[1], v[2]), static_cast<int>(f));
+    facet_of.emplace(sorted_triple(v), static_cast<int>(f));
   }
   auto face_facet = [&](int tet, int i) {
-    const auto& t = cells.tets[tet];
-    std::array<int, 3> k;
-    for (int j = 0, c = 0; j < 4; ++j)
-      if (j != i) k[c++] = t[j];
-    std::sort(k.begin(), k.end());
-    auto it = facet_of.find(k);
+    auto it = facet_of.find(sorted_triple(face_opposite(cells.tets[tet], i)));
     return it == facet_of.end() ? -1 : it->second;
   };
 

@@ -9,25 +9,8 @@
 
 namespace vd {
 
-std::vector<double> SizeField::surface_vertex_sizes(const Mesh& m) {
-  std::vector<double> sum(m.points.size(), 0.0);
-  std::vector<int> count(m.points.size(), 0);
-  const EdgeMap edges(m.triangles);
-  for (const auto& [key, list] : edges.all()) {
-    const auto [a, b] = edge_of_key(key);
-    const double len = norm(m.points[a] - m.points[b]);
-    sum[a] += len, sum[b] += len;
-    ++count[a], ++count[b];
-  }
-  for (size_t v = 0; v < sum.size(); ++v) {
-    sum[v] = count[v] ? sum[v] / count[v] : 0.0;
-    if (v < m.point_size.size() && m.point_size[v] > 0) sum[v] = m.point_size[v];
-  }
-  return sum;
-}
-
 SizeField::SizeField(const Mesh& m, const SizeFieldOptions& o) : uniform_(o.uniform) {
-  const std::vector<double> hv = surface_vertex_sizes(m);
+  const std::vector<double> hv = surface_vertex_sizes(m, EdgeMap(m.triangles));
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   double hmin = std::numeric_limits<double>::infinity();
   for (size_t v = 0; v < m.points.size(); ++v) {

@@ -21,8 +21,6 @@ class SizeField {
   SizeField(const Mesh& m, const SizeFieldOptions& options);
   double at(const Vec3& p) const;
   double smallest() const { return smallest_; }
-  // Size at each surface vertex (mean incident edge length, or the given size).
-  static std::vector<double> surface_vertex_sizes(const Mesh& m);
 
  private:
   // A background grid over the bounding box holds h at its nodes, relaxed by

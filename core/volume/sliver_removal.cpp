@@ -5,27 +5,16 @@
 #include <map>
 
 #include "geometry/predicates.h"
+#include "mesh/tet_faces.h"
 #include "quality/tet_quality.h"
 #include "surface/face_patches.h"
 
 namespace vd {
 namespace {
 
-std::array<int, 3> sorted3(std::array<int, 3> k) {
-  std::sort(k.begin(), k.end());
-  return k;
-}
-
 double smallest_dihedral(const Mesh& m, const Tetrahedron& t) {
   const auto a = dihedral_angles_deg(m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]);
   return *std::min_element(a.begin(), a.end());
-}
-
-std::array<int, 3> face_opposite(const Tetrahedron& t, int i) {
-  std::array<int, 3> f;
-  for (int j = 0, c = 0; j < 4; ++j)
-    if (j != i) f[c++] = t.v[j];
-  return f;
 }
 
 }  // namespace
@@ -33,7 +22,7 @@ std::array<int, 3> face_opposite(const Tetrahedron& t, int i) {
 SliverStats remove_boundary_slivers(Mesh& m, const SliverOptions& o) {
   SliverStats stats;
   std::map<std::array<int, 3>, int> facet_of;
-  for (size_t f = 0; f < m.triangles.size(); ++f) facet_of[sorted3(m.triangles[f].v)] = static_cast<int>(f);
+  for (size_t f = 0; f < m.triangles.size(); ++f) facet_of[sorted_triple(m.triangles[f].v)] = static_cast<int>(f);
   std::vector<bool> removed(m.tets.size(), false);
   std::vector<bool> dead_facet(m.triangles.size(), false);
   const double cos_ridge = std::cos(o.ridge_angle_deg * M_PI / 180.0);
@@ -48,13 +37,13 @@ SliverStats remove_boundary_slivers(Mesh& m, const SliverOptions& o) {
       if (smallest_dihedral(m, t) >= o.sliver_angle_deg) continue;
       int on_surface[4], n = 0, off_surface[4], k = 0;
       for (int i = 0; i < 4; ++i) {
-        auto it = facet_of.find(sorted3(face_opposite(t, i)));
+        auto it = facet_of.find(sorted_triple(face_opposite(t.v, i)));
         if (it != facet_of.end()) on_surface[n++] = i;
         else off_surface[k++] = i;
       }
       if (n != 2) continue;
-      const int f1 = facet_of.at(sorted3(face_opposite(t, on_surface[0])));
-      const int f2 = facet_of.at(sorted3(face_opposite(t, on_surface[1])));
+      const int f1 = facet_of.at(sorted_triple(face_opposite(t.v, on_surface[0])));
+      const int f2 = facet_of.at(sorted_triple(face_opposite(t.v, on_surface[1])));
       const Triangle a = m.triangles[f1], b = m.triangles[f2];
       if (a.face != b.face || a.front != b.front || a.back != b.back) continue;
       // The other side of both facets must be the exterior.
@@ -66,7 +55,7 @@ SliverStats remove_boundary_slivers(Mesh& m, const SliverOptions& o) {
       for (int j = 0; j < 2; ++j) {
         const int i = off_surface[j];
         g[j] = a;
-        g[j].v = face_opposite(t, i);
+        g[j].v = face_opposite(t.v, i);
         const bool opp_on_front = orientation(m.points[g[j].v[0]], m.points[g[j].v[1]], m.points[g[j].v[2]],
                                               m.points[t.v[i]]) > 0;
         const bool exterior_on_front = a.front == 0;
@@ -75,12 +64,12 @@ SliverStats remove_boundary_slivers(Mesh& m, const SliverOptions& o) {
       const Vec3 n0 = facet_normal(m.points, g[0]), n1 = facet_normal(m.points, g[1]);
       if (dot(n0, n1) < cos_ridge) continue;
       removed[ti] = true;
-      facet_of.erase(sorted3(a.v));
-      facet_of.erase(sorted3(b.v));
+      facet_of.erase(sorted_triple(a.v));
+      facet_of.erase(sorted_triple(b.v));
       m.triangles[f1] = g[0];
       m.triangles[f2] = g[1];
-      facet_of[sorted3(g[0].v)] = f1;
-      facet_of[sorted3(g[1].v)] = f2;
+      facet_of[sorted_triple(g[0].v)] = f1;
+      facet_of[sorted_triple(g[1].v)] = f2;
       ++stats.removed_boundary;
       changed = true;
     }
