@@ -313,36 +313,54 @@ int compare_command(const std::vector<std::string>& raw) {
     progress(s, "quality run, vdmesh" + (size > 0 ? " --size " + format_g(size) : std::string()));
     r.vdmesh = run_vdmesh(s, "quality-vdmesh", vopt);
     check_run(r.vdmesh, surface, s, "quality-vdmesh");
-    // TetGen's volume bound: twice vdmesh's mean tetrahedron volume, then
-    // once more scaled by the count ratio when the count is off by more than
-    // 25% (TetGen's count goes about as 1 / bound once the bound rules).
-    double bound = 0;
+    // TetGen's volume bound, for a count near vdmesh's N: first TetGen
+    // without a bound (its count N0 then comes from the surface alone); when
+    // N0 < 0.8 N, a bound a = 2 V / (N - N0) (V: vdmesh's volume; TetGen's
+    // tetrahedra under a bound average about half of it), and once more,
+    // scaled by the ratio of the added counts, when the count is still off by
+    // more than 25%. The attempt nearest to N is the one reported. Bounds
+    // that are too small make TetGen's count (and time) explode, so the
+    // estimate errs on the large side.
     long target = 0;
+    double volume = 0;
     if (r.vdmesh.checked && r.vdmesh.checks.tets > 0) {
       target = r.vdmesh.checks.tets;
-      bound = 2.0 * total_volume(r.vdmesh.checks) / target;
-      r.sizing = "tetgen volume bound a = 2 x vdmesh's mean tetrahedron volume, rescaled once by the count ratio "
-                 "when the count differs by more than 25%";
+      volume = total_volume(r.vdmesh.checks);
+      r.sizing = "tetgen: no volume bound, then a = 2 V / (N - N0) (V, N: vdmesh's volume and count, N0: tetgen's "
+                 "count without a bound), rescaled once when the count is off by more than 25%";
     } else if (size > 0) {
-      bound = size * size * size / (6.0 * std::sqrt(2.0));
       r.sizing = "vdmesh failed: tetgen volume bound a = volume of the regular tetrahedron of edge --size";
     } else {
       r.sizing = "vdmesh failed: tetgen without a volume bound";
     }
-    auto attempt = [&](double a, const std::string& name) {
+    int attempts = 0;
+    auto attempt = [&](double a) {
       const std::string sw = "pq1.414" + (a > 0 ? "a" + format_g(a) : std::string()) + "A";
       progress(s, "quality run, tetgen -" + sw);
-      MesherRun t = run_tetgen(input, regions, sw, at(name), s.tetgen, s.timeout);
+      ++attempts;
+      MesherRun t = run_tetgen(input, regions, sw, at(attempts == 1 ? "quality-tetgen" : "quality-tetgen-" +
+                                                                         std::to_string(attempts)),
+                               s.tetgen, s.timeout);
       r.tetgen_attempts.emplace_back("-" + sw, t.meshed ? static_cast<long>(t.mesh.tets.size()) : -1);
       return t;
     };
-    MesherRun best = attempt(bound, "quality-tetgen");
+    auto off = [&](const MesherRun& t) {
+      return t.meshed ? std::abs(std::log(double(t.mesh.tets.size()) / target)) : HUGE_VAL;
+    };
+    MesherRun best = attempt(target > 0 || size <= 0 ? 0.0 : size * size * size / (6.0 * std::sqrt(2.0)));
     if (target > 0 && best.meshed) {
-      const double ratio = double(best.mesh.tets.size()) / target;
-      if (ratio < 0.8 || ratio > 1.25) {
-        MesherRun second = attempt(bound * ratio, "quality-tetgen-2");
-        const double ratio2 = second.meshed ? double(second.mesh.tets.size()) / target : 0;
-        if (second.meshed && std::abs(std::log(ratio2)) < std::abs(std::log(ratio))) best = std::move(second);
+      const double n0 = static_cast<double>(best.mesh.tets.size());
+      if (n0 < 0.8 * target) {
+        const double a1 = 2.0 * volume / (target - n0);
+        MesherRun second = attempt(a1);
+        if (second.meshed) {
+          const double n1 = static_cast<double>(second.mesh.tets.size());
+          if (off(second) > std::log(1.25) && n1 > n0) {
+            MesherRun third = attempt(a1 * (n1 - n0) / (target - n0));
+            if (off(third) < off(second)) second = std::move(third);
+          }
+          if (off(second) < off(best)) best = std::move(second);
+        }
       }
     }
     r.tetgen.run = std::move(best);
