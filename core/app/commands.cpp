@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 
+#include "cad/cad_mesher.h"
 #include "converters/registry.h"
 #include "mesh/error.h"
 #include "pipeline/mesher.h"
@@ -19,10 +20,14 @@ namespace {
 
 const char* kMeshHelp =
     "usage: vdmesh mesh INPUT -o OUTPUT [options]\n"
-    "  INPUT   closed triangulated surface: .off .stl .obj .msh .vtk .vtu .mesh .smesh .poly .node (.gz too)\n"
+    "  INPUT   CAD part or assembly: .step .stp .iges .igs .brep .brp (solids; touching solids are fused)\n"
+    "          or a closed triangulated surface: .off .stl .obj .msh .vtk .vtu .mesh .smesh .poly .node (.gz too)\n"
     "  OUTPUT  .vtu .vtk .msh .inp .mesh .node (volume) or a surface format\n"
     "options:\n"
-    "  --size H                target edge length inside (default: from the surface, graded)\n"
+    "  --size H                target edge length (default: surface input: from its edges, graded;\n"
+    "                          CAD input: bounding box diagonal / 25, reported)\n"
+    "  --deflection D          CAD: chord height of the face tessellation (default size / 10)\n"
+    "  --planar-splits         CAD: split vertices at chord mid-points (the paper) instead of on the CAD geometry\n"
     "  --gradation G           largest growth of the size per unit distance (default 0.3)\n"
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
     "  --sliver-angle DEG      boundary slivers under this dihedral angle are removed (default 10)\n"
@@ -113,6 +118,18 @@ std::string missing_facets_path(const std::string& out) {
   return (p.parent_path() / (p.stem().string() + ".missing.off")).string();
 }
 
+// Leaves the facets that could not be recovered beside the output, and no
+// output itself.
+void leave_missing_facets(const MeshResult& partial, const std::string& output, const std::string& report_path) {
+  Mesh missing;
+  missing.points = partial.mesh.points;
+  for (const auto& v : partial.report.missing_facets) missing.triangles.push_back({v});
+  const std::string where = missing_facets_path(output);
+  io::write_mesh(missing, where, {}, "off");
+  if (!report_path.empty()) write_text(report_path, report_json(partial.report));
+  std::fprintf(stderr, "vdmesh mesh: the facets still missing are in %s\n", where.c_str());
+}
+
 }  // namespace
 
 int mesh_command(const std::vector<std::string>& raw) {
@@ -141,6 +158,8 @@ int mesh_command(const std::vector<std::string>& raw) {
   io::WriteOptions wopt;
   wopt.binary = args.flag("--binary");
   const bool quiet = args.flag("--quiet");
+  const bool planar_splits = args.flag("--planar-splits");
+  const double deflection = args.number("--deflection", 0.0);
   const auto pos = args.positionals();
   if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh mesh --help)");
   if (output.empty()) throw UsageError("missing -o OUTPUT");
@@ -156,6 +175,26 @@ int mesh_command(const std::vector<std::string>& raw) {
   else if (!quiet)
     opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s\n", phase.c_str()); };
 
+  if (cad::CadModel::is_cad_file(pos[0])) {
+    cad::CadMeshOptions copt;
+    copt.mesh = opt;
+    copt.splits_on_geometry = !planar_splits;
+    copt.tessellation.deflection = deflection;
+    if (opt.progress) opt.progress("read CAD");
+    const cad::CadModel model = cad::CadModel::read(pos[0]);
+    MeshResult partial;
+    try {
+      MeshResult result = cad::mesh_cad(model, copt, &partial);
+      write_result(result.mesh, output, wopt);
+      if (!report_path.empty()) write_text(report_path, report_json(result.report));
+      if (!quiet) std::fputs(report_table(result.report).c_str(), stdout);
+      return 0;
+    } catch (const RecoveryError&) {
+      leave_missing_facets(partial, output, report_path);
+      throw;
+    }
+  }
+
   Mesh input = io::read_mesh(pos[0]);
   input.tets.clear();
   input.tet_mid.clear();
@@ -170,15 +209,7 @@ int mesh_command(const std::vector<std::string>& raw) {
     if (!quiet) std::fputs(report_table(result.report).c_str(), stdout);
     return 0;
   } catch (const RecoveryError&) {
-    // Leave the facets that could not be recovered beside the output, and
-    // no output itself.
-    Mesh missing;
-    missing.points = partial.mesh.points;
-    for (const auto& v : partial.report.missing_facets) missing.triangles.push_back({v});
-    const std::string where = missing_facets_path(output);
-    io::write_mesh(missing, where, {}, "off");
-    if (!report_path.empty()) write_text(report_path, report_json(partial.report));
-    std::fprintf(stderr, "vdmesh mesh: the facets still missing are in %s\n", where.c_str());
+    leave_missing_facets(partial, output, report_path);
     throw;
   }
 }
@@ -190,9 +221,20 @@ int convert_command(const std::vector<std::string>& raw) {
   wopt.msh_version = static_cast<int>(args.integer("--msh-version", 41));
   if (wopt.msh_version != 22 && wopt.msh_version != 41) throw UsageError("--msh-version must be 22 or 41");
   const std::string from = args.value("--from"), to = args.value("--to");
+  const double size = args.number("--size", 0.0), deflection = args.number("--deflection", 0.0);
   const auto pos = args.positionals();
-  if (pos.size() != 2) throw UsageError("usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41]");
+  if (pos.size() != 2)
+    throw UsageError("usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--size H] [--deflection D]");
   io::format_for(pos[1], to);
+  if (from.empty() && cad::CadModel::is_cad_file(pos[0])) {
+    // CAD to a surface format: the tagged tessellation the mesher would start from.
+    cad::TessellationOptions topt;
+    topt.size = size;
+    topt.deflection = deflection;
+    const Mesh surface = cad::CadModel::read(pos[0]).tessellate(topt);
+    io::write_mesh(surface, pos[1], wopt, to);
+    return 0;
+  }
   const Mesh mesh = io::read_mesh(pos[0], from);
   io::write_mesh(mesh, pos[1], wopt, to);
   return 0;

@@ -38,6 +38,25 @@ struct MeshOptions {
   std::function<void(const std::string& phase)> progress;
 };
 
+// A quantity the input defines exactly (CAD volume of a solid, area of a
+// face) beside the same quantity measured on the mesh.
+struct ReferenceMeasure {
+  std::string name;  // "Solid2", "Face7"
+  double reference = 0;
+  double mesh = 0;
+};
+
+// Filled for CAD input (core/cad): what was read and how the surface was made.
+struct CadInputReport {
+  bool used = false;
+  std::string units;
+  int solids = 0, faces = 0, interface_faces = 0;
+  double size = 0;                 // edge length of the tessellation and the interior
+  bool size_chosen = false;        // from the part's dimensions (no --size)
+  int occ_triangles = 0, refine_splits = 0, refine_flips = 0, surface_facets = 0;
+  std::vector<ReferenceMeasure> volumes, areas;
+};
+
 struct MeshReport {
   int input_vertices = 0, input_facets = 0;
   int output_vertices = 0, output_facets = 0;
@@ -55,6 +74,7 @@ struct MeshReport {
   SliverStats slivers;
   QualitySummary quality;
   std::vector<std::pair<std::string, double>> seconds;  // per phase, in order
+  CadInputReport cad;
   bool complete = false;
   std::vector<std::array<int, 3>> missing_facets;       // vertex ids, when not complete
 };

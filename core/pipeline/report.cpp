@@ -1,4 +1,5 @@
 // The report of a run: JSON for --report, and the short table printed at the end.
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -67,6 +68,24 @@ std::string report_json(const MeshReport& r) {
     << ", \"tets_below_5_deg\": " << q.below_5_deg << ", \"tets_below_10_deg\": " << q.below_10_deg
     << ", \"dihedral_histogram_10deg\": " << json_array(q.dihedral_histogram)
     << ", \"radius_ratio_histogram_0.1\": " << json_array(q.radius_ratio_histogram) << "},\n";
+  if (r.cad.used) {
+    const auto& c = r.cad;
+    auto measures = [&](const std::vector<ReferenceMeasure>& v) {
+      std::ostringstream a;
+      a << "[";
+      for (size_t i = 0; i < v.size(); ++i)
+        a << (i ? ", " : "") << "{\"name\": \"" << v[i].name << "\", \"cad\": " << num(v[i].reference)
+          << ", \"mesh\": " << num(v[i].mesh) << "}";
+      a << "]";
+      return a.str();
+    };
+    s << "  \"cad\": {\"units\": \"" << c.units << "\", \"solids\": " << c.solids << ", \"faces\": " << c.faces
+      << ", \"interface_faces\": " << c.interface_faces << ", \"size\": " << num(c.size)
+      << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"occ_triangles\": " << c.occ_triangles
+      << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
+      << ", \"surface_facets\": " << c.surface_facets << ",\n    \"volumes\": " << measures(c.volumes)
+      << ",\n    \"areas\": " << measures(c.areas) << "},\n";
+  }
   s << "  \"missing_facets\": [";
   for (size_t i = 0; i < r.missing_facets.size(); ++i) s << (i ? ", " : "") << json_array(r.missing_facets[i]);
   s << "]\n}\n";
@@ -83,6 +102,30 @@ std::string report_table(const MeshReport& r) {
     s << line;
   };
   s << "vdmesh report\n";
+  if (r.cad.used) {
+    const auto& c = r.cad;
+    row("CAD", std::to_string(c.solids) + " solids, " + std::to_string(c.faces) + " faces, " +
+                   std::to_string(c.interface_faces) + " interfaces; units " + c.units);
+    row("size", num(c.size) + (c.size_chosen ? " (chosen: bounding box diagonal / 25)" : " (given)"));
+    row("tessellation", std::to_string(c.occ_triangles) + " OpenCASCADE triangles, " +
+                            std::to_string(c.refine_splits) + " splits, " + std::to_string(c.refine_flips) +
+                            " flips -> " + std::to_string(c.surface_facets) + " facets");
+    double worst = 0;
+    std::string which;
+    for (const auto& v : c.volumes) {
+      const double e = v.reference != 0 ? (v.mesh - v.reference) / v.reference : 0.0;
+      row(("volume " + v.name).c_str(), "CAD " + num(v.reference) + ", mesh " + num(v.mesh) + " (" +
+                                            num(100.0 * e) + " %)");
+      if (std::abs(e) > std::abs(worst)) worst = e, which = v.name;
+    }
+    double worst_area = 0;
+    std::string which_area;
+    for (const auto& a : c.areas) {
+      const double e = a.reference != 0 ? (a.mesh - a.reference) / a.reference : 0.0;
+      if (std::abs(e) > std::abs(worst_area)) worst_area = e, which_area = a.name;
+    }
+    if (!which_area.empty()) row("largest face area error", which_area + " " + num(100.0 * worst_area) + " %");
+  }
   row("input", std::to_string(r.input_vertices) + " vertices, " + std::to_string(r.input_facets) + " facets");
   row("added on the surface", std::to_string(r.added_surface_vertices) + " vertices, " +
                                   std::to_string(r.added_surface_facets) + " facets");

@@ -6,6 +6,7 @@
 
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "surface/edge_map.h"
+#include "surface/surface_geometry.h"
 #include "surface/face_patches.h"
 
 namespace vd {
@@ -204,7 +205,16 @@ class Delaunayzer {
   int split_edge(int p, int q) {
     std::uniform_real_distribution<double> jitter(-opt_.split_jitter, opt_.split_jitter);
     const double s = 0.5 + jitter(rng_);
-    const Vec3 point = m_.points[p] + s * (m_.points[q] - m_.points[p]);
+    const std::vector<int> sharing = edges_.facets(p, q);
+    Vec3 point = m_.points[p] + s * (m_.points[q] - m_.points[p]);
+    if (opt_.geometry) {
+      std::vector<int> faces;
+      for (int f : sharing) faces.push_back(m_.triangles[f].face);
+      // A projection far from the chord means the faces fold back on the
+      // scale of this edge; the chord keeps the facets valid there.
+      const Vec3 placed = opt_.geometry->place_on_surface(faces, point);
+      if (norm(placed - point) < 0.25 * norm(m_.points[q] - m_.points[p])) point = placed;
+    }
     const int v = static_cast<int>(m_.points.size());
     m_.points.push_back(point);
     if (!m_.point_size.empty()) m_.point_size.push_back(0.5 * (m_.point_size[p] + m_.point_size[q]));
@@ -214,7 +224,6 @@ class Delaunayzer {
     ++result_.splits;
     ++result_.added_vertices;
 
-    const std::vector<int> sharing = edges_.facets(p, q);
     for (int f : sharing) {
       const Triangle t = m_.triangles[f];
       const int a = has_directed_edge(t, p, q) ? p : q, b = a == p ? q : p;
@@ -273,3 +282,4 @@ DelaunayzationResult delaunayize(Mesh& surface, DelaunayTetrahedralization& dt, 
 }
 
 }  // namespace vd
+

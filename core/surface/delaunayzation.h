@@ -12,6 +12,7 @@
 namespace vd {
 
 class DelaunayTetrahedralization;
+class SurfaceGeometry;
 
 struct DelaunayzationOptions {
   bool flips = true;
@@ -22,6 +23,8 @@ struct DelaunayzationOptions {
   double min_edge_relative = 1e-7;  // edges shorter than this x bbox diagonal are not split
   std::uint64_t seed = 1;        // position of each split point near the mid-point
   double split_jitter = 1e-4;    // relative to the edge length, along the edge
+  // Places split vertices on the true surface (CAD input); null: on the chord.
+  const SurfaceGeometry* geometry = nullptr;
 };
 
 struct DelaunayzationResult {

@@ -1,0 +1,71 @@
+// Inside core/cad only: the OpenCASCADE side of CadModel.
+#pragma once
+
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+#include <TopoDS_Solid.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <gp_Pnt2d.hxx>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "cad/cad_model.h"
+
+namespace vd::cad {
+
+struct CadModel::Impl {
+  std::string name;               // the file, for messages
+  std::string units = "as given";
+  TopoDS_Shape shape;             // after the general fuse
+  std::vector<TopoDS_Solid> solids;
+  std::vector<int> solid_number;  // Solid<n> of solids[i]
+  std::vector<TopoDS_Face> faces; // the faces of the solids
+  std::vector<int> face_number;   // Face<n> of faces[i]
+  TopTools_IndexedMapOfShape face_index;  // face -> 1 + index into faces
+  TopTools_IndexedMapOfShape edge_index;  // every edge of the solids
+  double diagonal = 0;
+
+  int index_of_face_number(int number) const;
+};
+
+// A tessellation under refinement: the surface plus, per facet corner, its
+// parameters on the facet's CAD face, and for mesh edges that lie on CAD
+// edges the curve parameters of their ends. New vertices are evaluated on the
+// CAD geometry from these parameters, never projected from the chord.
+struct CadEdgeSpan {
+  int edge = -1;        // 1-based index in Impl::edge_index
+  double t_lo = 0;      // parameter at the vertex with the smaller id
+  double t_hi = 0;      // parameter at the vertex with the larger id
+};
+
+struct CadSurface {
+  Mesh mesh;
+  std::vector<int> facet_face;                  // index into Impl::faces
+  std::vector<std::array<gp_Pnt2d, 3>> uv;      // per facet corner
+  std::unordered_map<std::uint64_t, CadEdgeSpan> edge_spans;  // key: edge_key(a, b)
+  // Vertices at degenerate edges (sphere poles, cone apexes): their (u, v)
+  // is a whole segment, so mid-points of their edges are projected instead.
+  std::unordered_set<int> singular;
+};
+
+inline std::uint64_t edge_key(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+// cad_tessellate.cpp: OpenCASCADE's mesher, welded through the shared edge
+// discretisation, tagged and oriented.
+CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double angle_rad, TessellationStats& stats);
+// cad_refine.cpp: edge splits to the size on the CAD geometry, then flips.
+void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats);
+
+}  // namespace vd::cad

@@ -1,0 +1,81 @@
+// CAD input (STEP, IGES, BREP) through OpenCASCADE: read, make touching
+// solids conformal, tessellate with face and region tags, and answer where
+// surface points belong. The OpenCASCADE types stay inside core/cad/*.cpp so
+// that the rest of vdmesh builds without their headers.
+//
+// Tags: region i is Solid<i> and face j is Face<j>, 1-based, numbered the way
+// FreeCAD numbers the sub-shapes of the shape it shows (TopExp::MapShapes
+// order); after a general fuse each solid and face keeps the number of the
+// input sub-shape it came from (README, "CAD input").
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.h"
+#include "pipeline/mesher.h"
+#include "surface/surface_geometry.h"
+
+namespace vd::cad {
+
+struct TessellationOptions {
+  double size = 0;              // target edge length; 0: chosen from the part (report says which)
+  double deflection = 0;        // chord height of OpenCASCADE's mesher; 0: size / 10
+  double angle_deg = 20;        // angular deflection of OpenCASCADE's mesher
+  bool refine = true;           // split edges longer than `size`, new vertices on the CAD geometry
+  bool flips = true;            // improve triangle shape by flips inside each face
+};
+
+struct TessellationStats {
+  double size = 0;              // the size used (given or chosen)
+  bool size_chosen = false;
+  int occ_triangles = 0;        // from OpenCASCADE's mesher, before refinement
+  int refine_splits = 0;
+  int refine_flips = 0;
+  int dropped_degenerate = 0;   // collapsed triangles at degenerate edges (cone apexes, poles)
+  double seconds_tessellate = 0, seconds_refine = 0;
+};
+
+using GeometryCheck = ReferenceMeasure;  // cad = reference
+
+class CadModel {
+ public:
+  // Reads a .step/.stp, .iges/.igs or .brep/.brp file (case-insensitive) and
+  // fuses touching solids. Throws InputError naming the file and, for open
+  // shells or shapes without solids, the shape.
+  static CadModel read(const std::string& path);
+  // A BREP in memory (the Python module and FreeCAD hand shapes over this way).
+  static CadModel from_brep_string(const std::string& brep, const std::string& name = "<brep>");
+  static bool is_cad_file(const std::string& path);
+
+  CadModel(CadModel&&) noexcept;
+  CadModel& operator=(CadModel&&) noexcept;
+  ~CadModel();
+
+  int solid_count() const;
+  int face_count() const;               // faces of the solids (the ones meshed)
+  int interface_face_count() const;     // faces shared by two solids
+  double bbox_diagonal() const;
+  std::string units() const;            // "mm" for STEP/IGES (converted), "as given" for BREP
+  double seconds_read = 0, seconds_fuse = 0;
+
+  // A size from the part's dimensions when the user gives none.
+  double default_size() const;
+  // The closed, welded, tagged surface: face ids = CAD face numbers, front/back
+  // regions = solid numbers (0 outside), names "Face<j>"/"Solid<i>".
+  Mesh tessellate(const TessellationOptions& options, TessellationStats* stats = nullptr) const;
+  // Places split vertices on the CAD faces and edges (see SurfaceGeometry).
+  std::unique_ptr<SurfaceGeometry> geometry() const;
+  // Volume per solid and area per face, OpenCASCADE against the mesh.
+  std::vector<GeometryCheck> volume_checks(const Mesh& mesh) const;
+  std::vector<GeometryCheck> area_checks(const Mesh& mesh) const;
+
+  struct Impl;
+
+ private:
+  explicit CadModel(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vd::cad

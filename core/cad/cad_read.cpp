@@ -1,0 +1,298 @@
+// Reading CAD files and making their solids conformal (general fuse), with
+// the FreeCAD numbering of solids and faces carried through the fuse.
+#include <BRepAlgoAPI_BuilderAlgo.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepLib.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
+
+#include <algorithm>
+#include <chrono>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "cad/cad_impl.h"
+#include "mesh/error.h"
+
+namespace vd::cad {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+
+TopoDS_Shape read_file(const std::string& path, std::string& units) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  if (std::filesystem::file_size(path, ec) == 0) throw InputError(path + ": empty file");
+  const std::string ext = lower_extension(path);
+  TopoDS_Shape shape;
+  if (ext == ".step" || ext == ".stp") {
+    STEPControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+      throw InputError(path + ": not a readable STEP file (OpenCASCADE's STEP reader failed)");
+    if (reader.TransferRoots() == 0) throw InputError(path + ": the STEP file has no shape to transfer");
+    shape = reader.OneShape();
+    units = "mm";  // OpenCASCADE converts STEP lengths to millimetres
+  } else if (ext == ".iges" || ext == ".igs") {
+    IGESControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+      throw InputError(path + ": not a readable IGES file (OpenCASCADE's IGES reader failed)");
+    if (reader.TransferRoots() == 0) throw InputError(path + ": the IGES file has no shape to transfer");
+    shape = reader.OneShape();
+    units = "mm";
+  } else if (ext == ".brep" || ext == ".brp") {
+    BRep_Builder builder;
+    if (!BRepTools::Read(shape, path.c_str(), builder))
+      throw InputError(path + ": not a readable BREP file (OpenCASCADE's BREP reader failed)");
+    units = "as given (BREP has no units)";
+  } else {
+    throw InputError(path + ": not a CAD file (expected .step .stp .iges .igs .brep .brp)");
+  }
+  if (shape.IsNull()) throw InputError(path + ": the file holds no shape");
+  return shape;
+}
+
+// Edges of a solid that bound only one of its faces (seams and degenerate
+// edges excepted): the shell is open there.
+int free_edges(const TopoDS_Shape& solid) {
+  TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
+  TopExp::MapShapesAndUniqueAncestors(solid, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+  int open = 0;
+  for (int i = 1; i <= edge_faces.Extent(); ++i) {
+    const TopoDS_Edge& e = TopoDS::Edge(edge_faces.FindKey(i));
+    if (BRep_Tool::Degenerated(e)) continue;
+    const TopTools_ListOfShape& faces = edge_faces(i);
+    if (faces.Extent() == 1 && !BRep_Tool::IsClosed(e, TopoDS::Face(faces.First()))) ++open;
+  }
+  return open;
+}
+
+// Surfaces only (IGES often): sew them; closed shells become solids.
+TopoDS_Shape solids_from_faces(const TopoDS_Shape& shape, const std::string& path, int nfaces) {
+  Bnd_Box box;
+  BRepBndLib::Add(shape, box);
+  const double diag = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
+  BRepBuilderAPI_Sewing sewing(1e-6 * diag);
+  for (TopExp_Explorer f(shape, TopAbs_FACE); f.More(); f.Next()) sewing.Add(f.Current());
+  sewing.Perform();
+  const TopoDS_Shape sewn = sewing.SewedShape();
+  TopoDS_Compound solids;
+  BRep_Builder builder;
+  builder.MakeCompound(solids);
+  int closed = 0, shells = 0, worst_open = 0;
+  for (TopExp_Explorer s(sewn, TopAbs_SHELL); s.More(); s.Next()) {
+    ++shells;
+    const TopoDS_Shell& shell = TopoDS::Shell(s.Current());
+    const int open = free_edges(shell);
+    worst_open = std::max(worst_open, open);
+    if (open > 0) continue;
+    BRepBuilderAPI_MakeSolid make(shell);
+    if (!make.IsDone()) continue;
+    TopoDS_Solid solid = make.Solid();
+    BRepLib::OrientClosedSolid(solid);
+    builder.Add(solids, solid);
+    ++closed;
+  }
+  if (closed == 0)
+    throw InputError(path + ": no solid: " + std::to_string(nfaces) + " faces only; sewn into " +
+                     std::to_string(shells) + " shell(s), none closed (up to " + std::to_string(worst_open) +
+                     " free edges): a volume needs closed shells");
+  return solids;
+}
+
+}  // namespace
+
+int CadModel::Impl::index_of_face_number(int number) const {
+  auto it = std::find(face_number.begin(), face_number.end(), number);
+  return it == face_number.end() ? -1 : static_cast<int>(it - face_number.begin());
+}
+
+bool CadModel::is_cad_file(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs" || ext == ".brep" || ext == ".brp";
+}
+
+namespace {
+
+// Numbers the solids and faces of `result` after those of `input` they came
+// from (FreeCAD's numbering of the input); pieces without an origin, and
+// the second of two input faces that became one interface, get no number of
+// their own (the first input face's number wins).
+template <class History>
+void number_subshapes(const TopoDS_Shape& input, const TopoDS_Shape& result, TopAbs_ShapeEnum kind,
+                      History& history, std::vector<TopoDS_Shape>& shapes, std::vector<int>& numbers) {
+  TopTools_IndexedMapOfShape in, out;
+  TopExp::MapShapes(input, kind, in);
+  TopExp::MapShapes(result, kind, out);
+  std::vector<int> number(out.Extent() + 1, 0);
+  for (int i = 1; i <= in.Extent(); ++i) {
+    TopTools_ListOfShape images;
+    if (history) images = history->Modified(in(i));
+    if (images.IsEmpty() && !(history && history->IsDeleted(in(i)))) images.Append(in(i));
+    for (const TopoDS_Shape& image : images) {
+      const int k = out.FindIndex(image);
+      if (k > 0 && number[k] == 0) number[k] = i;
+    }
+  }
+  int next = in.Extent();
+  for (int k = 1; k <= out.Extent(); ++k) {
+    if (number[k] == 0) number[k] = ++next;
+    shapes.push_back(out(k));
+    numbers.push_back(number[k]);
+  }
+  // Ordered by number, so that Solid1/Face1 come first.
+  std::vector<size_t> order(shapes.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return numbers[a] < numbers[b]; });
+  std::vector<TopoDS_Shape> s2;
+  std::vector<int> n2;
+  for (size_t i : order) s2.push_back(shapes[i]), n2.push_back(numbers[i]);
+  shapes.swap(s2);
+  numbers.swap(n2);
+}
+
+std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::string& name, std::string units,
+                                            double& seconds_fuse) {
+  auto impl = std::make_unique<CadModel::Impl>();
+  impl->name = name;
+  impl->units = std::move(units);
+  TopTools_IndexedMapOfShape solids;
+  TopExp::MapShapes(input, TopAbs_SOLID, solids);
+  if (solids.Extent() == 0) {
+    TopTools_IndexedMapOfShape faces;
+    TopExp::MapShapes(input, TopAbs_FACE, faces);
+    if (faces.Extent() == 0) throw InputError(name + ": the shape has no faces and no solids");
+    input = solids_from_faces(input, name, faces.Extent());
+    TopExp::MapShapes(input, TopAbs_SOLID, solids);
+  }
+  for (int i = 1; i <= solids.Extent(); ++i) {
+    const int open = free_edges(solids(i));
+    if (open > 0)
+      throw InputError(name + ": Solid" + std::to_string(i) + " is not closed (" + std::to_string(open) +
+                       " edges bound only one face)");
+  }
+
+  const auto t0 = Clock::now();
+  std::vector<TopoDS_Shape> solid_shapes, face_shapes;
+  std::vector<int> face_numbers;
+  if (solids.Extent() > 1) {
+    // Touching solids share faces only after the general fuse.
+    TopTools_ListOfShape arguments;
+    for (int i = 1; i <= solids.Extent(); ++i) arguments.Append(solids(i));
+    auto fuse = std::make_unique<BRepAlgoAPI_BuilderAlgo>();
+    fuse->SetArguments(arguments);
+    fuse->SetRunParallel(false);
+    fuse->SetNonDestructive(true);
+    fuse->Build();
+    if (fuse->HasErrors() || !fuse->IsDone()) {
+      std::ostringstream report;
+      fuse->DumpErrors(report);
+      throw InputError(name + ": the general fuse of its " + std::to_string(solids.Extent()) +
+                       " solids failed: " + report.str());
+    }
+    impl->shape = fuse->Shape();
+    number_subshapes(input, impl->shape, TopAbs_SOLID, fuse, solid_shapes, impl->solid_number);
+    number_subshapes(input, impl->shape, TopAbs_FACE, fuse, face_shapes, face_numbers);
+  } else {
+    impl->shape = solids(1);
+    std::unique_ptr<BRepAlgoAPI_BuilderAlgo> none;
+    number_subshapes(input, impl->shape, TopAbs_SOLID, none, solid_shapes, impl->solid_number);
+    number_subshapes(input, impl->shape, TopAbs_FACE, none, face_shapes, face_numbers);
+  }
+  seconds_fuse = std::chrono::duration<double>(Clock::now() - t0).count();
+  for (const auto& s : solid_shapes) impl->solids.push_back(TopoDS::Solid(s));
+  // Only faces of solids are meshed: free faces of a compound bound nothing.
+  TopTools_IndexedMapOfShape solid_faces;
+  for (const auto& s : impl->solids) TopExp::MapShapes(s, TopAbs_FACE, solid_faces);
+  for (size_t i = 0; i < face_shapes.size(); ++i) {
+    if (!solid_faces.Contains(face_shapes[i])) continue;
+    impl->faces.push_back(TopoDS::Face(face_shapes[i]));
+    impl->face_number.push_back(face_numbers[i]);
+    impl->face_index.Add(face_shapes[i]);
+  }
+  for (const auto& s : impl->solids) TopExp::MapShapes(s, TopAbs_EDGE, impl->edge_index);
+  Bnd_Box box;
+  BRepBndLib::Add(impl->shape, box);
+  impl->diagonal = box.IsVoid() ? 0.0 : std::sqrt(box.SquareExtent());
+  if (!(impl->diagonal > 0)) throw InputError(name + ": the shape has no extent");
+  return impl;
+}
+
+}  // namespace
+
+CadModel CadModel::read(const std::string& path) {
+  const auto t0 = Clock::now();
+  try {
+    std::string units;
+    TopoDS_Shape shape = read_file(path, units);
+    const double seconds_read = std::chrono::duration<double>(Clock::now() - t0).count();
+    double seconds_fuse = 0;
+    CadModel model(build_model(shape, path, units, seconds_fuse));
+    model.seconds_read = seconds_read;
+    model.seconds_fuse = seconds_fuse;
+    return model;
+  } catch (const Standard_Failure& e) {
+    throw InputError(path + ": OpenCASCADE failed: " + e.GetMessageString());
+  }
+}
+
+CadModel CadModel::from_brep_string(const std::string& brep, const std::string& name) {
+  try {
+    std::istringstream in(brep);
+    BRep_Builder builder;
+    TopoDS_Shape shape;
+    BRepTools::Read(shape, in, builder);
+    if (shape.IsNull()) throw InputError(name + ": not a BREP shape");
+    double seconds_fuse = 0;
+    CadModel model(build_model(shape, name, "as given (BREP has no units)", seconds_fuse));
+    model.seconds_fuse = seconds_fuse;
+    return model;
+  } catch (const Standard_Failure& e) {
+    throw InputError(name + ": OpenCASCADE failed: " + e.GetMessageString());
+  }
+}
+
+CadModel::CadModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+CadModel::CadModel(CadModel&&) noexcept = default;
+CadModel& CadModel::operator=(CadModel&&) noexcept = default;
+CadModel::~CadModel() = default;
+
+int CadModel::solid_count() const { return static_cast<int>(impl_->solids.size()); }
+int CadModel::face_count() const { return static_cast<int>(impl_->faces.size()); }
+double CadModel::bbox_diagonal() const { return impl_->diagonal; }
+std::string CadModel::units() const { return impl_->units; }
+double CadModel::default_size() const { return impl_->diagonal / 25.0; }
+
+int CadModel::interface_face_count() const {
+  TopTools_IndexedDataMapOfShapeListOfShape face_solids;
+  TopExp::MapShapesAndUniqueAncestors(impl_->shape, TopAbs_FACE, TopAbs_SOLID, face_solids);
+  int shared = 0;
+  for (int i = 1; i <= face_solids.Extent(); ++i) shared += face_solids(i).Extent() > 1;
+  return shared;
+}
+
+}  // namespace vd::cad

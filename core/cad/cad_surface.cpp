@@ -1,0 +1,173 @@
+// CadModel's surface services: the tagged tessellation at a size, the
+// projector that puts Delaunayzation's split vertices on the CAD geometry,
+// and the volume and area checks against OpenCASCADE.
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepGProp.hxx>
+#include <BRep_Tool.hxx>
+#include <Extrema_ExtPC.hxx>
+#include <GProp_GProps.hxx>
+#include <Geom_Surface.hxx>
+#include <ShapeAnalysis_Surface.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "cad/cad_impl.h"
+#include "mesh/error.h"
+#include "volume/region_tetrahedra.h"
+
+namespace vd::cad {
+
+Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats* stats_out) const {
+  TessellationStats stats;
+  stats.size = options.size > 0 ? options.size : default_size();
+  stats.size_chosen = !(options.size > 0);
+  const double deflection = options.deflection > 0 ? options.deflection : stats.size / 10.0;
+  try {
+    CadSurface s = tessellate_faces(*impl_, deflection, options.angle_deg * M_PI / 180.0, stats);
+    if (options.refine) refine_to_size(*impl_, s, stats.size, options.flips, stats);
+    if (stats_out) *stats_out = stats;
+    return std::move(s.mesh);
+  } catch (const Standard_Failure& e) {
+    throw InputError(impl_->name + ": OpenCASCADE failed while tessellating: " + e.GetMessageString());
+  }
+}
+
+namespace {
+
+Vec3 to_vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+
+class CadGeometry : public SurfaceGeometry {
+ public:
+  explicit CadGeometry(const CadModel::Impl& cad) : cad_(cad) {
+    // The CAD edges between each pair of faces, for splits on face borders.
+    TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
+    for (const auto& s : cad.solids) TopExp::MapShapesAndUniqueAncestors(s, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+    for (int i = 1; i <= edge_faces.Extent(); ++i) {
+      const TopoDS_Edge& e = TopoDS::Edge(edge_faces.FindKey(i));
+      if (BRep_Tool::Degenerated(e)) continue;
+      std::set<int> numbers;
+      for (const TopoDS_Shape& f : edge_faces(i)) {
+        const int k = cad.face_index.FindIndex(f);
+        if (k > 0) numbers.insert(cad.face_number[k - 1]);
+      }
+      for (int a : numbers)
+        for (int b : numbers)
+          if (a < b) border_edges_[{a, b}].push_back(e);
+      if (numbers.size() == 1) border_edges_[{*numbers.begin(), *numbers.begin()}].push_back(e);  // seams
+    }
+  }
+
+  Vec3 place_on_surface(const std::vector<int>& faces, const Vec3& chord) const override {
+    std::set<int> distinct(faces.begin(), faces.end());
+    try {
+      if (distinct.size() == 1) return on_face(*distinct.begin(), chord);
+      if (distinct.size() == 2) {
+        // Between two curved faces a border point goes onto their CAD edge.
+        // Next to a plane it stays on the chord, which lies in the plane:
+        // on gmsh_part.step, points put on the circle between a plane and a
+        // cylinder made Delaunayzation split without end (88,660 added
+        // vertices, the guard), while the chord converges.
+        const int a = *distinct.begin(), b = *distinct.rbegin();
+        const bool plane_a = is_plane(a), plane_b = is_plane(b);
+        if (plane_a || plane_b) return chord;
+        return on_border(a, b, chord);
+      }
+    } catch (const Standard_Failure&) {
+      // No projection: the chord is the paper's place anyway.
+    }
+    return chord;
+  }
+
+ private:
+  Vec3 on_face(int number, const Vec3& p) const {
+    const int fi = cad_.index_of_face_number(number);
+    if (fi < 0) return p;
+    auto& sas = analysers_[fi];
+    if (sas.IsNull()) {
+      TopLoc_Location loc;
+      Handle(Geom_Surface) surface = BRep_Tool::Surface(cad_.faces[fi], loc);
+      if (surface.IsNull()) return p;
+      sas = new ShapeAnalysis_Surface(surface);
+      locations_[fi] = loc;
+    }
+    const TopLoc_Location& loc = locations_[fi];
+    gp_Pnt q(p.x, p.y, p.z);
+    if (!loc.IsIdentity()) q.Transform(loc.Transformation().Inverted());
+    const gp_Pnt2d uv = sas->ValueOfUV(q, 1e-9 * cad_.diagonal);
+    gp_Pnt on = sas->Value(uv);
+    if (!loc.IsIdentity()) on.Transform(loc.Transformation());
+    return to_vec(on);
+  }
+
+  bool is_plane(int number) const {
+    const int fi = cad_.index_of_face_number(number);
+    if (fi < 0) return false;
+    auto it = plane_.find(fi);
+    if (it == plane_.end())
+      it = plane_.emplace(fi, BRepAdaptor_Surface(cad_.faces[fi]).GetType() == GeomAbs_Plane).first;
+    return it->second;
+  }
+
+  Vec3 on_border(int a, int b, const Vec3& p) const {
+    auto it = border_edges_.find({a, b});
+    if (it == border_edges_.end()) return p;
+    const gp_Pnt q(p.x, p.y, p.z);
+    double best = -1;
+    Vec3 out = p;
+    for (const TopoDS_Edge& e : it->second) {
+      BRepAdaptor_Curve curve(e);
+      Extrema_ExtPC ext(q, curve);
+      if (!ext.IsDone()) continue;
+      for (int i = 1; i <= ext.NbExt(); ++i) {
+        if (!ext.IsMin(i)) continue;
+        const double d = ext.SquareDistance(i);
+        if (best < 0 || d < best) best = d, out = to_vec(ext.Point(i).Value());
+      }
+    }
+    return out;
+  }
+
+  const CadModel::Impl& cad_;
+  std::map<std::pair<int, int>, std::vector<TopoDS_Edge>> border_edges_;
+  mutable std::map<int, Handle(ShapeAnalysis_Surface)> analysers_;
+  mutable std::map<int, TopLoc_Location> locations_;
+  mutable std::map<int, bool> plane_;
+};
+
+}  // namespace
+
+std::unique_ptr<SurfaceGeometry> CadModel::geometry() const { return std::make_unique<CadGeometry>(*impl_); }
+
+std::vector<GeometryCheck> CadModel::volume_checks(const Mesh& mesh) const {
+  const std::vector<double> volume = region_volumes(mesh);
+  std::vector<GeometryCheck> out;
+  for (size_t s = 0; s < impl_->solids.size(); ++s) {
+    GProp_GProps props;
+    BRepGProp::VolumeProperties(impl_->solids[s], props);
+    const int n = impl_->solid_number[s];
+    out.push_back({"Solid" + std::to_string(n), props.Mass(), n < static_cast<int>(volume.size()) ? volume[n] : 0.0});
+  }
+  return out;
+}
+
+std::vector<GeometryCheck> CadModel::area_checks(const Mesh& mesh) const {
+  std::map<int, double> area;
+  for (const Triangle& t : mesh.triangles)
+    area[t.face] += 0.5 * norm(cross(mesh.points[t.v[1]] - mesh.points[t.v[0]], mesh.points[t.v[2]] - mesh.points[t.v[0]]));
+  std::vector<GeometryCheck> out;
+  for (size_t f = 0; f < impl_->faces.size(); ++f) {
+    GProp_GProps props;
+    BRepGProp::SurfaceProperties(impl_->faces[f], props);
+    const int n = impl_->face_number[f];
+    out.push_back({"Face" + std::to_string(n), props.Mass(), area.count(n) ? area[n] : 0.0});
+  }
+  return out;
+}
+
+}  // namespace vd::cad

@@ -1,0 +1,24 @@
+// Where a vertex added on the surface goes. The paper splits an edge at its
+// mid-point, which is on the chord; on CAD input the true surface is known,
+// and a split vertex belongs on the CAD face (or on the CAD edge between two
+// faces) so that the mesh follows the geometry. Delaunayzation asks this
+// interface; without one, splits stay planar (the paper's behaviour).
+#pragma once
+
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace vd {
+
+class SurfaceGeometry {
+ public:
+  virtual ~SurfaceGeometry() = default;
+  // The position of a vertex splitting the surface edge whose facets carry
+  // the topological faces `faces` (one entry per facet sharing the edge),
+  // given its position `chord` on the straight edge. Returns `chord` when
+  // the faces give no better place.
+  virtual Vec3 place_on_surface(const std::vector<int>& faces, const Vec3& chord) const = 0;
+};
+
+}  // namespace vd
