@@ -199,6 +199,28 @@ if report:
           any(a["switches"].startswith("-pq1.414a") for a in q["tetgen_attempts"][1:]),
           "pyramids: quality run tries TetGen without, then with a volume bound (%s)" % q["tetgen_attempts"])
 
+# Region tags: the pyramids meshed once by vdmesh (.vtu: facets with face ids
+# and regions 1 and 2 on their sides). TetGen gets one region point per
+# region; both meshes must put the tagged regions on both sides of every facet.
+tagged = os.path.join(out, "pyramids-tagged.vtu")
+code, _, err = run("mesh", pyr, "-o", tagged, "--no-interior", "--quiet")
+check(code == 0, "pyramids meshed to a tagged .vtu (%d: %s)" % (code, err.strip()[-200:]))
+report, stdout, _, _ = compare("tagged", tagged)
+if report:
+    check(report["region_tags"] and report["region_points_for_tetgen"] == 2, "tagged: 2 region points for TetGen")
+    for r in report["runs"]:
+        for mesher in ("vdmesh", "tetgen"):
+            m = r[mesher]
+            what = "tagged %s %s" % (r["name"], m["label"])
+            check(m["meshed"] and m["checks"]["region_tags_checked"] and m["checks"]["facet_sides_wrong"] == 0 and
+                  m["passed_checks"], what + ": regions on every facet's sides as tagged (%s)" % (
+                      m["checks"] or {}).get("problems"))
+            if m["meshed"]:
+                ind = independent(m["mesh_file"])
+                check(sorted(ind["regions"]) == [1, 2] and
+                      all(abs(v - 1 / 3) < 1e-9 for v in ind["regions"].values()),
+                      what + ": regions 1 and 2 of volume 1/3 (%s)" % ind["regions"])
+
 # The paper's sphere (§9.4): an icosphere of 1280 facets, with --size.
 sp, st = icosphere(3)
 sphere = os.path.join(out, "sphere.off")
