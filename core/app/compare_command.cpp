@@ -333,16 +333,24 @@ int compare_command(const std::vector<std::string>& raw) {
     } else {
       r.sizing = "vdmesh failed: tetgen without a volume bound";
     }
+    // -q1.414 (radius-edge ratio) does not finish on some inputs with small
+    // angles: after a timeout TetGen's default -q (ratio 2) takes over.
     int attempts = 0;
+    std::string quality = "q1.414";
     auto attempt = [&](double a) {
-      const std::string sw = "pq1.414" + (a > 0 ? "a" + format_g(a) : std::string()) + "A";
-      progress(s, "quality run, tetgen -" + sw);
-      ++attempts;
-      MesherRun t = run_tetgen(input, regions, sw, at(attempts == 1 ? "quality-tetgen" : "quality-tetgen-" +
-                                                                         std::to_string(attempts)),
-                               s.tetgen, s.timeout);
-      r.tetgen_attempts.emplace_back("-" + sw, t.meshed ? static_cast<long>(t.mesh.tets.size()) : -1);
-      return t;
+      MesherRun t;
+      for (;;) {
+        const std::string sw = "p" + quality + (a > 0 ? "a" + format_g(a) : std::string()) + "A";
+        progress(s, "quality run, tetgen -" + sw);
+        ++attempts;
+        t = run_tetgen(input, regions, sw,
+                       at(attempts == 1 ? "quality-tetgen" : "quality-tetgen-" + std::to_string(attempts)), s.tetgen,
+                       s.timeout);
+        r.tetgen_attempts.emplace_back("-" + sw, t.meshed ? static_cast<long>(t.mesh.tets.size()) : -1);
+        if (!t.process.timed_out || quality == "q") return t;
+        quality = "q";
+        r.sizing += (r.sizing.empty() ? "" : "; ") + std::string("-q1.414 timed out: -q (ratio 2) instead");
+      }
     };
     auto off = [&](const MesherRun& t) {
       return t.meshed ? std::abs(std::log(double(t.mesh.tets.size()) / target)) : HUGE_VAL;
