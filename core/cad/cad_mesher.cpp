@@ -22,6 +22,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   cad.interface_faces = model.interface_face_count();
   cad.size = stats.size;
   cad.size_chosen = stats.size_chosen;
+  cad.deflection = stats.deflection;
   cad.occ_triangles = stats.occ_triangles;
   cad.refine_splits = stats.refine_splits;
   cad.refine_flips = stats.refine_flips;

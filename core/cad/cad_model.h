@@ -21,7 +21,7 @@ namespace vd::cad {
 
 struct TessellationOptions {
   double size = 0;              // target edge length; 0: chosen from the part (report says which)
-  double deflection = 0;        // chord height of OpenCASCADE's mesher; 0: size / 10
+  double deflection = 0;        // chord height of OpenCASCADE's mesher; 0: min(size / 10, 2V/A / 40)
   double angle_deg = 20;        // angular deflection of OpenCASCADE's mesher
   bool refine = true;           // split edges longer than `size`, new vertices on the CAD geometry
   bool flips = true;            // improve triangle shape by flips inside each face
@@ -30,6 +30,7 @@ struct TessellationOptions {
 struct TessellationStats {
   double size = 0;              // the size used (given or chosen)
   bool size_chosen = false;
+  double deflection = 0;        // the chord height used
   int occ_triangles = 0;        // from OpenCASCADE's mesher, before refinement
   int refine_splits = 0;
   int refine_flips = 0;

@@ -13,6 +13,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -27,7 +28,24 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   TessellationStats stats;
   stats.size = options.size > 0 ? options.size : default_size();
   stats.size_chosen = !(options.size > 0);
-  const double deflection = options.deflection > 0 ? options.deflection : stats.size / 10.0;
+  // Chord height: a tenth of the size, and at most 1/40 of the mean
+  // thickness 2V/A, so that thin parts (wings, blades) keep their volume:
+  // gmsh_wing_fuselage.step lost 1.7 % of each solid at size / 10 and
+  // keeps it within 0.5 % at thickness / 40.
+  double deflection = options.deflection;
+  if (!(deflection > 0)) {
+    double volume = 0, area = 0;
+    for (const auto& solid : impl_->solids) {
+      GProp_GProps v, a;
+      BRepGProp::VolumeProperties(solid, v);
+      BRepGProp::SurfaceProperties(solid, a);
+      volume += std::abs(v.Mass());
+      area += a.Mass();
+    }
+    deflection = stats.size / 10.0;
+    if (area > 0 && volume > 0) deflection = std::min(deflection, 2.0 * volume / area / 40.0);
+  }
+  stats.deflection = deflection;
   try {
     CadSurface s = tessellate_faces(*impl_, deflection, options.angle_deg * M_PI / 180.0, stats);
     if (options.refine) refine_to_size(*impl_, s, stats.size, options.flips, stats);

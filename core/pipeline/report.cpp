@@ -81,7 +81,8 @@ std::string report_json(const MeshReport& r) {
     };
     s << "  \"cad\": {\"units\": \"" << c.units << "\", \"solids\": " << c.solids << ", \"faces\": " << c.faces
       << ", \"interface_faces\": " << c.interface_faces << ", \"size\": " << num(c.size)
-      << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"occ_triangles\": " << c.occ_triangles
+      << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << num(c.deflection)
+      << ", \"occ_triangles\": " << c.occ_triangles
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
       << ", \"surface_facets\": " << c.surface_facets << ",\n    \"volumes\": " << measures(c.volumes)
       << ",\n    \"areas\": " << measures(c.areas) << "},\n";
@@ -106,7 +107,8 @@ std::string report_table(const MeshReport& r) {
     const auto& c = r.cad;
     row("CAD", std::to_string(c.solids) + " solids, " + std::to_string(c.faces) + " faces, " +
                    std::to_string(c.interface_faces) + " interfaces; units " + c.units);
-    row("size", num(c.size) + (c.size_chosen ? " (chosen: bounding box diagonal / 25)" : " (given)"));
+    row("size", num(c.size) + (c.size_chosen ? " (chosen: bounding box diagonal / 25)" : " (given)") +
+                    ", chord height " + num(c.deflection));
     row("tessellation", std::to_string(c.occ_triangles) + " OpenCASCADE triangles, " +
                             std::to_string(c.refine_splits) + " splits, " + std::to_string(c.refine_flips) +
                             " flips -> " + std::to_string(c.surface_facets) + " facets");

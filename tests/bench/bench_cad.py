@@ -1,0 +1,79 @@
+#!/usr/bin/python3
+"""CAD benchmark (issue 5): every STEP/IGES/BREP in $VDMESH_DATA/cad-part and
+cad-assembly meshed by vdmesh at its default size, and by Gmsh at the same
+-clmax in the same run. Prints a Markdown table: solids, faces, tetrahedra,
+smallest dihedral angle, seconds (per phase for vdmesh), volume error per
+region against OpenCASCADE; and Gmsh's tetrahedra, smallest angle, seconds.
+
+usage: bench_cad.py [--vdmesh build/bin/vdmesh] [--timeout 600] [--no-gmsh] [FILES...]
+"""
+import argparse, json, os, re, subprocess, sys, tempfile, time
+from pathlib import Path
+
+
+def run(cmd, timeout):
+    t0 = time.monotonic()
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        return p.returncode, p.stdout, p.stderr, time.monotonic() - t0
+    except subprocess.TimeoutExpired:
+        return None, "", "timeout", time.monotonic() - t0
+
+
+def info(vdmesh, path):
+    """Tetrahedra and smallest dihedral angle of a mesh file, via vdmesh info."""
+    rc, out, err, _ = run([vdmesh, "info", path], 600)
+    if rc != 0:
+        return None, None
+    tets = int(re.search(r"tetrahedra (\d+)", out).group(1))
+    m = re.search(r"dihedral angle min ([0-9.eE+-]+)", out)
+    return tets, (float(m.group(1)) if m else None)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--vdmesh", default="build/bin/vdmesh")
+    ap.add_argument("--timeout", type=float, default=600)
+    ap.add_argument("--no-gmsh", action="store_true")
+    ap.add_argument("files", nargs="*")
+    a = ap.parse_args()
+    data = Path(os.environ.get("VDMESH_DATA", "../shared/data"))
+    files = [Path(f) for f in a.files] or sorted(
+        p for d in ("cad-part", "cad-assembly") for p in (data / d).glob("*") if p.suffix.lower() in
+        (".step", ".stp", ".iges", ".igs", ".brep", ".brp"))
+    if not files:
+        sys.exit(f"no CAD files under {data} (set VDMESH_DATA)")
+    print("| file | solids | faces | interfaces | size | vdmesh tets | min dihedral | s total (read/fuse/tess/refine/volume) | worst volume error | Gmsh tets | Gmsh min dihedral | Gmsh s | time ratio vdmesh/Gmsh |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as tmp:
+        for f in files:
+            out = Path(tmp) / (f.stem + ".vtu")
+            rep = Path(tmp) / (f.stem + ".json")
+            rc, so, se, sec = run([a.vdmesh, "mesh", str(f), "-o", str(out), "--report", str(rep), "--quiet"], a.timeout)
+            row = [f.name]
+            if rc != 0:
+                reason = (se.strip().splitlines() or ["?"])[-1][:140].replace("|", "/")
+                print(f"| {f.name} | | | | | refused (exit {rc}): {reason} | | {sec:.1f} | | | | | |", flush=True)
+                continue
+            r = json.loads(rep.read_text())
+            c = r["cad"]
+            secs = r["seconds"]
+            vol = sum(v for k, v in secs.items() if k not in ("read CAD", "fuse solids", "tessellate", "refine surface"))
+            phases = "/".join(f"{secs.get(k, 0):.2f}" for k in ("read CAD", "fuse solids", "tessellate", "refine surface")) + f"/{vol:.2f}"
+            worst = max((abs(v["mesh"] - v["cad"]) / v["cad"] for v in c["volumes"] if v["cad"]), default=0.0)
+            gm = ["", "", "", ""]
+            if not a.no_gmsh:
+                msh = Path(tmp) / (f.stem + ".msh")
+                grc, _, gse, gsec = run(["gmsh", "-3", str(f), "-clmax", str(c["size"]), "-o", str(msh), "-format", "msh41", "-v", "1"], a.timeout)
+                if grc == 0 and msh.exists():
+                    gt, ga = info(a.vdmesh, str(msh))
+                    gm = [str(gt), f"{ga:.2f}" if ga is not None else "", f"{gsec:.1f}", f"{sec / gsec:.2f}"]
+                else:
+                    gm = ["failed" if grc is not None else "timeout", "", f"{gsec:.1f}", ""]
+            print(f"| {f.name} | {c['solids']} | {c['faces']} | {c['interface_faces']} | {c['size']:.4g} | "
+                  f"{r['quality']['tetrahedra']} | {r['quality']['min_dihedral_deg']:.2f} | {sec:.1f} ({phases}) | "
+                  f"{100 * worst:.3f} % | " + " | ".join(gm) + " |", flush=True)
+
+
+if __name__ == "__main__":
+    main()

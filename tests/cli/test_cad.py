@@ -1,0 +1,157 @@
+"""CAD input (issue 5) from the command line: parts and assemblies made by
+Gmsh's OpenCASCADE kernel in the test (so no shared data is needed), checked
+against the volumes OpenCASCADE computes and read back by meshio; then real
+STEP/BREP files from the shared data; then bad input."""
+import json
+import os
+
+import numpy as np
+
+from cli_support import check, data, finish, run, tmpdir
+
+out = tmpdir()
+
+
+def make_brep(name, build):
+    import gmsh
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.model.add(name)
+    build(gmsh.model.occ)
+    gmsh.model.occ.synchronize()
+    path = os.path.join(out, name + ".brep")
+    gmsh.write(path)
+    gmsh.finalize()
+    return path
+
+
+def mesh(path, *extra):
+    name = os.path.splitext(os.path.basename(path))[0]
+    target = os.path.join(out, name + ".vtu")
+    report = os.path.join(out, name + ".json")
+    code, stdout, stderr = run("mesh", path, "-o", target, "--report", report, *extra)
+    rep = json.load(open(report)) if code == 0 else None
+    return code, rep, target, stderr
+
+
+def tet_volumes(m):
+    tets = m.cells_dict["tetra"]
+    p = m.points[tets]
+    return np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0]) / 6.0
+
+
+def check_mesh(path, rep, name):
+    """The output read by meshio: positive tetrahedra, region volumes as the
+    report says, one region per solid, faces tagged."""
+    import meshio
+    m = meshio.read(path)
+    vol = tet_volumes(m)
+    check(len(vol) > 0 and vol.min() > 0, "%s: %d tetrahedra, all positive (meshio)" % (name, len(vol)))
+    region = None
+    for block, values in zip(m.cells, m.cell_data["region"]):
+        if block.type == "tetra":
+            region = np.asarray(values)
+    solids = rep["cad"]["solids"]
+    check(sorted(set(region.tolist())) == list(range(1, solids + 1)),
+          "%s: regions %s are the %d solids" % (name, sorted(set(region.tolist())), solids))
+    for v in rep["cad"]["volumes"]:
+        k = int(v["name"][len("Solid"):])
+        mine = vol[region == k].sum()
+        err = abs(mine - v["cad"]) / v["cad"]
+        check(err < 0.005, "%s: %s volume %.6g vs OpenCASCADE %.6g (%.3f %% < 0.5 %%)" % (name, v["name"], mine, v["cad"], 100 * err))
+    return m
+
+
+# A box with a cylindrical hole: one solid, curved faces.
+boxhole = make_brep("boxhole", lambda occ: occ.cut([(3, occ.addBox(-5, -5, 0, 10, 10, 4))],
+                                                   [(3, occ.addCylinder(0, 0, -1, 0, 0, 6, 2))]))
+code, rep, target, err = mesh(boxhole, "--size", "1")
+check(code == 0, "box with a hole meshes (exit %s: %s)" % (code, err.strip()[-300:]))
+if code == 0:
+    check(rep["cad"]["solids"] == 1 and rep["cad"]["faces"] == 7, "box with a hole: 1 solid, 7 faces (%d, %d)" % (rep["cad"]["solids"], rep["cad"]["faces"]))
+    check(not rep["cad"]["size_chosen"] and rep["cad"]["size"] == 1, "the given size is used and reported (%g)" % rep["cad"]["size"])
+    check(rep["quality"]["inverted"] == 0, "box with a hole: no inverted tetrahedra")
+    m = check_mesh(target, rep, "box with a hole")
+    faces = set()
+    for block, values in zip(m.cells, m.cell_data["face"]):
+        if block.type == "triangle":
+            faces |= set(np.asarray(values).tolist())
+    check(faces == set(range(1, 8)), "box with a hole: boundary triangles carry Face1..Face7 (%s)" % sorted(faces))
+
+# Convergence on a curved solid: the volume error shrinks with the size.
+cyl = make_brep("cylinder", lambda occ: occ.addCylinder(0, 0, 0, 0, 0, 10, 3))
+errors = []
+for size in (2.0, 1.0, 0.5):
+    code, rep, _, err = mesh(cyl, "--size", str(size), "--quiet")
+    if code != 0:
+        check(False, "cylinder at size %g meshes (exit %s: %s)" % (size, code, err.strip()[-200:]))
+        continue
+    v = rep["cad"]["volumes"][0]
+    errors.append(abs(v["mesh"] - v["cad"]) / v["cad"])
+check(len(errors) == 3 and errors[0] > errors[1] > errors[2],
+      "cylinder volume error shrinks with the size: %s" % ", ".join("%.4f %%" % (100 * e) for e in errors))
+check(len(errors) == 3 and errors[2] < 0.001, "cylinder at size 0.5: volume error under 0.1 %")
+
+# The paper's planar mid-points stay available.
+code, rep, _, err = mesh(boxhole, "--planar-splits", "--quiet")
+check(code == 0, "--planar-splits meshes the box with a hole (exit %s)" % code)
+
+# Two boxes that touch, as separate solids: fused into one interface.
+two = make_brep("twoboxes", lambda occ: (occ.addBox(0, 0, 0, 1, 1, 1), occ.addBox(1, 0, 0, 1, 1, 1)))
+code, rep, target, err = mesh(two, "--size", "0.25")
+check(code == 0, "two touching boxes mesh (exit %s: %s)" % (code, err.strip()[-300:]))
+if code == 0:
+    check(rep["cad"]["solids"] == 2 and rep["cad"]["interface_faces"] == 1,
+          "two boxes: 2 solids, 1 interface face (%d, %d)" % (rep["cad"]["solids"], rep["cad"]["interface_faces"]))
+    m = check_mesh(target, rep, "two boxes")
+    # The interface: triangles with a region on both sides, one face id.
+    for block, face, front, back in zip(m.cells, m.cell_data["face"], m.cell_data["front"], m.cell_data["back"]):
+        if block.type != "triangle":
+            continue
+        face, front, back = map(np.asarray, (face, front, back))
+        inner = (front > 0) & (back > 0)
+        pairs = {tuple(sorted(x)) for x in zip(front[inner].tolist(), back[inner].tolist())}
+        check(len(set(face[inner].tolist())) == 1 and pairs == {(1, 2)},
+              "two boxes: the interface is one face between regions 1 and 2 (faces %s, sides %s)" % (set(face[inner].tolist()), pairs))
+
+# Real files from the shared data.
+for rel, solids, interfaces in (("cad-assembly/gmsh_wing_fuselage.step", 2, 1),
+                                ("cad-assembly/occt_MODERN_Exhaust_1.brep", 3, 2),
+                                ("cad-part/gmsh_part.step", 1, 0)):
+    path = data(rel)
+    if not path:
+        continue
+    code, rep, target, err = mesh(path, "--quiet")
+    check(code == 0, "%s meshes (exit %s: %s)" % (rel, code, err.strip()[-300:]))
+    if code == 0:
+        check(rep["cad"]["solids"] == solids and rep["cad"]["interface_faces"] == interfaces,
+              "%s: %d solids, %d interfaces (%d, %d)" % (rel, solids, interfaces, rep["cad"]["solids"], rep["cad"]["interface_faces"]))
+        check_mesh(target, rep, rel)
+
+# Bad input: exit 3, a message naming the problem, no output.
+def bad(name, content, needle):
+    path = os.path.join(out, name)
+    if content is not None:
+        with open(path, "w") as f:
+            f.write(content)
+    target = os.path.join(out, name + ".vtu")
+    code, _, err = run("mesh", path, "-o", target)
+    check(code == 3 and needle in err and not os.path.exists(target),
+          "%s: exit 3 naming '%s' (exit %d: %s)" % (name, needle, code, err.strip()[:300]))
+
+bad("missing.step", None, "no such file")
+bad("empty.step", "", "empty file")
+bad("text.step", "this is not a STEP file\n", "not a readable STEP file")
+bad("text.brep", "hello\n", "not a readable BREP file")
+sheet = make_brep("sheet", lambda occ: occ.addRectangle(0, 0, 0, 1, 1))
+bad(os.path.basename(sheet), None, "no solid")
+def box_without_lid(occ):
+    box = occ.addBox(0, 0, 0, 1, 1, 1)
+    occ.remove([(3, box)])          # the volume only: its six faces stay
+    occ.remove([(2, 6)], recursive=True)  # one face gone: an open shell
+
+
+open_box = make_brep("openbox", box_without_lid)
+bad(os.path.basename(open_box), None, "none closed")
+
+finish()
