@@ -17,6 +17,8 @@ PACKAGES=(
   libgtest-dev clang libclang-rt-14-dev pybind11-dev python3-dev python3-numpy
   # third-party checkers of our outputs
   gmsh python3-gmsh python3-meshio python3-vtk9 calculix-ccx
+  # FreeCAD workbench tests
+  freecad xvfb xauth
 )
 
 missing=()
