@@ -13,6 +13,7 @@ export VDMESH_DATA="${VDMESH_DATA:-$(cd "$here/.." && pwd)/shared/data}"
 "$here/Resources/tools/build.sh" "$build" -DVDMESH_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DVDMESH_DATA="$VDMESH_DATA"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0"
+export LSAN_OPTIONS="suppressions=$here/tests/lsan.supp"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 cd "$build"
 ctest --output-on-failure -j "$(nproc)" --timeout 1200
