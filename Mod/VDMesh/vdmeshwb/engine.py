@@ -1,0 +1,169 @@
+"""Runs the vdmesh command-line program: the engine until the Python module exists.
+
+The binary is found through the environment variable VDMESH_BIN, else `vdmesh` on PATH, else the
+path stored in the workbench preferences (User parameter:BaseApp/Preferences/Mod/VDMesh, "Binary").
+"""
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+
+PREFS = "User parameter:BaseApp/Preferences/Mod/VDMesh"
+
+# vdmesh exit codes (README, "Using it")
+EXIT_MEANING = {
+    1: "internal error in vdmesh",
+    2: "usage error (bad option)",
+    3: "bad input geometry",
+    4: "some facets could not be made Delaunay within the guards",
+    5: "a vdmesh mesh failed one of compare's checks",
+}
+
+
+class VDMeshError(RuntimeError):
+    """vdmesh could not mesh the shape; `code` is vdmesh's exit code, `message` its explanation."""
+
+    def __init__(self, message, code=None, output=""):
+        super().__init__(message)
+        self.code = code
+        self.message = message
+        self.output = output
+
+
+def _pref_binary():
+    try:
+        import FreeCAD
+        return FreeCAD.ParamGet(PREFS).GetString("Binary", "")
+    except Exception:
+        return ""
+
+
+def set_pref_binary(path):
+    import FreeCAD
+    FreeCAD.ParamGet(PREFS).SetString("Binary", path)
+
+
+def find_binary():
+    """Path of the vdmesh program, or raises VDMeshError saying where it was looked for."""
+    env = os.environ.get("VDMESH_BIN", "")
+    if env and os.path.isfile(env) and os.access(env, os.X_OK):
+        return env
+    on_path = shutil.which("vdmesh")
+    if on_path:
+        return on_path
+    pref = _pref_binary()
+    if pref and os.path.isfile(pref) and os.access(pref, os.X_OK):
+        return pref
+    raise VDMeshError("vdmesh program not found: set VDMESH_BIN, put vdmesh on PATH, or set its path "
+                      "in the preferences (" + PREFS + ", Binary)" + (" [VDMESH_BIN=%s is not executable]" % env if env else ""))
+
+
+class Parameters:
+    """Meshing parameters; the names are the mesh object's properties."""
+
+    def __init__(self, size=0.0, interior=True, flips=True, ridge_angle=20.0, oracle="dt", lp_limit=0,
+                 sliver_angle=10.0, seed=1):
+        self.size = size            # 0: vdmesh chooses (bounding-box diagonal / 25)
+        self.interior = interior
+        self.flips = flips
+        self.ridge_angle = ridge_angle  # --flip-angle: largest ridge angle a flip may create
+        self.oracle = oracle
+        self.lp_limit = lp_limit    # 0: no limit
+        self.sliver_angle = sliver_angle
+        self.seed = seed
+
+    def options(self):
+        o = []
+        if self.size and self.size > 0:
+            o += ["--size", repr(float(self.size))]
+        if not self.interior:
+            o.append("--no-interior")
+        if not self.flips:
+            o.append("--no-flips")
+        else:
+            o += ["--flip-angle", repr(float(self.ridge_angle))]
+        if self.oracle and self.oracle != "dt":
+            o += ["--oracle", self.oracle]
+        if self.lp_limit and self.lp_limit > 0:
+            o += ["--lp-limit", str(int(self.lp_limit))]
+        o += ["--sliver-angle", repr(float(self.sliver_angle))]
+        o += ["--seed", str(int(self.seed))]
+        return o
+
+
+def _run(args, timeout=None):
+    try:
+        return subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+    except OSError as e:
+        raise VDMeshError("could not run %s: %s" % (args[0], e))
+    except subprocess.TimeoutExpired:
+        raise VDMeshError("vdmesh did not finish within %s s" % timeout)
+
+
+def _failure(proc, what):
+    code = proc.returncode
+    lines = [l for l in proc.stderr.splitlines() if l.strip() and not l.startswith("vdmesh: ") or "error" in l.lower()]
+    detail = "\n".join(lines[-8:]) if lines else proc.stderr.strip()[-2000:]
+    meaning = EXIT_MEANING.get(code, "exit code %s" % code)
+    return VDMeshError("%s failed: %s (exit %s)\n%s" % (what, meaning, code, detail), code, proc.stdout + proc.stderr)
+
+
+def export_shape(shape, path):
+    """Writes a Part shape as BREP (vdmesh numbers its solids and faces as FreeCAD does)."""
+    shape.exportBrep(path)
+    return path
+
+
+def mesh_file(input_path, output_path, params, report_path=None, timeout=None):
+    """Runs `vdmesh mesh`; returns (report dict or None, stdout). Raises VDMeshError on failure."""
+    args = [find_binary(), "mesh", input_path, "-o", output_path] + params.options()
+    if report_path:
+        args += ["--report", report_path]
+    proc = _run(args, timeout)
+    if proc.returncode != 0:
+        raise _failure(proc, "vdmesh mesh")
+    report = None
+    if report_path and os.path.isfile(report_path):
+        with open(report_path) as f:
+            report = json.load(f)
+    return report, proc.stdout
+
+
+def mesh_shape(shape, params, workdir=None):
+    """Meshes a Part shape; returns (inp path, report dict, report text). The files stay in workdir."""
+    if shape is None or shape.isNull():
+        raise VDMeshError("the selected object has no shape")
+    if not shape.Solids:
+        raise VDMeshError("the selected shape has no solid (%d faces, %d shells): vdmesh meshes solids"
+                          % (len(shape.Faces), len(shape.Shells)))
+    workdir = workdir or tempfile.mkdtemp(prefix="vdmesh-")
+    brep = export_shape(shape, os.path.join(workdir, "part.brep"))
+    inp = os.path.join(workdir, "mesh.inp")
+    report, text = mesh_file(brep, inp, params, os.path.join(workdir, "report.json"))
+    return inp, report, text
+
+
+def convert(input_path, output_path, extra=()):
+    proc = _run([find_binary(), "convert", input_path, output_path] + list(extra))
+    if proc.returncode != 0:
+        raise _failure(proc, "vdmesh convert")
+    return output_path
+
+
+def compare_shape(shape, size=0.0, timeout=120):
+    """`vdmesh compare part.brep --json`: returns (table text, result dict or None, exit code)."""
+    workdir = tempfile.mkdtemp(prefix="vdmesh-compare-")
+    brep = export_shape(shape, os.path.join(workdir, "part.brep"))
+    out_json = os.path.join(workdir, "compare.json")
+    args = [find_binary(), "compare", brep, "--json", out_json, "--timeout", str(timeout)]
+    if size and size > 0:
+        args += ["--size", repr(float(size))]
+    proc = _run(args)
+    result = None
+    if os.path.isfile(out_json):
+        with open(out_json) as f:
+            result = json.load(f)
+    if proc.returncode not in (0, 5) and result is None:
+        raise _failure(proc, "vdmesh compare")
+    return proc.stdout, result, proc.returncode

@@ -1,0 +1,252 @@
+"""The vdmesh mesh object: a Fem::FemMeshObjectPython linked to a Part, parameters as properties.
+
+Meshing happens before anything is added to the document: when vdmesh fails (bad geometry: exit 3,
+unrecoverable facets: exit 4, ...) `create_mesh` raises VDMeshError and the document is unchanged.
+Recompute re-runs vdmesh with the current properties.
+"""
+import json
+import os
+import shutil
+import tempfile
+
+import FreeCAD
+
+from . import engine, femmesh, inpreader
+
+TYPE = "Fem::FemMeshObjectPython"
+ORACLES = ["dt", "lp", "sphere"]
+
+
+def _add(obj, ptype, name, group, doc, value=None):
+    if name not in obj.PropertiesList:
+        obj.addProperty(ptype, name, group, doc)
+        if value is not None:
+            setattr(obj, name, value)
+
+
+def params_of(obj):
+    return engine.Parameters(size=obj.Size.Value if hasattr(obj.Size, "Value") else float(obj.Size),
+                             interior=obj.Interior, flips=obj.Flips,
+                             ridge_angle=float(getattr(obj.RidgeAngle, "Value", obj.RidgeAngle)),
+                             oracle=obj.Oracle, lp_limit=obj.LPLimit,
+                             sliver_angle=float(getattr(obj.SliverAngle, "Value", obj.SliverAngle)),
+                             seed=obj.Seed)
+
+
+def shape_of(part):
+    if part is None:
+        raise engine.VDMeshError("no part linked")
+    shape = getattr(part, "Shape", None)
+    if shape is None or shape.isNull():
+        raise engine.VDMeshError("%s has no shape" % part.Label)
+    return shape
+
+
+def run_mesh(part, params):
+    """Meshes part's shape; returns (FemMesh, info, inp path, report dict, report text)."""
+    shape = shape_of(part)
+    inp, report, text = engine.mesh_shape(shape, params)
+    deck = inpreader.read_inp(inp)
+    if not deck.elements:
+        raise engine.VDMeshError("vdmesh wrote no tetrahedra for %s" % part.Label)
+    fm, info = femmesh.to_femmesh(deck)
+    info["nodes"] = len(deck.nodes)
+    info["tetrahedra"] = len(deck.elements)
+    return fm, info, inp, report, text
+
+
+class VDMeshObject:
+    """Proxy of the mesh object."""
+
+    def __init__(self, obj, params=None):
+        obj.Proxy = self
+        self.Type = "Fem::VDMesh"
+        self.add_properties(obj, params or engine.Parameters())
+
+    @staticmethod
+    def add_properties(obj, p):
+        _add(obj, "App::PropertyLink", "Part", "FEM Mesh", "Part, compound or BooleanFragments to mesh")
+        _add(obj, "App::PropertyLength", "Size", "VDMesh", "Target edge length (0: bounding-box diagonal / 25)", p.size)
+        _add(obj, "App::PropertyBool", "Interior", "VDMesh", "Interior vertices (off: surface vertices only)", p.interior)
+        _add(obj, "App::PropertyBool", "Flips", "VDMesh", "Surface flips in Delaunayzation (off: splits only)", p.flips)
+        _add(obj, "App::PropertyAngle", "RidgeAngle", "VDMesh", "Largest ridge angle a flip may create (--flip-angle)", p.ridge_angle)
+        if "Oracle" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Oracle", "VDMesh", "Facet Delaunayhood oracle (LPLimit: lp)")
+            obj.Oracle = ORACLES
+            obj.Oracle = p.oracle
+        _add(obj, "App::PropertyInteger", "LPLimit", "VDMesh", "Largest LP the lp oracle solves (0: no limit)", p.lp_limit)
+        _add(obj, "App::PropertyAngle", "SliverAngle", "VDMesh", "Boundary slivers under this dihedral angle are removed", p.sliver_angle)
+        _add(obj, "App::PropertyInteger", "Seed", "VDMesh", "Random seed: same part, options and seed give the same mesh", p.seed)
+        _add(obj, "App::PropertyFile", "OutputFile", "VDMesh", "vdmesh's Abaqus deck of the last run (used by Export)")
+        _add(obj, "App::PropertyString", "Report", "VDMesh", "Report of the last run (JSON)")
+        obj.setEditorMode("Report", 1)
+
+    def execute(self, obj):
+        # Recompute: on failure the previous mesh stays and the error goes to the report view.
+        if obj.Part is None:
+            return
+        try:
+            fm, info, inp, report, text = run_mesh(obj.Part, params_of(obj))
+        except engine.VDMeshError as e:
+            FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
+            raise
+        apply_result(obj, fm, inp, report)
+
+    def onDocumentRestored(self, obj):
+        self.add_properties(obj, engine.Parameters())
+
+    def __getstate__(self):
+        return {"Type": self.Type}
+
+    def __setstate__(self, state):
+        self.Type = (state or {}).get("Type", "Fem::VDMesh")
+
+    # FreeCAD 0.20 uses these names for Python < 3.11 compatibility shims
+    def dumps(self):
+        return self.__getstate__()
+
+    def loads(self, state):
+        self.__setstate__(state)
+
+
+def apply_result(obj, fm, inp, report):
+    obj.FemMesh = fm
+    keep = _keep_dir(obj)
+    kept = os.path.join(keep, "mesh.inp")
+    try:
+        shutil.copyfile(inp, kept)
+        shutil.rmtree(os.path.dirname(inp), ignore_errors=True)
+    except OSError:
+        kept = inp
+    obj.OutputFile = kept
+    obj.Report = json.dumps(report or {})
+
+
+def _keep_dir(obj):
+    d = os.path.join(tempfile.gettempdir(), "vdmesh-%s-%s" % (obj.Document.Name, obj.Name))
+    os.makedirs(d, exist_ok=True)
+    return d
+
+
+def find_analysis(doc):
+    """The active analysis (GUI), else None."""
+    try:
+        import FemGui
+        a = FemGui.getActiveAnalysis()
+        if a is not None and a.Document == doc:
+            return a
+    except Exception:
+        pass
+    return None
+
+
+def create_mesh(part, params=None, analysis=None, name="VDMesh"):
+    """Meshes part and only then adds the mesh object (and puts it into analysis, or the active one).
+
+    Raises engine.VDMeshError, leaving the document unchanged, when vdmesh fails.
+    Returns (object, info dict, report dict, report text)."""
+    params = params or engine.Parameters()
+    fm, info, inp, report, text = run_mesh(part, params)
+    doc = part.Document
+    doc.openTransaction("VDMesh")
+    try:
+        obj = doc.addObject(TYPE, name)
+        VDMeshObject(obj, params)
+        if FreeCAD.GuiUp:
+            from . import viewprovider
+            viewprovider.ViewProviderVDMesh(obj.ViewObject)
+        obj.Part = part
+        apply_result(obj, fm, inp, report)
+        analysis = analysis or find_analysis(doc)
+        if analysis is not None:
+            analysis.addObject(obj)
+        obj.purgeTouched()
+    except Exception:
+        doc.abortTransaction()
+        raise
+    doc.commitTransaction()
+    return obj, info, report, text
+
+
+def mesh_summary(info, report):
+    lines = ["%d nodes, %d tetrahedra, groups: %s; %s" % (info.get("nodes", 0), info.get("tetrahedra", 0),
+                                                           ", ".join(info.get("solids", [])),
+                                                           ", ".join(info.get("faces", [])))]
+    if report:
+        q = report.get("quality", {})
+        cad = report.get("cad", {})
+        if cad:
+            lines.append("size %s%s, chord height %.4g" % (cad.get("size"), " (chosen)" if cad.get("size_chosen") else "",
+                                                             cad.get("deflection", 0)))
+            for v in cad.get("volumes", []):
+                err = abs(v["mesh"] - v["cad"]) / v["cad"] * 100 if v.get("cad") else 0
+                lines.append("volume %s: CAD %.6g, mesh %.6g (%.3f %%)" % (v["name"], v["cad"], v["mesh"], err))
+        if q:
+            lines.append("dihedral angle min %.3g, max %.4g deg; radius ratio min %.3g, mean %.3g; tets under 5 / 10 deg: %s / %s"
+                         % (q.get("min_dihedral_deg", 0), q.get("max_dihedral_deg", 0), q.get("min_radius_ratio", 0),
+                            q.get("mean_radius_ratio", 0), q.get("tets_below_5_deg"), q.get("tets_below_10_deg")))
+        hist = q.get("dihedral_histogram_10deg")
+        if hist:
+            lines.append("dihedral angles (10 deg bins):")
+            top = max(hist) or 1
+            for i, n in enumerate(hist):
+                lines.append("%3d-%3d %7d %s" % (10 * i, 10 * i + 10, n, "#" * int(round(40.0 * n / top))))
+    return "\n".join(lines)
+
+
+# formats `vdmesh convert` writes, for the Export dialog (converters' registry by extension)
+EXPORT_FILTERS = [
+    ("Abaqus / CalculiX (*.inp)", ".inp"),
+    ("Gmsh (*.msh)", ".msh"),
+    ("VTK XML unstructured grid (*.vtu)", ".vtu"),
+    ("VTK legacy (*.vtk)", ".vtk"),
+    ("Medit (*.mesh)", ".mesh"),
+    ("TetGen (*.node)", ".node"),
+]
+
+
+def write_inp_from_femmesh(fm, path):
+    """Our deck from a FemMesh alone (the mesh object's OutputFile is gone, e.g. after a reload):
+    nodes, 4-node tetrahedra back in Abaqus order, one ELSET per <Name>_Volumes group. Face tags are
+    not written (the regions are)."""
+    nodes = fm.Nodes
+    groups = femmesh.group_ids(fm)
+    by_set, seen = [], set()
+    for name in sorted(groups, key=femmesh._natural):
+        if name.endswith("_Volumes") and fm.getGroupElementType(groups[name]) == "Volume":
+            elems = [e for e in fm.getGroupElements(groups[name]) if e not in seen]
+            seen.update(elems)
+            by_set.append((name[:-len("_Volumes")], elems))
+    rest = [e for e in fm.Volumes if e not in seen]
+    if rest:
+        by_set.append(("Solid%d" % (len(by_set) + 1), rest))
+    with open(path, "w") as f:
+        f.write("** Mesh written by the vdmesh FreeCAD workbench from a FemMesh\n*NODE, NSET=NALL\n")
+        for n in sorted(nodes):
+            v = nodes[n]
+            f.write("%d, %r, %r, %r\n" % (n, v.x, v.y, v.z))
+        for name, elems in by_set:
+            f.write("*ELEMENT, TYPE=C3D4, ELSET=%s\n" % name)
+            for e in elems:
+                c = fm.getElementNodes(e)
+                if len(c) != 4:
+                    raise engine.VDMeshError("export from a FemMesh handles 4-node tetrahedra only")
+                f.write("%d, %d, %d, %d, %d\n" % (e, c[1], c[0], c[2], c[3]))
+    return path
+
+
+def export_mesh(obj, path, extra=()):
+    """Writes the mesh object's mesh to path (format by extension) through `vdmesh convert`."""
+    src = getattr(obj, "OutputFile", "")
+    tmpdir = None
+    if not src or not os.path.isfile(src):
+        tmpdir = tempfile.mkdtemp(prefix="vdmesh-export-")
+        src = write_inp_from_femmesh(obj.FemMesh, os.path.join(tmpdir, "mesh.inp"))
+    try:
+        if os.path.splitext(path)[1].lower() == ".inp" and not extra:
+            shutil.copyfile(src, path)
+            return path
+        return engine.convert(src, path, extra)
+    finally:
+        if tmpdir:
+            shutil.rmtree(tmpdir, ignore_errors=True)

@@ -1,0 +1,125 @@
+"""Task panel of the Mesh command: parameters, Mesh / Apply, the report (or the error) below.
+
+With a part: meshing creates the mesh object only when vdmesh succeeded (the document is left as
+it was otherwise, and the error shows in the panel). With a mesh object (double-click): the
+parameters are written to its properties and it is recomputed.
+"""
+import FreeCAD
+import FreeCADGui
+from PySide import QtCore, QtGui
+
+from . import engine, icon, meshobject
+
+
+class MeshTaskPanel:
+    def __init__(self, part=None, mesh_object=None):
+        self.part = part if part is not None else (mesh_object.Part if mesh_object else None)
+        self.obj = mesh_object
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle("vdmesh: tetrahedral mesh")
+        self.form.setWindowIcon(QtGui.QIcon(icon()))
+        lay = QtGui.QVBoxLayout(self.form)
+        self.target = QtGui.QLabel("Part: %s" % (self.part.Label if self.part else "(none)"))
+        lay.addWidget(self.target)
+        grid = QtGui.QFormLayout()
+        p = meshobject.params_of(mesh_object) if mesh_object else engine.Parameters()
+        self.size = QtGui.QDoubleSpinBox()
+        self.size.setRange(0.0, 1e9)
+        self.size.setDecimals(4)
+        self.size.setSpecialValueText("automatic (diagonal / 25)")
+        self.size.setValue(p.size)
+        grid.addRow("Size", self.size)
+        self.interior = QtGui.QCheckBox("interior vertices")
+        self.interior.setChecked(p.interior)
+        grid.addRow("", self.interior)
+        self.flips = QtGui.QCheckBox("flips (off: splits only)")
+        self.flips.setChecked(p.flips)
+        grid.addRow("", self.flips)
+        self.ridge = QtGui.QDoubleSpinBox()
+        self.ridge.setRange(0.0, 180.0)
+        self.ridge.setSuffix(" deg")
+        self.ridge.setValue(p.ridge_angle)
+        grid.addRow("Ridge angle", self.ridge)
+        self.oracle = QtGui.QComboBox()
+        self.oracle.addItems(meshobject.ORACLES)
+        self.oracle.setCurrentIndex(meshobject.ORACLES.index(p.oracle))
+        grid.addRow("Oracle", self.oracle)
+        self.lp = QtGui.QSpinBox()
+        self.lp.setRange(0, 10 ** 8)
+        self.lp.setSpecialValueText("no limit")
+        self.lp.setValue(p.lp_limit)
+        grid.addRow("LP size limit", self.lp)
+        self.sliver = QtGui.QDoubleSpinBox()
+        self.sliver.setRange(0.0, 90.0)
+        self.sliver.setSuffix(" deg")
+        self.sliver.setValue(p.sliver_angle)
+        grid.addRow("Sliver angle", self.sliver)
+        self.seed = QtGui.QSpinBox()
+        self.seed.setRange(0, 2 ** 31 - 1)
+        self.seed.setValue(p.seed)
+        grid.addRow("Seed", self.seed)
+        lay.addLayout(grid)
+        self.run = QtGui.QPushButton("Mesh" if mesh_object is None else "Remesh")
+        self.run.clicked.connect(self.mesh)
+        lay.addWidget(self.run)
+        self.status = QtGui.QLabel("")
+        self.status.setWordWrap(True)
+        lay.addWidget(self.status)
+        self.report = QtGui.QPlainTextEdit()
+        self.report.setReadOnly(True)
+        font = QtGui.QFont("Monospace")
+        font.setStyleHint(QtGui.QFont.TypeWriter)
+        self.report.setFont(font)
+        self.report.setMinimumHeight(220)
+        lay.addWidget(self.report)
+
+    def params(self):
+        return engine.Parameters(size=self.size.value(), interior=self.interior.isChecked(),
+                                 flips=self.flips.isChecked(), ridge_angle=self.ridge.value(),
+                                 oracle=self.oracle.currentText(), lp_limit=self.lp.value(),
+                                 sliver_angle=self.sliver.value(), seed=self.seed.value())
+
+    def show_error(self, e):
+        self.status.setText('<span style="color:#b00000"><b>vdmesh failed</b> (document unchanged)</span>')
+        self.report.setPlainText(e.message)
+        FreeCAD.Console.PrintError("VDMesh: %s\n" % e.message)
+
+    def mesh(self):
+        if self.part is None:
+            self.status.setText("Select a Part solid, compound or BooleanFragments first.")
+            return False
+        self.status.setText("meshing ...")
+        QtGui.QApplication.processEvents()
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+        try:
+            if self.obj is None:
+                self.obj, info, report, text = meshobject.create_mesh(self.part, self.params())
+            else:
+                p = self.params()
+                o = self.obj
+                o.Size, o.Interior, o.Flips, o.RidgeAngle = p.size, p.interior, p.flips, p.ridge_angle
+                o.Oracle, o.LPLimit, o.SliverAngle, o.Seed = p.oracle, p.lp_limit, p.sliver_angle, p.seed
+                fm, info, inp, report, text = meshobject.run_mesh(self.part, p)
+                meshobject.apply_result(o, fm, inp, report)
+                o.purgeTouched()
+        except engine.VDMeshError as e:
+            self.show_error(e)
+            return False
+        finally:
+            QtGui.QApplication.restoreOverrideCursor()
+        summary = meshobject.mesh_summary(info, report)
+        self.status.setText("<b>%s</b>: %d tetrahedra" % (self.obj.Label, info["tetrahedra"]))
+        self.report.setPlainText(summary)
+        FreeCAD.Console.PrintMessage("VDMesh %s:\n%s\n" % (self.obj.Label, summary))
+        self.run.setText("Remesh")
+        FreeCAD.ActiveDocument.recompute()
+        return True
+
+    def getStandardButtons(self):
+        return int(QtGui.QDialogButtonBox.Close)
+
+    def reject(self):
+        FreeCADGui.Control.closeDialog()
+        if self.obj is not None and FreeCADGui.ActiveDocument and FreeCADGui.ActiveDocument.getInEdit():
+            FreeCADGui.ActiveDocument.resetEdit()
+        return True

@@ -1,0 +1,234 @@
+"""Headless test of the vdmesh FreeCAD workbench (Mod/VDMesh) through its own code path.
+
+Run (FreeCAD 0.20 on Debian 12; the notes in README "FreeCAD workbench"):
+    VDMESH_BIN=build/bin/vdmesh freecadcmd tests/freecad/test_vdmesh_workbench.py
+freecadcmd exits 0 even when a script raises, so the script calls sys.exit itself.
+
+Meshes (1) a box 10x10x4 with a hole of diameter 4 (Part::Cut of Part::Box and Part::Cylinder) and
+(2) a BooleanFragments of two touching boxes of different sizes (two solids, one interface face) with
+vdmeshwb.meshobject.create_mesh, as the Mesh command does; checks the FemMesh: tetrahedra with
+FemMesh's orientation, Solid<i>_Volumes/_Nodes per solid and Face<j>_Faces/_Nodes per face, volume per
+solid within 1 % of FreeCAD's, the face numbering against FreeCAD's Face<j> (vdmesh's per-face CAD
+areas, and the nodes of each face group lying on that face); the analysis; recompute with another
+size; export through `vdmesh convert`; bad geometry (an open shell made a solid: vdmesh exit 3) gives
+a VDMeshError and leaves the document unchanged.
+"""
+import os
+import sys
+import tempfile
+import time
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__)) if "__file__" in globals() else \
+    os.path.join(os.environ.get("VDMESH_SOURCE_DIR", os.getcwd()), "tests", "freecad")
+SOURCE = os.environ.get("VDMESH_SOURCE_DIR", os.path.dirname(os.path.dirname(HERE)))
+WB = os.path.join(SOURCE, "Mod", "VDMesh")
+if WB not in sys.path:
+    sys.path.insert(0, WB)
+
+import FreeCAD  # noqa: E402
+import Part  # noqa: E402
+from FreeCAD import Vector  # noqa: E402
+
+from vdmeshwb import engine, femmesh, meshobject  # noqa: E402
+
+FIGURES = []  # printed at the end: what the test measured
+
+
+def figure(line):
+    FIGURES.append(line)
+    FreeCAD.Console.PrintMessage("  " + line + "\n")
+
+
+class MeshChecks:
+    def check_mesh(self, name, obj, part_shape, info, report):
+        fm = obj.FemMesh
+        self.assertGreater(fm.VolumeCount, 0)
+        self.assertEqual(fm.VolumeCount, info["tetrahedra"])
+        groups = femmesh.group_ids(fm)
+        solids, faces = part_shape.Solids, part_shape.Faces
+        for i in range(1, len(solids) + 1):
+            self.assertIn("Solid%d_Volumes" % i, groups)
+            self.assertIn("Solid%d_Nodes" % i, groups)
+            self.assertEqual(fm.getGroupElementType(groups["Solid%d_Volumes" % i]), "Volume")
+        for j in range(1, len(faces) + 1):
+            self.assertIn("Face%d_Faces" % j, groups)
+            self.assertIn("Face%d_Nodes" % j, groups)
+            self.assertEqual(fm.getGroupElementType(groups["Face%d_Faces" % j]), "Face")
+        self.assertNotIn("Solid%d_Volumes" % (len(solids) + 1), groups)
+        self.assertNotIn("Face%d_Faces" % (len(faces) + 1), groups)
+        # every tetrahedron in exactly one solid group
+        in_groups = sum(len(fm.getGroupElements(groups["Solid%d_Volumes" % i])) for i in range(1, len(solids) + 1))
+        self.assertEqual(in_groups, fm.VolumeCount)
+
+        # volumes: whole mesh and per solid against FreeCAD's (orientation: FemMesh keeps them negative)
+        total, negative, count = femmesh.tet_volumes(fm)
+        self.assertEqual(negative, count, "tetrahedra must have FemMesh's (negative) orientation")
+        err = abs(total - part_shape.Volume) / part_shape.Volume
+        self.assertLess(err, 0.01)
+        figure("%s: %d nodes, %d tetrahedra, %d solid groups, %d face groups; volume FreeCAD %.6g, mesh %.6g (%.4f %%)"
+               % (name, fm.NodeCount, fm.VolumeCount, len(solids), len(faces), part_shape.Volume, total, 100 * err))
+        for i, s in enumerate(solids, 1):
+            v, _, _ = femmesh.tet_volumes(fm, fm.getGroupElements(groups["Solid%d_Volumes" % i]))
+            e = abs(v - s.Volume) / s.Volume
+            figure("  Solid%d: FreeCAD %.6g, mesh %.6g (%.4f %%)" % (i, s.Volume, v, 100 * e))
+            self.assertLess(e, 0.01, "Solid%d" % i)
+
+        # face numbering: vdmesh's CAD area of Face<j> is FreeCAD's Face<j>.Area ...
+        areas = {a["name"]: a["cad"] for a in report["cad"]["areas"]}
+        self.assertEqual(len(areas), len(faces))
+        for j, f in enumerate(faces, 1):
+            self.assertAlmostEqual(areas["Face%d" % j] / f.Area, 1.0, places=4, msg="Face%d area" % j)
+        # ... and the nodes of group Face<j> lie on FreeCAD's Face<j> (and not all on another face)
+        nodes = fm.Nodes
+        tol = 1e-3 * part_shape.BoundBox.DiagonalLength
+        for j, f in enumerate(faces, 1):
+            ids = fm.getGroupElements(groups["Face%d_Nodes" % j])
+            self.assertGreaterEqual(len(ids), 3)
+            sample = ids[:: max(1, len(ids) // 40)]
+            worst = max(f.distToShape(Part.Vertex(nodes[n]))[0] for n in sample)
+            self.assertLess(worst, tol, "Face%d nodes off FreeCAD's Face%d by %g" % (j, j, worst))
+        # the face triangles of Face<j> sum to its area
+        for j, f in enumerate(faces, 1):
+            a = 0.0
+            for e in fm.getGroupElements(groups["Face%d_Faces" % j]):
+                p = [nodes[n] for n in fm.getElementNodes(e)]
+                a += (p[1] - p[0]).cross(p[2] - p[0]).Length / 2
+            self.assertLess(abs(a - f.Area) / f.Area, 0.01, "Face%d triangles area" % j)
+        figure("  face numbering: %d faces, areas and node positions match FreeCAD's Face<j>" % len(faces))
+
+
+class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
+    @classmethod
+    def setUpClass(cls):
+        cls.doc = FreeCAD.newDocument("VDMeshTest")
+        figure("vdmesh binary: %s" % engine.find_binary())
+
+    @classmethod
+    def tearDownClass(cls):
+        FreeCAD.closeDocument(cls.doc.Name)
+
+    def box_with_hole(self):
+        doc = self.doc
+        box = doc.addObject("Part::Box", "Box")
+        box.Length, box.Width, box.Height = 10, 10, 4
+        box.Placement.Base = Vector(-5, -5, 0)
+        cyl = doc.addObject("Part::Cylinder", "Hole")
+        cyl.Radius, cyl.Height = 2, 6
+        cyl.Placement.Base = Vector(0, 0, -1)
+        cut = doc.addObject("Part::Cut", "BoxWithHole")
+        cut.Base, cut.Tool = box, cyl
+        doc.recompute()
+        return cut
+
+    def test_1_box_with_hole(self):
+        import ObjectsFem
+        cut = self.box_with_hole()
+        self.assertEqual(len(cut.Shape.Solids), 1)
+        self.assertEqual(len(cut.Shape.Faces), 7)
+        analysis = ObjectsFem.makeAnalysis(self.doc, "Analysis")
+        t = time.time()
+        obj, info, report, text = meshobject.create_mesh(cut, engine.Parameters(size=1.0), analysis=analysis)
+        figure("box with hole, size 1: create_mesh %.2f s" % (time.time() - t))
+        self.assertEqual(obj.TypeId, "Fem::FemMeshObjectPython")
+        self.assertIs(obj.Part, cut)
+        self.assertIn(obj, analysis.Group)
+        self.assertAlmostEqual(obj.Size.Value, 1.0)
+        self.assertTrue(os.path.isfile(obj.OutputFile))
+        self.check_mesh("box with hole", obj, cut.Shape, info, report)
+        self.assertIn("tetrahedra", meshobject.mesh_summary(info, report))
+
+        # recompute with other parameters re-runs vdmesh
+        before = obj.FemMesh.VolumeCount
+        obj.Size = 2.0
+        obj.Interior = False
+        self.doc.recompute()
+        self.assertNotIn("Invalid", obj.State)
+        after = obj.FemMesh.VolumeCount
+        self.assertGreater(after, 0)
+        self.assertLess(after, before)
+        total, _, _ = femmesh.tet_volumes(obj.FemMesh)
+        self.assertLess(abs(total - cut.Shape.Volume) / cut.Shape.Volume, 0.01)
+        figure("  recompute at size 2 without interior vertices: %d -> %d tetrahedra" % (before, after))
+
+        # export through vdmesh convert, from the kept deck and from the FemMesh alone
+        out = tempfile.mkdtemp(prefix="vdmesh-fc-export-")
+        for ext in (".vtu", ".msh", ".inp"):
+            path = meshobject.export_mesh(obj, os.path.join(out, "m" + ext))
+            self.assertGreater(os.path.getsize(path), 1000)
+        kept = obj.OutputFile
+        obj.OutputFile = ""
+        path = meshobject.export_mesh(obj, os.path.join(out, "fromfemmesh.vtu"))
+        self.assertGreater(os.path.getsize(path), 1000)
+        obj.OutputFile = kept
+        proc = engine._run([engine.find_binary(), "info", os.path.join(out, "m.msh")])
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        figure("  export: .vtu .msh .inp through vdmesh convert, and .vtu from the FemMesh alone")
+
+    def test_2_boolean_fragments(self):
+        import BOPTools.SplitFeatures
+        doc = self.doc
+        a = doc.addObject("Part::Box", "BigBox")
+        a.Length = a.Width = a.Height = 10
+        b = doc.addObject("Part::Box", "SmallBox")
+        b.Length = b.Width = b.Height = 5
+        b.Placement.Base = Vector(10, 2, 3)
+        doc.recompute()
+        bf = BOPTools.SplitFeatures.makeBooleanFragments(name="Fragments")
+        bf.Objects = [a, b]
+        bf.Mode = "Standard"
+        doc.recompute()
+        shape = bf.Shape
+        self.assertEqual(len(shape.Solids), 2)
+        t = time.time()
+        obj, info, report, text = meshobject.create_mesh(bf, engine.Parameters(size=1.5))
+        figure("BooleanFragments of two touching boxes (%d faces), size 1.5: create_mesh %.2f s"
+               % (len(shape.Faces), time.time() - t))
+        self.assertEqual(report["cad"]["solids"], 2)
+        self.assertEqual(report["cad"]["interface_faces"], 1)
+        self.check_mesh("fragments", obj, shape, info, report)
+        # the interface face has nodes of both solids
+        groups = femmesh.group_ids(obj.FemMesh)
+        shared = [j for j, f in enumerate(shape.Faces, 1)
+                  if sum(any(f.isSame(g) for g in s.Faces) for s in shape.Solids) == 2]
+        self.assertEqual(len(shared), 1)
+        fn = set(obj.FemMesh.getGroupElements(groups["Face%d_Nodes" % shared[0]]))
+        for i in (1, 2):
+            self.assertTrue(fn <= set(obj.FemMesh.getGroupElements(groups["Solid%d_Nodes" % i])))
+        figure("  interface Face%d: %d nodes, in both Solid1_Nodes and Solid2_Nodes" % (shared[0], len(fn)))
+
+    def test_3_bad_geometry_leaves_document_unchanged(self):
+        doc = self.doc
+        faces = Part.makeBox(1, 1, 1).Faces[:5]        # no lid
+        bad = doc.addObject("Part::Feature", "OpenSolid")
+        bad.Shape = Part.Solid(Part.Shell(faces))
+        doc.recompute()
+        names = sorted(o.Name for o in doc.Objects)
+        with self.assertRaises(engine.VDMeshError) as ctx:
+            meshobject.create_mesh(bad)
+        self.assertEqual(ctx.exception.code, 3)
+        self.assertEqual(sorted(o.Name for o in doc.Objects), names)
+        figure("open solid: VDMeshError exit %s, document unchanged: %s"
+               % (ctx.exception.code, ctx.exception.message.splitlines()[0]))
+        # a shape without solids is refused before vdmesh runs
+        sheet = doc.addObject("Part::Feature", "Sheet")
+        sheet.Shape = Part.makePlane(1, 1)
+        doc.recompute()
+        names = sorted(o.Name for o in doc.Objects)
+        with self.assertRaises(engine.VDMeshError):
+            meshobject.create_mesh(sheet)
+        self.assertEqual(sorted(o.Name for o in doc.Objects), names)
+
+
+def main():
+    suite = unittest.defaultTestLoader.loadTestsFromTestCase(TestVDMeshWorkbench)
+    result = unittest.TextTestRunner(verbosity=2, stream=sys.stdout).run(suite)
+    print("\nfigures:\n" + "\n".join(FIGURES))
+    sys.stdout.flush()
+    sys.exit(0 if result.wasSuccessful() else 1)
+
+
+# `freecadcmd file.py` imports this file as a module named after it; `freecadcmd -t module` uses
+# unittest's loader instead and must not run main().
+if __name__ in ("__main__", "test_vdmesh_workbench") and "-t" not in sys.argv:
+    main()
