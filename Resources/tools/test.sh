@@ -16,4 +16,4 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0"
 export LSAN_OPTIONS="suppressions=$here/tests/lsan.supp"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 cd "$build"
-ctest --output-on-failure -j "$(nproc)" --timeout 1200
+ctest --output-on-failure -j "$(nproc)" --timeout 1800
