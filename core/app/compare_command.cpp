@@ -19,6 +19,7 @@
 #include "compare/mesh_checks.h"
 #include "compare/svg_histogram.h"
 #include "compare/tetgen_runner.h"
+#include "cad/cad_model.h"
 #include "converters/registry.h"
 #include "mesh/error.h"
 #include "pipeline/mesher.h"
@@ -107,8 +108,11 @@ void write_text(const std::string& path, const std::string& text) {
 // here (smooth patches, as `vdmesh mesh` would), so that TetGen's facet
 // markers and vdmesh's face ids are the same. Returns the patch count in
 // `patches` (0 when the input had face ids).
+// CAD input is tessellated at vdmesh's default CAD size (the same in every
+// process, so the parent and both workers see one surface), and both
+// meshers get that surface.
 Mesh load_compare_input(const std::string& path, double sharp_angle_deg, int* patches = nullptr) {
-  Mesh m = io::read_mesh(path);
+  Mesh m = cad::CadModel::is_cad_file(path) ? cad::CadModel::read(path).tessellate({}) : io::read_mesh(path);
   m.tets.clear();
   m.tet_mid.clear();
   m.triangle_mid.clear();
