@@ -1,8 +1,8 @@
+#include "app/args.h"
 #include "app/commands.h"
 
 #include <unistd.h>
 
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -45,54 +45,6 @@ const char* kMeshHelp =
     "  --binary                binary variant of the output format where there is one\n"
     "  --quiet                 no progress and no report table\n";
 
-// Small argument reader: flags with values, flags without, positionals.
-class Args {
- public:
-  explicit Args(std::vector<std::string> a) : a_(std::move(a)) {}
-  bool flag(const std::string& name) {
-    for (size_t i = 0; i < a_.size(); ++i)
-      if (a_[i] == name) {
-        a_.erase(a_.begin() + i);
-        return true;
-      }
-    return false;
-  }
-  std::string value(const std::string& name, const std::string& fallback = "") {
-    for (size_t i = 0; i < a_.size(); ++i)
-      if (a_[i] == name) {
-        if (i + 1 >= a_.size()) throw UsageError(name + " needs a value");
-        std::string v = a_[i + 1];
-        a_.erase(a_.begin() + i, a_.begin() + i + 2);
-        return v;
-      }
-    return fallback;
-  }
-  double number(const std::string& name, double fallback) {
-    const std::string v = value(name);
-    if (v.empty()) return fallback;
-    double x = 0;
-    auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
-    if (ec != std::errc() || ptr != v.data() + v.size()) throw UsageError(name + ": not a number: '" + v + "'");
-    return x;
-  }
-  long integer(const std::string& name, long fallback) {
-    const std::string v = value(name);
-    if (v.empty()) return fallback;
-    long x = 0;
-    auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
-    if (ec != std::errc() || ptr != v.data() + v.size()) throw UsageError(name + ": not an integer: '" + v + "'");
-    return x;
-  }
-  std::vector<std::string> positionals() const {
-    for (const auto& s : a_)
-      if (s.size() > 1 && s[0] == '-' && s[1] == '-') throw UsageError("unknown option " + s);
-    return a_;
-  }
-
- private:
-  std::vector<std::string> a_;
-};
-
 void write_text(const std::string& path, const std::string& text) {
   std::ofstream f(path);
   f << text;
@@ -128,6 +80,26 @@ void leave_missing_facets(const MeshResult& partial, const std::string& output, 
   io::write_mesh(missing, where, {}, "off");
   if (!report_path.empty()) write_text(report_path, report_json(partial.report));
   std::fprintf(stderr, "vdmesh mesh: the facets still missing are in %s\n", where.c_str());
+}
+
+MeshResult mesh_surface_file(const std::string& path, const MeshOptions& opt, MeshResult* partial) {
+  Mesh input = io::read_mesh(path);
+  input.tets.clear();
+  input.tet_mid.clear();
+  input.triangle_mid.clear();
+  if (input.triangles.empty()) throw InputError(path + ": no surface facets to mesh");
+  return mesh_surface(input, opt, partial);
+}
+
+MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool splits_on_geometry, double deflection,
+                         MeshResult* partial) {
+  cad::CadMeshOptions copt;
+  copt.mesh = opt;
+  copt.splits_on_geometry = splits_on_geometry;
+  copt.tessellation.deflection = deflection;
+  if (opt.progress) opt.progress("read CAD");
+  const cad::CadModel model = cad::CadModel::read(path);
+  return cad::mesh_cad(model, copt, partial);
 }
 
 }  // namespace
@@ -175,35 +147,11 @@ int mesh_command(const std::vector<std::string>& raw) {
   else if (!quiet)
     opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s\n", phase.c_str()); };
 
-  if (cad::CadModel::is_cad_file(pos[0])) {
-    cad::CadMeshOptions copt;
-    copt.mesh = opt;
-    copt.splits_on_geometry = !planar_splits;
-    copt.tessellation.deflection = deflection;
-    if (opt.progress) opt.progress("read CAD");
-    const cad::CadModel model = cad::CadModel::read(pos[0]);
-    MeshResult partial;
-    try {
-      MeshResult result = cad::mesh_cad(model, copt, &partial);
-      write_result(result.mesh, output, wopt);
-      if (!report_path.empty()) write_text(report_path, report_json(result.report));
-      if (!quiet) std::fputs(report_table(result.report).c_str(), stdout);
-      return 0;
-    } catch (const RecoveryError&) {
-      leave_missing_facets(partial, output, report_path);
-      throw;
-    }
-  }
-
-  Mesh input = io::read_mesh(pos[0]);
-  input.tets.clear();
-  input.tet_mid.clear();
-  input.triangle_mid.clear();
-  if (input.triangles.empty()) throw InputError(pos[0] + ": no surface facets to mesh");
-
   MeshResult partial;
   try {
-    MeshResult result = mesh_surface(input, opt, &partial);
+    const MeshResult result = cad::CadModel::is_cad_file(pos[0])
+                                  ? mesh_cad_file(pos[0], opt, !planar_splits, deflection, &partial)
+                                  : mesh_surface_file(pos[0], opt, &partial);
     write_result(result.mesh, output, wopt);
     if (!report_path.empty()) write_text(report_path, report_json(result.report));
     if (!quiet) std::fputs(report_table(result.report).c_str(), stdout);

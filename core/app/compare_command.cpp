@@ -6,13 +6,13 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 
+#include "app/args.h"
 #include "app/commands.h"
 #include "compare/child_process.h"
 #include "compare/compare_report.h"
@@ -52,46 +52,6 @@ const char* kCompareHelp =
     "  the exit code); 3 INPUT unreadable, or vdmesh refused it; 4 vdmesh could not recover every facet;\n"
     "  5 a vdmesh mesh failed a check; 1 vdmesh crashed or timed out; 2 usage. The table and the JSON are\n"
     "  written whenever INPUT could be read.\n";
-
-class Args {
- public:
-  explicit Args(std::vector<std::string> a) : a_(std::move(a)) {}
-  bool flag(const std::string& name) {
-    for (size_t i = 0; i < a_.size(); ++i)
-      if (a_[i] == name) {
-        a_.erase(a_.begin() + static_cast<long>(i));
-        return true;
-      }
-    return false;
-  }
-  std::string value(const std::string& name, const std::string& fallback = "") {
-    for (size_t i = 0; i < a_.size(); ++i)
-      if (a_[i] == name) {
-        if (i + 1 >= a_.size()) throw UsageError(name + " needs a value");
-        std::string v = a_[i + 1];
-        a_.erase(a_.begin() + static_cast<long>(i), a_.begin() + static_cast<long>(i) + 2);
-        return v;
-      }
-    return fallback;
-  }
-  double number(const std::string& name, double fallback) {
-    const std::string v = value(name);
-    if (v.empty()) return fallback;
-    double x = 0;
-    auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
-    if (ec != std::errc() || ptr != v.data() + v.size() || !std::isfinite(x))
-      throw UsageError(name + ": not a number: '" + v + "'");
-    return x;
-  }
-  std::vector<std::string> positionals() const {
-    for (const auto& s : a_)
-      if (s.size() > 1 && s[0] == '-' && s[1] == '-') throw UsageError("unknown option " + s);
-    return a_;
-  }
-
- private:
-  std::vector<std::string> a_;
-};
 
 std::string read_text(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
