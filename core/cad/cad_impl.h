@@ -8,6 +8,9 @@
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
+#include <ShapeAnalysis_Surface.hxx>
+#include <TopLoc_Location.hxx>
+#include <gp_Pnt.hxx>
 #include <gp_Pnt2d.hxx>
 
 #include <array>
@@ -35,6 +38,24 @@ struct CadModel::Impl {
   double diagonal = 0;
 
   int index_of_face_number(int number) const;
+};
+
+inline Vec3 to_vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+
+// Nearest points on a face's surface, in world coordinates (the face's
+// placement applied both ways); build one per face and keep it.
+class FaceProjector {
+ public:
+  explicit FaceProjector(const TopoDS_Face& face);
+  bool valid() const { return !analyser_.IsNull(); }
+  // (u, v) of the surface point nearest `p`; on a periodic surface moved by
+  // whole periods to lie nearest `near` when given (the caller's side of a seam).
+  gp_Pnt2d uv(const Vec3& p, double tolerance, const gp_Pnt2d* near = nullptr) const;
+  Vec3 point(const gp_Pnt2d& uv) const;
+
+ private:
+  Handle(ShapeAnalysis_Surface) analyser_;
+  TopLoc_Location location_;
 };
 
 // A tessellation under refinement: the surface plus, per facet corner, its

@@ -5,8 +5,6 @@
 // otherwise. Then flips inside each face towards the Delaunay criterion.
 #include <BRepAdaptor_Curve2d.hxx>
 #include <BRep_Tool.hxx>
-#include <Geom_Surface.hxx>
-#include <ShapeAnalysis_Surface.hxx>
 #include <TopoDS.hxx>
 
 #include <algorithm>
@@ -20,7 +18,6 @@
 namespace vd::cad {
 namespace {
 
-Vec3 to_vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 gp_Pnt2d mid(const gp_Pnt2d& a, const gp_Pnt2d& b) { return {0.5 * (a.X() + b.X()), 0.5 * (a.Y() + b.Y())}; }
 
 Vec3 area_vector(const Mesh& m, const std::array<int, 3>& v) {
@@ -45,17 +42,9 @@ class Geometry {
   // The face point nearest to `p`, its (u, v) moved by whole periods to
   // lie nearest `near` (the facet's side of a seam).
   gp_Pnt2d project(int fi, const Vec3& p, const gp_Pnt2d& near) {
-    auto& a = analysers_[fi];
-    if (a.IsNull()) a = new ShapeAnalysis_Surface(BRep_Tool::Surface(cad_.faces[fi]));
-    TopLoc_Location loc;
-    BRep_Tool::Surface(cad_.faces[fi], loc);
-    gp_Pnt q(p.x, p.y, p.z);
-    if (!loc.IsIdentity()) q.Transform(loc.Transformation().Inverted());
-    gp_Pnt2d uv = a->ValueOfUV(q, 1e-9 * cad_.diagonal);
-    const Handle(Geom_Surface)& s = a->Surface();
-    if (s->IsUPeriodic()) uv.SetX(uv.X() + s->UPeriod() * std::round((near.X() - uv.X()) / s->UPeriod()));
-    if (s->IsVPeriodic()) uv.SetY(uv.Y() + s->VPeriod() * std::round((near.Y() - uv.Y()) / s->VPeriod()));
-    return uv;
+    auto it = projectors_.find(fi);
+    if (it == projectors_.end()) it = projectors_.emplace(fi, FaceProjector(cad_.faces[fi])).first;
+    return it->second.valid() ? it->second.uv(p, 1e-9 * cad_.diagonal, &near) : near;
   }
   gp_Pnt on_edge(int e, double t) {
     auto& c = curves_[e];
@@ -77,7 +66,7 @@ class Geometry {
   const CadModel::Impl& cad_;
   std::vector<std::unique_ptr<BRepAdaptor_Surface>> surfaces_;
   std::vector<std::unique_ptr<BRepAdaptor_Curve>> curves_;
-  std::map<int, Handle(ShapeAnalysis_Surface)> analysers_;
+  std::map<int, FaceProjector> projectors_;
 };
 
 // Edge -> facets, rebuilt once per pass (sorted pairs: compact and fast).

@@ -56,9 +56,30 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   }
 }
 
-namespace {
+FaceProjector::FaceProjector(const TopoDS_Face& face) {
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face, location_);
+  if (!surface.IsNull()) analyser_ = new ShapeAnalysis_Surface(surface);
+}
 
-Vec3 to_vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+gp_Pnt2d FaceProjector::uv(const Vec3& p, double tolerance, const gp_Pnt2d* near) const {
+  gp_Pnt q(p.x, p.y, p.z);
+  if (!location_.IsIdentity()) q.Transform(location_.Transformation().Inverted());
+  gp_Pnt2d uv = analyser_->ValueOfUV(q, tolerance);
+  if (near) {
+    const Handle(Geom_Surface)& s = analyser_->Surface();
+    if (s->IsUPeriodic()) uv.SetX(uv.X() + s->UPeriod() * std::round((near->X() - uv.X()) / s->UPeriod()));
+    if (s->IsVPeriodic()) uv.SetY(uv.Y() + s->VPeriod() * std::round((near->Y() - uv.Y()) / s->VPeriod()));
+  }
+  return uv;
+}
+
+Vec3 FaceProjector::point(const gp_Pnt2d& uv) const {
+  gp_Pnt on = analyser_->Value(uv);
+  if (!location_.IsIdentity()) on.Transform(location_.Transformation());
+  return to_vec(on);
+}
+
+namespace {
 
 class CadGeometry : public SurfaceGeometry {
  public:
@@ -106,21 +127,10 @@ class CadGeometry : public SurfaceGeometry {
   Vec3 on_face(int number, const Vec3& p) const {
     const int fi = cad_.index_of_face_number(number);
     if (fi < 0) return p;
-    auto& sas = analysers_[fi];
-    if (sas.IsNull()) {
-      TopLoc_Location loc;
-      Handle(Geom_Surface) surface = BRep_Tool::Surface(cad_.faces[fi], loc);
-      if (surface.IsNull()) return p;
-      sas = new ShapeAnalysis_Surface(surface);
-      locations_[fi] = loc;
-    }
-    const TopLoc_Location& loc = locations_[fi];
-    gp_Pnt q(p.x, p.y, p.z);
-    if (!loc.IsIdentity()) q.Transform(loc.Transformation().Inverted());
-    const gp_Pnt2d uv = sas->ValueOfUV(q, 1e-9 * cad_.diagonal);
-    gp_Pnt on = sas->Value(uv);
-    if (!loc.IsIdentity()) on.Transform(loc.Transformation());
-    return to_vec(on);
+    auto it = projectors_.find(fi);
+    if (it == projectors_.end()) it = projectors_.emplace(fi, FaceProjector(cad_.faces[fi])).first;
+    const FaceProjector& face = it->second;
+    return face.valid() ? face.point(face.uv(p, 1e-9 * cad_.diagonal)) : p;
   }
 
   bool is_plane(int number) const {
@@ -153,8 +163,7 @@ class CadGeometry : public SurfaceGeometry {
 
   const CadModel::Impl& cad_;
   std::map<std::pair<int, int>, std::vector<TopoDS_Edge>> border_edges_;
-  mutable std::map<int, Handle(ShapeAnalysis_Surface)> analysers_;
-  mutable std::map<int, TopLoc_Location> locations_;
+  mutable std::map<int, FaceProjector> projectors_;
   mutable std::map<int, bool> plane_;
 };
 

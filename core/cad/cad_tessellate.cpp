@@ -22,8 +22,6 @@
 namespace vd::cad {
 namespace {
 
-Vec3 to_vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
-
 // Which solid lies on each side of each face: OpenCASCADE orients a face of
 // a solid (as met in the solid) with its surface normal pointing out of it.
 // Our triangles follow the face's own (FORWARD) surface normal, so a solid
