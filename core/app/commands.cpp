@@ -11,6 +11,7 @@
 #include "cad/cad_mesher.h"
 #include "converters/registry.h"
 #include "mesh/error.h"
+#include "mesh/second_order.h"
 #include "pipeline/mesher.h"
 #include "quality/tet_quality.h"
 #include "volume/region_tetrahedra.h"
@@ -32,6 +33,8 @@ const char* kMeshHelp =
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
     "  --sliver-angle DEG      boundary slivers under this dihedral angle are removed (default 10)\n"
     "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
+    "  --order 1|2             element order (default 1); 2: 10-node tetrahedra, and on CAD input the\n"
+    "                          mid-edge nodes of the surface on the CAD faces and edges\n"
     "  --oracle dt|lp|sphere   facet Delaunayhood test (default dt, the exact tetrahedralization)\n"
     "  --lp-limit N            largest LP solved by the lp oracle (default: no limit)\n"
     "  --no-flips              only splits: every added vertex lies on an input facet\n"
@@ -102,6 +105,12 @@ MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool s
   return cad::mesh_cad(model, copt, partial);
 }
 
+int element_order(Args& args) {
+  const long order = args.integer("--order", 1);
+  if (order != 1 && order != 2) throw UsageError("--order must be 1 or 2");
+  return static_cast<int>(order);
+}
+
 }  // namespace
 
 int mesh_command(const std::vector<std::string>& raw) {
@@ -125,6 +134,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   opt.delaunayzation.max_added_vertices = static_cast<int>(args.integer("--max-added", -1));
   opt.sharp_angle_deg = args.number("--sharp-angle", opt.sharp_angle_deg);
   opt.seed = static_cast<std::uint64_t>(args.integer("--seed", 1));
+  opt.order = element_order(args);
   opt.shift = args.number("--shift", opt.shift);
   const std::string report_path = args.value("--report");
   io::WriteOptions wopt;
@@ -170,9 +180,11 @@ int convert_command(const std::vector<std::string>& raw) {
   if (wopt.msh_version != 22 && wopt.msh_version != 41) throw UsageError("--msh-version must be 22 or 41");
   const std::string from = args.value("--from"), to = args.value("--to");
   const double size = args.number("--size", 0.0), deflection = args.number("--deflection", 0.0);
+  const std::string order = args.value("--order");
   const auto pos = args.positionals();
   if (pos.size() != 2)
-    throw UsageError("usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--size H] [--deflection D]");
+    throw UsageError(
+        "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--size H] [--deflection D]");
   io::format_for(pos[1], to);
   if (from.empty() && cad::CadModel::is_cad_file(pos[0])) {
     // CAD to a surface format: the tagged tessellation the mesher would start from.
@@ -183,7 +195,12 @@ int convert_command(const std::vector<std::string>& raw) {
     io::write_mesh(surface, pos[1], wopt, to);
     return 0;
   }
-  const Mesh mesh = io::read_mesh(pos[0], from);
+  Mesh mesh = io::read_mesh(pos[0], from);
+  // Second order from a linear mesh puts the nodes at the edge mid-points:
+  // without the CAD model there is no better place.
+  if (order == "2") make_second_order(mesh);
+  else if (order == "1") make_first_order(mesh);
+  else if (!order.empty()) throw UsageError("--order must be 1 or 2");
   io::write_mesh(mesh, pos[1], wopt, to);
   return 0;
 }

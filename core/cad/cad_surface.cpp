@@ -20,6 +20,7 @@
 
 #include "cad/cad_impl.h"
 #include "mesh/error.h"
+#include "mesh/second_order.h"
 #include "volume/region_tetrahedra.h"
 
 namespace vd::cad {
@@ -123,6 +124,18 @@ class CadGeometry : public SurfaceGeometry {
     return chord;
   }
 
+  // Unlike a split vertex, a node goes onto the CAD edge next to a plane too:
+  // the circle where a cylinder meets a plane is where it belongs.
+  Vec3 place_node(const std::vector<int>& faces, const Vec3& chord) const override {
+    std::set<int> distinct(faces.begin(), faces.end());
+    try {
+      if (distinct.size() == 1) return on_face(*distinct.begin(), chord);
+      if (distinct.size() == 2) return on_border(*distinct.begin(), *distinct.rbegin(), chord);
+    } catch (const Standard_Failure&) {
+    }
+    return chord;
+  }
+
  private:
   Vec3 on_face(int number, const Vec3& p) const {
     const int fi = cad_.index_of_face_number(number);
@@ -185,8 +198,17 @@ std::vector<GeometryCheck> CadModel::volume_checks(const Mesh& mesh) const {
 
 std::vector<GeometryCheck> CadModel::area_checks(const Mesh& mesh) const {
   std::map<int, double> area;
-  for (const Triangle& t : mesh.triangles)
-    area[t.face] += 0.5 * norm(cross(mesh.points[t.v[1]] - mesh.points[t.v[0]], mesh.points[t.v[2]] - mesh.points[t.v[0]]));
+  const bool curved = mesh.triangle_mid.size() == mesh.triangles.size() && !mesh.triangles.empty();
+  for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const Triangle& t = mesh.triangles[i];
+    if (curved) {
+      std::array<Vec3, 6> x;
+      for (int k = 0; k < 3; ++k) x[k] = mesh.points[t.v[k]], x[3 + k] = mesh.points[mesh.triangle_mid[i][k]];
+      area[t.face] += quadratic_triangle_area(x);
+    } else {
+      area[t.face] += 0.5 * norm(cross(mesh.points[t.v[1]] - mesh.points[t.v[0]], mesh.points[t.v[2]] - mesh.points[t.v[0]]));
+    }
+  }
   std::vector<GeometryCheck> out;
   for (size_t f = 0; f < impl_->faces.size(); ++f) {
     GProp_GProps props;

@@ -179,3 +179,8 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
 }
 
 }  // namespace vd
+  if (options.order == 2) {
+    // After the quality figures: they are those of the straight elements.
+    timer.start("second order");
+    report.second_order = make_second_order(m, options.delaunayzation.geometry);
+  }

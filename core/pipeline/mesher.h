@@ -12,6 +12,7 @@
 #include "delaunay/facet_oracle.h"
 #include "mesh/mesh.h"
 #include "quality/tet_quality.h"
+#include "mesh/second_order.h"
 #include "surface/delaunayzation.h"
 #include "surface/random_shift.h"
 #include "volume/interior_vertices.h"
@@ -35,6 +36,7 @@ struct MeshOptions {
   bool remove_slivers = true;
   SliverOptions slivers;             // --sliver-angle
   // Called at the start of each phase; empty: silent.
+  int order = 1;                     // 2: 10-node tetrahedra, surface nodes on delaunayzation.geometry
   std::function<void(const std::string& phase)> progress;
 };
 
@@ -78,6 +80,7 @@ struct MeshReport {
   CadInputReport cad;
   bool complete = false;
   std::vector<std::array<int, 3>> missing_facets;       // vertex ids, when not complete
+  SecondOrderStats second_order;     // filled when order == 2
 };
 
 struct MeshResult {

@@ -76,6 +76,12 @@ std::string report_json(const MeshReport& r) {
       for (size_t i = 0; i < v.size(); ++i)
         a << (i ? ", " : "") << "{\"name\": \"" << v[i].name << "\", \"cad\": " << num(v[i].reference)
           << ", \"mesh\": " << num(v[i].mesh) << "}";
+  if (r.second_order.nodes > 0) {
+    const auto& so = r.second_order;
+    s << "  \"second_order\": {\"nodes\": " << so.nodes << ", \"surface_nodes\": " << so.surface_nodes
+      << ", \"on_geometry\": " << so.on_geometry << ", \"kept_straight\": " << so.kept_straight
+      << ", \"min_scaled_jacobian\": " << num(so.min_scaled_jacobian) << "},\n";
+  }
       a << "]";
       return a.str();
     };
@@ -156,3 +162,7 @@ std::string report_table(const MeshReport& r) {
 }
 
 }  // namespace vd
+  if (r.second_order.nodes > 0)
+    row("second order", std::to_string(r.second_order.nodes) + " mid-edge nodes, " +
+                            std::to_string(r.second_order.on_geometry - r.second_order.kept_straight) +
+                            " on the CAD geometry, min scaled Jacobian " + num(r.second_order.min_scaled_jacobian));

@@ -19,6 +19,12 @@ class SurfaceGeometry {
   // given its position `chord` on the straight edge. Returns `chord` when
   // the faces give no better place.
   virtual Vec3 place_on_surface(const std::vector<int>& faces, const Vec3& chord) const = 0;
+  // The position of a second-order node on such an edge. A node never feeds
+  // back into Delaunayzation, so it may always go onto the true geometry
+  // where a split vertex sometimes may not.
+  virtual Vec3 place_node(const std::vector<int>& faces, const Vec3& chord) const {
+    return place_on_surface(faces, chord);
+  }
 };
 
 }  // namespace vd

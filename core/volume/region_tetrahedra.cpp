@@ -10,6 +10,7 @@
 #include "geometry/predicates.h"
 #include "mesh/tet_faces.h"
 #include "mesh/error.h"
+#include "mesh/second_order.h"
 
 namespace vd {
 namespace {
@@ -172,10 +173,13 @@ std::vector<double> enclosed_volumes(const Mesh& m) {
 
 std::vector<double> region_volumes(const Mesh& m) {
   std::vector<double> vol;
-  for (const Tetrahedron& t : m.tets) {
+  const bool curved = m.tet_mid.size() == m.tets.size() && !m.tets.empty();
+  for (size_t i = 0; i < m.tets.size(); ++i) {
+    const Tetrahedron& t = m.tets[i];
     if (t.region < 0) continue;
     if (t.region >= static_cast<int>(vol.size())) vol.resize(t.region + 1, 0.0);
-    vol[t.region] += tet_volume(m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]);
+    vol[t.region] += curved ? quadratic_tet_volume(tet_nodes(m, i))
+                            : tet_volume(m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]);
   }
   return vol;
 }
