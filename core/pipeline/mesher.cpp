@@ -164,7 +164,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     timer.start("slivers");
     SliverOptions so = options.slivers;
     so.ridge_angle_deg = options.delaunayzation.flip_angle_deg;
-    report.slivers = remove_boundary_slivers(m, so);
+    report.slivers = remove_slivers(m, so);
     report.output_facets = static_cast<int>(m.triangles.size());
   }
   for (const Tetrahedron& t : m.tets) {

@@ -54,8 +54,16 @@ std::string report_json(const MeshReport& r) {
     << ", \"rejected_outside\": " << r.interior.rejected_outside << ", \"rejected_near_vertex\": "
     << r.interior.rejected_near_vertex << ", \"rejected_near_surface\": " << r.interior.rejected_near_surface
     << ", \"smallest_size\": " << num(r.smallest_size) << "},\n";
-  s << "  \"slivers\": {\"before\": " << r.slivers.slivers_before << ", \"removed_boundary\": "
-    << r.slivers.removed_boundary << ", \"after\": " << r.slivers.slivers_after << "},\n";
+  const auto& sl = r.slivers;
+  s << "  \"slivers\": {\"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
+    << ", \"flips_23\": " << sl.flips_23 << ", \"flips_32\": " << sl.flips_32
+    << ", \"edge_removals\": " << sl.edge_removals << ", \"moves\": " << sl.moves
+    << ", \"moves_blocked\": " << sl.moves_blocked << ", \"after\": " << sl.slivers_after
+    << ", \"min_dihedral_before_deg\": " << num(sl.min_dihedral_before_deg)
+    << ", \"min_dihedral_after_deg\": " << num(sl.min_dihedral_after_deg)
+    << ", \"tets_below_5_deg_before\": " << sl.below_5_before << ", \"tets_below_10_deg_before\": "
+    << sl.below_10_before << ", \"tets_below_5_deg_after\": " << sl.below_5_after
+    << ", \"tets_below_10_deg_after\": " << sl.below_10_after << "},\n";
   s << "  \"shift\": {\"free\": " << r.shift.moved_free << ", \"in_plane\": " << r.shift.moved_in_plane
     << ", \"on_edge\": " << r.shift.moved_on_edge << ", \"fixed\": " << r.shift.fixed << "},\n";
   s << "  \"seconds\": {";
@@ -148,8 +156,16 @@ std::string report_table(const MeshReport& r) {
   row("tetrahedra", std::to_string(q.tets) + (per_region.empty() ? "" : " (" + per_region + ")"));
   row("dihedral angle (deg)", "min " + num(q.min_dihedral_deg) + ", max " + num(q.max_dihedral_deg));
   row("radius ratio", "min " + num(q.min_radius_ratio) + ", mean " + num(q.mean_radius_ratio));
-  row("slivers removed (case A)", std::to_string(r.slivers.removed_boundary) + " of " +
-                                       std::to_string(r.slivers.slivers_before));
+  const auto& sl = r.slivers;
+  row("slivers (A / B / C)", std::to_string(sl.removed_boundary) + " removed, " +
+                                 std::to_string(sl.flips_23 + sl.flips_32 + sl.edge_removals) + " flips (" +
+                                 std::to_string(sl.flips_23) + " 2-3, " + std::to_string(sl.flips_32) + " 3-2, " +
+                                 std::to_string(sl.edge_removals) + " edge removals), " +
+                                 std::to_string(sl.moves) + " moves; " + std::to_string(sl.slivers_before) +
+                                 " -> " + std::to_string(sl.slivers_after) + " slivers");
+  row("before slivers: min, <5, <10", num(sl.min_dihedral_before_deg) + " deg, " +
+                                          std::to_string(sl.below_5_before) + ", " +
+                                          std::to_string(sl.below_10_before));
   row("tets under 5 / 10 deg", std::to_string(q.below_5_deg) + " / " + std::to_string(q.below_10_deg));
   std::string times;
   double total = 0;

@@ -8,6 +8,7 @@
 #include "mesh/tet_faces.h"
 #include "quality/tet_quality.h"
 #include "surface/face_patches.h"
+#include "volume/sliver_improvement.h"
 
 namespace vd {
 namespace {
@@ -19,14 +20,11 @@ double smallest_dihedral(const Mesh& m, const Tetrahedron& t) {
 
 }  // namespace
 
-SliverStats remove_boundary_slivers(Mesh& m, const SliverOptions& o) {
-  SliverStats stats;
+void remove_boundary_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats) {
   std::map<std::array<int, 3>, int> facet_of;
   for (size_t f = 0; f < m.triangles.size(); ++f) facet_of[sorted_triple(m.triangles[f].v)] = static_cast<int>(f);
   std::vector<bool> removed(m.tets.size(), false);
-  std::vector<bool> dead_facet(m.triangles.size(), false);
   const double cos_ridge = std::cos(o.ridge_angle_deg * M_PI / 180.0);
-  for (const Tetrahedron& t : m.tets) stats.slivers_before += smallest_dihedral(m, t) < o.sliver_angle_deg;
 
   // Removing one sliver exposes faces of its neighbours: repeat until stable.
   for (bool changed = true; changed;) {
@@ -79,7 +77,27 @@ SliverStats remove_boundary_slivers(Mesh& m, const SliverOptions& o) {
   for (size_t ti = 0; ti < m.tets.size(); ++ti)
     if (!removed[ti]) kept.push_back(m.tets[ti]);
   m.tets = std::move(kept);
-  for (const Tetrahedron& t : m.tets) stats.slivers_after += smallest_dihedral(m, t) < o.sliver_angle_deg;
+}
+
+SliverStats remove_slivers(Mesh& m, const SliverOptions& o) {
+  SliverStats stats;
+  auto count_slivers = [&] {
+    long n = 0;
+    for (const Tetrahedron& t : m.tets) n += smallest_dihedral(m, t) < o.sliver_angle_deg;
+    return n;
+  };
+  const QualitySummary before = summarize_quality(m);
+  stats.min_dihedral_before_deg = before.min_dihedral_deg;
+  stats.below_5_before = before.below_5_deg;
+  stats.below_10_before = before.below_10_deg;
+  stats.slivers_before = count_slivers();
+  remove_boundary_slivers(m, o, stats);
+  if (o.flips || o.moves) improve_slivers(m, o, stats);
+  const QualitySummary after = summarize_quality(m);
+  stats.min_dihedral_after_deg = after.min_dihedral_deg;
+  stats.below_5_after = after.below_5_deg;
+  stats.below_10_after = after.below_10_deg;
+  stats.slivers_after = count_slivers();
   return stats;
 }
 

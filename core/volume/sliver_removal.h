@@ -1,9 +1,19 @@
-// Sliver removal (paper §7), case A: a sliver with two faces on the surface
-// (the flat tetrahedra that four nearly coplanar surface vertices make) is
-// removed, and its other two faces replace those two facets, under the rules
-// of a surface flip: same topological face, same regions, ridge angle under
-// the limit. Only slivers against the exterior are removed here; an interface
-// sliver would have to change region instead.
+// Sliver removal (paper §7) on the tetrahedra of a finished mesh.
+//
+// Case A: a sliver with two faces on the surface (the flat tetrahedra that
+// four nearly coplanar surface vertices make) is removed, and its other two
+// faces replace those two facets, under the rules of a surface flip: same
+// topological face, same regions, ridge angle under the limit. Only slivers
+// against the exterior are removed; an interface sliver would have to change
+// region instead.
+// Case B (volume/sliver_improvement.h): an interior sliver is removed by a
+// 2-3 flip across one of its faces or by removing one of its edges (3-2 flip
+// and its generalisation), inside one region, when the smallest dihedral
+// angle of the tetrahedra involved grows.
+// Case C (same file): the sliver is opened by moving one of its interior
+// vertices to where the smallest dihedral angle around that vertex is largest.
+// B and C never touch a surface facet, so the surface and its tags stay
+// exactly as case A left them.
 #pragma once
 
 #include "mesh/mesh.h"
@@ -12,15 +22,30 @@ namespace vd {
 
 struct SliverOptions {
   double sliver_angle_deg = 10.0;  // tetrahedra with a smaller dihedral angle are slivers
-  double ridge_angle_deg = 20.0;   // as for flips
+  double ridge_angle_deg = 20.0;   // case A: largest angle between the two new facets
+  bool flips = true;               // case B
+  bool moves = true;               // case C
+  int max_passes = 8;              // of cases B and C over the remaining slivers
 };
 
 struct SliverStats {
-  long slivers_before = 0;     // tetrahedra under the sliver angle
-  long removed_boundary = 0;   // case A
+  long slivers_before = 0;      // tetrahedra under the sliver angle
+  long removed_boundary = 0;    // case A
+  long flips_23 = 0;            // case B: face swaps (two tetrahedra into three)
+  long flips_32 = 0;            // case B: edge with three tetrahedra around it (three into two)
+  long edge_removals = 0;       // case B: edge with four to seven tetrahedra around it
+  long moves = 0;               // case C: interior vertices moved
+  long moves_blocked = 0;       // case C: better position found, refused to keep a surface facet Delaunay
   long slivers_after = 0;
+  // Over all tetrahedra, before case A and after the last pass.
+  double min_dihedral_before_deg = 0, min_dihedral_after_deg = 0;
+  long below_5_before = 0, below_10_before = 0, below_5_after = 0, below_10_after = 0;
 };
 
-SliverStats remove_boundary_slivers(Mesh& m, const SliverOptions& options);
+// Case A alone (counts into stats.removed_boundary).
+void remove_boundary_slivers(Mesh& m, const SliverOptions& options, SliverStats& stats);
+
+// Cases A, B and C in that order, with the before / after figures.
+SliverStats remove_slivers(Mesh& m, const SliverOptions& options);
 
 }  // namespace vd

@@ -1,0 +1,532 @@
+#include "volume/sliver_improvement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "geometry/predicates.h"
+#include "mesh/tet_faces.h"
+
+namespace vd {
+
+double smallest_dihedral_if_positive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const Vec3 ab = b - a, ac = c - a, ad = d - a;
+  if (dot(cross(ab, ac), ad) <= 0) return -1.0;
+  // Outward normals of the faces opposite d, c, b and a of a positive tetrahedron.
+  const Vec3 n[4] = {cross(ac, ab), cross(ab, ad), cross(ad, ac), cross(c - b, d - b)};
+  double len[4];
+  for (int i = 0; i < 4; ++i) {
+    len[i] = norm(n[i]);
+    if (!(len[i] > 0)) return -1.0;
+  }
+  // The dihedral angle at an edge is pi minus the angle between the outward
+  // normals of its two faces: the smallest angle has the smallest cosine.
+  double lowest = 1.0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) lowest = std::min(lowest, dot(n[i], n[j]) / (len[i] * len[j]));
+  return 180.0 - std::acos(std::clamp(lowest, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+namespace {
+
+using Triple = std::array<int, 3>;
+
+struct TripleHash {
+  size_t operator()(const Triple& k) const {
+    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
+  }
+};
+
+// Smaller gains are not worth a change (and a strict gain rules out cycles).
+constexpr double kMinGainDeg = 1e-6;
+// Largest number of tetrahedra around an edge that edge removal considers.
+constexpr int kMaxRing = 7;
+
+// True when (a, b, c, d) lists the vertices of v as an even permutation of v,
+// i.e. with the orientation of v.
+bool same_orientation(const std::array<int, 4>& v, int a, int b, int c, int d) {
+  const int want[4] = {a, b, c, d};
+  int pos[4];
+  for (int i = 0; i < 4; ++i) pos[i] = static_cast<int>(std::find(v.begin(), v.end(), want[i]) - v.begin());
+  int inversions = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) inversions += pos[i] > pos[j];
+  return inversions % 2 == 0;
+}
+
+bool contains(const std::array<int, 4>& v, int x) { return std::find(v.begin(), v.end(), x) != v.end(); }
+
+// The vertex of v that is not in f.
+int apex(const std::array<int, 4>& v, const Triple& f) {
+  for (int x : v)
+    if (x != f[0] && x != f[1] && x != f[2]) return x;
+  return -1;
+}
+
+// The tetrahedra of the mesh with their face adjacency and vertex stars,
+// changed in place by flips; surface facets are the faces that no change may
+// remove.
+class TetComplex {
+ public:
+  explicit TetComplex(Mesh& m) : m_(m), star_(m.points.size()), on_surface_(m.points.size(), false) {
+    for (const Triangle& t : m.triangles) {
+      constrained_.insert(sorted_triple(t.v));
+      for (int v : t.v) on_surface_[v] = true;
+    }
+    tets_.reserve(m.tets.size() + m.tets.size() / 4);
+    for (const Tetrahedron& t : m.tets) add(t);
+  }
+
+  const Vec3& point(int v) const { return m_.points[v]; }
+  void move_point(int v, const Vec3& p) {
+    m_.points[v] = p;
+    for (int t : star_[v]) quality_[t] = measure(tets_[t].v);
+  }
+  int size() const { return static_cast<int>(tets_.size()); }
+  bool alive(int t) const { return alive_[t]; }
+  const Tetrahedron& tet(int t) const { return tets_[t]; }
+  double quality(int t) const { return quality_[t]; }
+  bool on_surface(int v) const { return on_surface_[v]; }
+  const std::vector<int>& star(int v) const { return star_[v]; }
+
+  double measure(const std::array<int, 4>& v) const {
+    return smallest_dihedral_if_positive(point(v[0]), point(v[1]), point(v[2]), point(v[3]));
+  }
+  bool exactly_positive(const std::array<int, 4>& v) const {
+    return orientation(point(v[0]), point(v[1]), point(v[2]), point(v[3])) > 0;
+  }
+
+  // The tetrahedra on the two sides of a face (-1 where there is none).
+  std::array<int, 2> face_tets(const Triple& f) const {
+    auto it = faces_.find(sorted_triple(f));
+    return it == faces_.end() ? std::array<int, 2>{-1, -1} : it->second;
+  }
+  // The tetrahedron across face f of t, or -1 when f is a surface facet.
+  int across(int t, const Triple& f) const {
+    if (constrained_.count(sorted_triple(f))) return -1;
+    const auto p = face_tets(f);
+    return p[0] == t ? p[1] : p[0];
+  }
+
+  int add(const Tetrahedron& t) {
+    const int id = size();
+    tets_.push_back(t);
+    alive_.push_back(true);
+    quality_.push_back(measure(t.v));
+    for (int i = 0; i < 4; ++i) {
+      star_[t.v[i]].push_back(id);
+      const Triple key = sorted_triple(face_opposite(t.v, i));
+      auto& p = faces_.try_emplace(key, std::array<int, 2>{-1, -1}).first->second;
+      if (p[0] < 0) p[0] = id;
+      else if (p[1] < 0) p[1] = id;
+      else constrained_.insert(key);  // a face of three tetrahedra (broken input): left alone
+    }
+    return id;
+  }
+
+  void kill(int id) {
+    alive_[id] = false;
+    const Tetrahedron& t = tets_[id];
+    for (int i = 0; i < 4; ++i) {
+      auto& s = star_[t.v[i]];
+      s.erase(std::find(s.begin(), s.end(), id));
+      auto it = faces_.find(sorted_triple(face_opposite(t.v, i)));
+      if (it == faces_.end()) continue;
+      auto& p = it->second;
+      if (p[0] == id) p[0] = p[1], p[1] = -1;
+      else if (p[1] == id) p[1] = -1;
+      if (p[0] < 0) faces_.erase(it);
+    }
+  }
+
+  // The tetrahedra around edge (a, b) and their other vertices in ring order,
+  // (a, b, ring[i], ring[i+1]) positive. False when a face around the edge is
+  // a surface facet (the edge is on the surface or crosses it) or the ring
+  // has more than max_ring tetrahedra.
+  bool edge_ring(int a, int b, int max_ring, std::vector<int>& tets, std::vector<int>& ring) const {
+    tets.clear();
+    ring.clear();
+    int t0 = -1;
+    for (int t : star_[a])
+      if (contains(tets_[t].v, b)) {
+        t0 = t;
+        break;
+      }
+    if (t0 < 0) return false;
+    int c = -1, d = -1;
+    for (int x : tets_[t0].v)
+      if (x != a && x != b) (c < 0 ? c : d) = x;
+    if (!same_orientation(tets_[t0].v, a, b, c, d)) std::swap(c, d);
+    ring = {c, d};
+    tets = {t0};
+    for (int t = t0;;) {
+      const int last = ring.back();
+      const int next = across(t, {a, b, last});
+      if (next < 0 || tets_[next].region != tets_[t0].region) return false;
+      if (next == t0) {
+        const bool closed = last == ring.front();
+        ring.pop_back();
+        return closed && ring.size() == tets.size();
+      }
+      if (static_cast<int>(tets.size()) >= max_ring) return false;
+      tets.push_back(next);
+      ring.push_back(apex(tets_[next].v, {a, b, last}));
+      t = next;
+    }
+  }
+
+  // Alive tetrahedra in their order (originals first, then those made by
+  // flips), back into the mesh.
+  void write_back() {
+    std::vector<Tetrahedron> kept;
+    kept.reserve(tets_.size());
+    for (int t = 0; t < size(); ++t)
+      if (alive_[t]) kept.push_back(tets_[t]);
+    m_.tets = std::move(kept);
+  }
+
+ private:
+  Mesh& m_;
+  std::vector<Tetrahedron> tets_;
+  std::vector<bool> alive_;
+  std::vector<double> quality_;
+  std::vector<std::vector<int>> star_;
+  std::vector<bool> on_surface_;
+  std::unordered_set<Triple, TripleHash> constrained_;
+  std::unordered_map<Triple, std::array<int, 2>, TripleHash> faces_;
+};
+
+// A set of tetrahedra that may replace others with the same boundary.
+struct Replacement {
+  enum Kind { flip_23, flip_32, edge_removal } kind = flip_23;
+  std::vector<int> old_tets;
+  std::vector<Tetrahedron> new_tets;
+  double old_quality = 0, new_quality = -1;
+};
+
+double min_quality(const TetComplex& c, const std::vector<int>& tets) {
+  double q = 180;
+  for (int t : tets) q = std::min(q, c.quality(t));
+  return q;
+}
+
+// 2-3 flip across face i of t: the face goes, the edge between the two apexes comes.
+bool face_swap(const TetComplex& c, int t, int i, Replacement& r) {
+  const Tetrahedron& tt = c.tet(t);
+  const int a = tt.v[i];
+  Triple f = face_opposite(tt.v, i);
+  if (!same_orientation(tt.v, f[0], f[1], f[2], a)) std::swap(f[1], f[2]);
+  const int u = c.across(t, f);
+  if (u < 0) return false;
+  const int b = apex(c.tet(u).v, f);
+  r.kind = Replacement::flip_23;
+  r.old_tets = {t, u};
+  r.old_quality = std::min(c.quality(t), c.quality(u));
+  r.new_tets.clear();
+  r.new_quality = 180;
+  // With a above f (orientation (f, a) positive) and b below, (p, q, b, a)
+  // is positive for each edge (p, q) of f when segment ab crosses f.
+  for (int e = 0; e < 3; ++e) {
+    const Tetrahedron n{{f[e], f[(e + 1) % 3], b, a}, tt.region};
+    r.new_quality = std::min(r.new_quality, c.measure(n.v));
+    r.new_tets.push_back(n);
+  }
+  return r.new_quality > 0;
+}
+
+// Edge removal: the tetrahedra around edge (a, b) replaced by the pairs
+// (triangle, a) and (triangle, b) over the triangulation of the ring polygon
+// with the largest smallest angle (dynamic programming over sub-polygons).
+bool remove_edge(const TetComplex& c, int a, int b, Replacement& r) {
+  std::vector<int> tets, ring;
+  if (!c.edge_ring(a, b, kMaxRing, tets, ring)) return false;
+  const int n = static_cast<int>(ring.size());
+  const int region = c.tet(tets[0]).region;
+  // For ring positions i < k < j: (ri, rk, rj, b) and (ri, rj, rk, a) are the
+  // positive orders, given (a, b, r_i, r_i+1) positive.
+  auto pair_of = [&](int i, int k, int j) {
+    return std::array<std::array<int, 4>, 2>{std::array<int, 4>{ring[i], ring[k], ring[j], b},
+                                             std::array<int, 4>{ring[i], ring[j], ring[k], a}};
+  };
+  auto triangle_quality = [&](int i, int k, int j) {
+    const auto p = pair_of(i, k, j);
+    return std::min(c.measure(p[0]), c.measure(p[1]));
+  };
+  constexpr double kOpen = std::numeric_limits<double>::infinity();
+  std::vector<double> best(n * n, kOpen);
+  std::vector<int> split(n * n, -1);
+  for (int len = 2; len < n; ++len)
+    for (int i = 0; i + len < n; ++i) {
+      const int j = i + len;
+      double q = -1;
+      for (int k = i + 1; k < j; ++k) {
+        const double v = std::min({best[i * n + k], best[k * n + j], triangle_quality(i, k, j)});
+        if (v > q) q = v, split[i * n + j] = k;
+      }
+      best[i * n + j] = q;
+    }
+  r.kind = n == 3 ? Replacement::flip_32 : Replacement::edge_removal;
+  r.old_tets = tets;
+  r.old_quality = min_quality(c, tets);
+  r.new_quality = best[n - 1];
+  r.new_tets.clear();
+  if (!(r.new_quality > 0)) return false;
+  std::vector<std::pair<int, int>> todo{{0, n - 1}};
+  while (!todo.empty()) {
+    const auto [i, j] = todo.back();
+    todo.pop_back();
+    if (j - i < 2) continue;
+    const int k = split[i * n + j];
+    for (const auto& v : pair_of(i, k, j)) r.new_tets.push_back({v, region});
+    todo.push_back({i, k});
+    todo.push_back({k, j});
+  }
+  return true;
+}
+
+// The best flip that removes tetrahedron t (case B), if one improves.
+bool best_flip(const TetComplex& c, int t, Replacement& best) {
+  Replacement r;
+  bool found = false;
+  auto consider = [&] {
+    if (r.new_quality > r.old_quality + kMinGainDeg && (!found || r.new_quality > best.new_quality)) {
+      best = r;
+      found = true;
+    }
+  };
+  for (int i = 0; i < 4; ++i)
+    if (face_swap(c, t, i, r)) consider();
+  const std::array<int, 4> v = c.tet(t).v;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      if (remove_edge(c, v[i], v[j], r)) consider();
+  return found;
+}
+
+bool apply_if_valid(TetComplex& c, const Replacement& r, SliverStats& stats) {
+  for (const Tetrahedron& t : r.new_tets)
+    if (!c.exactly_positive(t.v)) return false;
+  for (int t : r.old_tets) c.kill(t);
+  for (const Tetrahedron& t : r.new_tets) c.add(t);
+  (r.kind == Replacement::flip_23 ? stats.flips_23 : r.kind == Replacement::flip_32 ? stats.flips_32
+                                                                                     : stats.edge_removals)++;
+  return true;
+}
+
+// Witness spheres of the surface facets (see the header): an empty sphere
+// through each facet, taken while the tetrahedra are still Delaunay, kept as
+// its four defining points so that the exact in-sphere predicate decides.
+class WitnessSpheres {
+ public:
+  WitnessSpheres(const TetComplex& c, const Mesh& m) {
+    double edge_sum = 0;
+    for (const Triangle& t : m.triangles)
+      for (int e = 0; e < 3; ++e) edge_sum += norm(m.points[t.v[(e + 1) % 3]] - m.points[t.v[e]]);
+    cell_ = m.triangles.empty() ? 1.0 : 2.0 * edge_sum / (3.0 * m.triangles.size());
+    for (const Triangle& f : m.triangles) {
+      int chosen = -1;
+      double radius = std::numeric_limits<double>::infinity();
+      for (int t : c.face_tets(f.v)) {
+        if (t < 0) continue;
+        const auto& v = c.tet(t).v;
+        const Ball b = circumsphere(c.point(v[0]), c.point(v[1]), c.point(v[2]), c.point(v[3]));
+        if (chosen < 0 || b.radius < radius) chosen = t, radius = b.radius;
+      }
+      if (chosen < 0) continue;
+      const auto& v = c.tet(chosen).v;
+      add({c.point(v[0]), c.point(v[1]), c.point(v[2]), c.point(v[3])});
+    }
+  }
+
+  // True when p is strictly outside every witness sphere.
+  bool allows(const Vec3& p) const {
+    auto outside = [&](int s) {
+      const auto& w = spheres_[s];
+      return side_of_circumsphere(w[0], w[1], w[2], w[3], p) == SphereSide::outside;
+    };
+    for (int s : large_)
+      if (!outside(s)) return false;
+    auto it = cells_.find(cell_of(p));
+    if (it != cells_.end())
+      for (int s : it->second)
+        if (!outside(s)) return false;
+    return true;
+  }
+
+ private:
+  using Cell = std::array<std::int64_t, 3>;
+  struct CellHash {
+    size_t operator()(const Cell& k) const {
+      return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
+    }
+  };
+  Cell cell_of(const Vec3& p) const {
+    return {static_cast<std::int64_t>(std::floor(p.x / cell_)), static_cast<std::int64_t>(std::floor(p.y / cell_)),
+            static_cast<std::int64_t>(std::floor(p.z / cell_))};
+  }
+  void add(const std::array<Vec3, 4>& w) {
+    const int id = static_cast<int>(spheres_.size());
+    spheres_.push_back(w);
+    const Ball b = circumsphere(w[0], w[1], w[2], w[3]);
+    // Spheres spanning many cells (and flat tetrahedra, radius +inf) are
+    // tested for every point instead of being spread over cells.
+    if (!(b.radius < 3.0 * cell_)) {
+      large_.push_back(id);
+      return;
+    }
+    const double r = b.radius * (1 + 1e-6) + 1e-12 * cell_;
+    const Cell lo = cell_of(b.centre - Vec3{r, r, r}), hi = cell_of(b.centre + Vec3{r, r, r});
+    for (auto x = lo[0]; x <= hi[0]; ++x)
+      for (auto y = lo[1]; y <= hi[1]; ++y)
+        for (auto z = lo[2]; z <= hi[2]; ++z) cells_[{x, y, z}].push_back(id);
+  }
+
+  double cell_ = 1.0;
+  std::vector<std::array<Vec3, 4>> spheres_;
+  std::vector<int> large_;
+  std::unordered_map<Cell, std::vector<int>, CellHash> cells_;
+};
+
+// The 26 directions of a compass search (cube neighbours, unit length).
+std::vector<Vec3> compass_directions() {
+  std::vector<Vec3> d;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z)
+        if (x || y || z) d.push_back(normalized(Vec3{double(x), double(y), double(z)}));
+  return d;
+}
+
+// Where interior vertex v should go: the position with the largest smallest
+// dihedral angle over the tetrahedra around it, by compass search from the
+// better of its position and the centroid of its neighbours. Returns the
+// smallest angle there (old_quality when nothing better was found).
+double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
+  struct Local {
+    std::array<Vec3, 4> p;
+    int slot;
+  };
+  std::vector<Local> local;
+  Vec3 centroid{0, 0, 0};
+  double spacing = 0;
+  int neighbours = 0;
+  for (int t : c.star(v)) {
+    Local l;
+    for (int i = 0; i < 4; ++i) {
+      const int x = c.tet(t).v[i];
+      l.p[i] = c.point(x);
+      if (x == v) l.slot = i;
+      else centroid = centroid + l.p[i], spacing += norm(l.p[i] - c.point(v)), ++neighbours;
+    }
+    local.push_back(l);
+  }
+  if (!neighbours) return old_quality;
+  centroid = (1.0 / neighbours) * centroid;
+  spacing /= neighbours;
+  // Smallest angle with v at x, stopping early once it cannot beat `floor`.
+  auto quality_at = [&](const Vec3& x, double floor) {
+    double lo = 180;
+    for (Local l : local) {
+      l.p[l.slot] = x;
+      lo = std::min(lo, smallest_dihedral_if_positive(l.p[0], l.p[1], l.p[2], l.p[3]));
+      if (lo <= floor) return lo;
+    }
+    return lo;
+  };
+  static const std::vector<Vec3> directions = compass_directions();
+  Vec3 x = c.point(v);
+  double q = old_quality;
+  const double qc = quality_at(centroid, q);
+  if (qc > q) x = centroid, q = qc;
+  double step = 0.2 * spacing;
+  for (int round = 0; round < 60 && step > 1e-3 * spacing; ++round) {
+    Vec3 best = x;
+    double best_q = q;
+    for (const Vec3& d : directions) {
+      const Vec3 y = x + step * d;
+      const double qy = quality_at(y, best_q);
+      if (qy > best_q) best = y, best_q = qy;
+    }
+    if (best_q > q + 1e-9) x = best, q = best_q;
+    else step *= 0.5;
+  }
+  to = x;
+  return q;
+}
+
+// Case C for tetrahedron t: the best accepted move of one of its interior vertices.
+bool move_a_vertex(TetComplex& c, const WitnessSpheres& w, int t, SliverStats& stats) {
+  int best_v = -1;
+  Vec3 best_to;
+  double best_gain = kMinGainDeg;
+  bool blocked = false;
+  for (int v : c.tet(t).v) {
+    if (c.on_surface(v)) continue;
+    const double old_q = min_quality(c, c.star(v));
+    Vec3 to;
+    const double new_q = best_position(c, v, old_q, to);
+    if (new_q - old_q <= best_gain) continue;
+    // Shorter moves along the same way when the full one would enter a
+    // witness sphere.
+    const Vec3 from = c.point(v);
+    for (int halving = 0; halving < 5; ++halving) {
+      const Vec3 p = from + std::ldexp(1.0, -halving) * (to - from);
+      bool positive = true;
+      double q = 180;
+      for (int s : c.star(v)) {
+        std::array<Vec3, 4> x;
+        for (int i = 0; i < 4; ++i) x[i] = c.tet(s).v[i] == v ? p : c.point(c.tet(s).v[i]);
+        positive = positive && orientation(x[0], x[1], x[2], x[3]) > 0;
+        q = std::min(q, smallest_dihedral_if_positive(x[0], x[1], x[2], x[3]));
+      }
+      if (!positive || q - old_q <= best_gain) continue;
+      if (!w.allows(p)) {
+        blocked = true;
+        continue;
+      }
+      best_v = v, best_to = p, best_gain = q - old_q;
+      break;
+    }
+  }
+  if (best_v < 0) {
+    stats.moves_blocked += blocked;
+    return false;
+  }
+  c.move_point(best_v, best_to);
+  ++stats.moves;
+  return true;
+}
+
+}  // namespace
+
+void improve_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats) {
+  TetComplex c(m);
+  std::unique_ptr<WitnessSpheres> witnesses;
+  if (o.moves) witnesses = std::make_unique<WitnessSpheres>(c, m);
+  for (int pass = 0; pass < o.max_passes; ++pass) {
+    std::vector<std::pair<double, int>> slivers;
+    for (int t = 0; t < c.size(); ++t)
+      if (c.alive(t) && c.quality(t) < o.sliver_angle_deg) slivers.emplace_back(c.quality(t), t);
+    std::sort(slivers.begin(), slivers.end());
+    long changes = 0;
+    for (const auto& [quality, t] : slivers) {
+      if (!c.alive(t) || c.quality(t) >= o.sliver_angle_deg) continue;
+      Replacement r;
+      if (o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) {
+        ++changes;
+        continue;
+      }
+      if (o.moves && move_a_vertex(c, *witnesses, t, stats)) ++changes;
+    }
+    if (!changes) break;
+  }
+  c.write_back();
+}
+
+}  // namespace vd

@@ -1,0 +1,29 @@
+// Sliver removal, cases B and C of paper §7 (see volume/sliver_removal.h).
+//
+// Every change replaces the tetrahedra of a star-shaped cavity by others with
+// the same boundary, and is kept only when each new tetrahedron is positive
+// by the exact orientation predicate: positive tetrahedra whose boundary is
+// the cavity's tile it exactly once, so the mesh stays valid and conforming.
+// Surface facets are never flipped and surface vertices never move.
+// A vertex move also keeps every surface facet a face of the Delaunay
+// tetrahedralization of the vertices: each facet keeps an empty witness
+// sphere (circumsphere of a tetrahedron beside it, taken before any change)
+// and a vertex may only move to a point strictly outside all of them.
+#pragma once
+
+#include "mesh/mesh.h"
+#include "volume/sliver_removal.h"
+
+namespace vd {
+
+// Runs up to options.max_passes passes over the tetrahedra under the sliver
+// angle, worst first: the best improving flip (case B) if there is one, else
+// the best improving move of one of the sliver's interior vertices (case C).
+// Deterministic: no random choice, the order is by quality then index.
+void improve_slivers(Mesh& m, const SliverOptions& options, SliverStats& stats);
+
+// Smallest dihedral angle in degrees of (a, b, c, d), or a negative value
+// when its floating-point volume is not positive. One acos per call.
+double smallest_dihedral_if_positive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+}  // namespace vd
