@@ -1,19 +1,19 @@
-"""Regenerates the fuzz seed corpus (tests/fuzz/corpus/) from one tiny mesh.
+"""Regenerates the fuzz seed corpus (tests/fuzz/corpus/<target>/) from one tiny mesh.
 
-Usage: python3 make_corpus.py CONVERTER
-CONVERTER is a program called as `CONVERTER IN OUT [binary] [22]` that
-converts with vd::io (the dev helper in build folders does). Each seed is
-the selector byte of its extension (see kExtensions in fuzz_readers.cpp)
-followed by the file's bytes. seed_vtu_zlib and seed_vtu_appended are the
-files tests/unit/converters_vtu_test.cpp writes, with the selector byte 5.
+Usage: /usr/bin/python3 make_corpus.py VDMESH
+VDMESH is the vdmesh program (build/bin/vdmesh); seeds are written by
+`vdmesh convert`. One folder per fuzz target (tests/fuzz/targets.cmake); a
+seed is the file's bytes as is, except for the "tetgen" target, whose inputs
+are X.node, X.ele and X.face joined by NUL bytes (see fuzz_reader.cpp).
+Seeds not made here stay: vtu/seed_vtu_zlib and vtu/seed_vtu_appended are the
+files tests/unit/converters_vtu_test.cpp writes, and crash-* seeds are inputs
+that once crashed a reader.
 """
 import gzip
 import os
 import subprocess
 import sys
 import tempfile
-
-EXTENSIONS = [".off", ".stl", ".obj", ".msh", ".vtk", ".vtu", ".node", ".poly", ".smesh", ".mesh", ".inp", ".off.gz"]
 
 TWO_TETS = """MeshVersionFormatted 2
 Dimension 3
@@ -54,32 +54,40 @@ HOLED_POLY = """8 3 0 0
 """
 
 
+def convert(vdmesh, src, out, opts):
+    subprocess.run([vdmesh, "convert", src, out] + opts, check=True, capture_output=True)
+
+
 def main():
-    converter = sys.argv[1]
+    vdmesh = sys.argv[1]
     here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
-    os.makedirs(here, exist_ok=True)
+
+    def seed(target, name, data):
+        os.makedirs(os.path.join(here, target), exist_ok=True)
+        with open(os.path.join(here, target, name), "wb") as f:
+            f.write(data)
+
     with tempfile.TemporaryDirectory() as tmp:
         src = os.path.join(tmp, "two.mesh")
         with open(src, "w") as f:
             f.write(TWO_TETS)
-        variants = []
-        for ext in [".off", ".stl", ".obj", ".vtk", ".vtu", ".smesh", ".poly", ".mesh", ".inp", ".msh"]:
-            variants.append((ext, []))
-        for ext in [".stl", ".vtk", ".vtu", ".msh"]:
-            variants.append((ext, ["binary"]))
-        variants += [(".msh", ["22"]), (".msh", ["binary", "22"]), (".node", [])]
+        variants = [(ext, []) for ext in [".off", ".stl", ".obj", ".vtk", ".vtu", ".smesh", ".poly", ".mesh", ".inp", ".msh"]]
+        variants += [(ext, ["--binary"]) for ext in [".stl", ".vtk", ".vtu", ".msh"]]
+        variants += [(".msh", ["--msh-version", "22"]), (".msh", ["--binary", "--msh-version", "22"])]
         for ext, opts in variants:
             out = os.path.join(tmp, "out" + ext)
-            subprocess.run([converter, src, out] + opts, check=True, capture_output=True)
-            data = open(out, "rb").read()
-            name = "seed_%s%s" % (ext.strip("."), "_" + "_".join(opts) if opts else "")
-            with open(os.path.join(here, name), "wb") as f:
-                f.write(bytes([EXTENSIONS.index(ext)]) + data)
-        with open(os.path.join(here, "seed_poly_hole"), "wb") as f:
-            f.write(bytes([EXTENSIONS.index(".poly")]) + HOLED_POLY.encode())
-        off = open(os.path.join(tmp, "out.off"), "rb").read()
-        with open(os.path.join(here, "seed_off_gz"), "wb") as f:
-            f.write(bytes([EXTENSIONS.index(".off.gz")]) + gzip.compress(off))
+            convert(vdmesh, src, out, opts)
+            suffix = "".join("_" + o.strip("-").replace("msh-version", "") for o in opts if o != "--msh-version")
+            seed(ext.strip("."), "seed_%s%s" % (ext.strip("."), suffix), open(out, "rb").read())
+        seed("poly", "seed_poly_hole", HOLED_POLY.encode())
+        seed("gz", "seed_off_gz", gzip.compress(open(os.path.join(tmp, "out.off"), "rb").read()))
+        # TetGen: with and without the .face part, and first and second order.
+        base = os.path.join(tmp, "tg")
+        convert(vdmesh, src, base + ".node", [])
+        parts = [open(base + ext, "rb").read() for ext in (".node", ".ele", ".face")]
+        seed("tetgen", "seed_node_ele_face", b"\0".join(parts))
+        seed("tetgen", "seed_node_ele", b"\0".join(parts[:2]))
+        seed("tetgen", "seed_node_only", parts[0])
 
 
 if __name__ == "__main__":
