@@ -17,6 +17,7 @@ class PhaseTimer {
   ~PhaseTimer() { stop(); }
   void start(const std::string& phase) {
     stop();
+    throw_if_cancelled(options_.cancel);
     phase_ = phase;
     if (options_.progress) options_.progress(phase);
     t0_ = std::chrono::steady_clock::now();
@@ -108,6 +109,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   oracle->attach(&m.points, &dt);
   DelaunayzationOptions dopt = options.delaunayzation;
   dopt.seed = options.seed;
+  dopt.cancel = options.cancel;
 
   auto recover = [&](const char* phase) {
     timer.start(phase);
@@ -145,7 +147,14 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     InteriorOptions iopt = options.interior_options;
     iopt.seed = options.seed;
     const RegionLocator locate(m, dt);
-    const std::vector<Vec3> interior = generate_interior_vertices(m, size, locate, iopt, report.interior);
+    // Every candidate is located once: the place to look at the cancel flag.
+    unsigned located = 0;
+    auto locate_or_cancel = [&](const Vec3& p) {
+      if ((++located & 255u) == 0) throw_if_cancelled(options.cancel);
+      return locate(p);
+    };
+    const std::vector<Vec3> interior =
+        generate_interior_vertices(m, size, locate_or_cancel, iopt, report.interior);
     report.interior_vertices = static_cast<long>(interior.size());
     const int first = static_cast<int>(m.points.size());
     m.points.insert(m.points.end(), interior.begin(), interior.end());

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "delaunay/facet_oracle.h"
+#include "mesh/cancel.h"
 #include "mesh/mesh.h"
 #include "quality/tet_quality.h"
 #include "mesh/second_order.h"
@@ -38,6 +39,9 @@ struct MeshOptions {
   // Called at the start of each phase; empty: silent.
   int order = 1;                     // 2: 10-node tetrahedra, surface nodes on delaunayzation.geometry
   std::function<void(const std::string& phase)> progress;
+  // Set from another thread to stop the run: mesh_surface then throws
+  // CancelledError (checked between phases and inside the long loops).
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // A quantity the input defines exactly (CAD volume of a solid, area of a
@@ -88,7 +92,8 @@ struct MeshResult {
   MeshReport report;
 };
 
-// Throws InputError for invalid input (before any work) and RecoveryError
+// Throws InputError for invalid input (before any work), CancelledError when
+// options.cancel is set during the run, and RecoveryError
 // when Delaunayzation stops at a guard: then `partial` (if given) receives
 // the result so far, with the facets still missing in report.missing_facets.
 MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial = nullptr);

@@ -36,7 +36,10 @@ class Delaunayzer {
       for (int v : m_.triangles[f].v) vertex_facets_[v].push_back(static_cast<int>(f));
     delaunay_.resize(m_.triangles.size());
     version_.assign(m_.triangles.size(), 0);
-    for (size_t f = 0; f < m_.triangles.size(); ++f) delaunay_[f] = query(m_.triangles[f]);
+    for (size_t f = 0; f < m_.triangles.size(); ++f) {
+      poll_cancel();
+      delaunay_[f] = query(m_.triangles[f]);
+    }
     Vec3 lo = m_.points.front(), hi = lo;
     for (const Vec3& p : m_.points)
       for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
@@ -49,6 +52,7 @@ class Delaunayzer {
   DelaunayzationResult run() {
     for (;;) {
       while (!guard_hit()) {
+        throw_if_cancelled(opt_.cancel);
         std::vector<int> missing = non_delaunay();
         if (missing.empty()) break;
         if (opt_.flips) flips(missing);
@@ -65,6 +69,11 @@ class Delaunayzer {
   }
 
  private:
+  // Cheap enough for the inner loops: the flag is read every 256 calls.
+  void poll_cancel() {
+    if ((++polls_ & 255u) == 0) throw_if_cancelled(opt_.cancel);
+  }
+
   bool guard_hit() const {
     return result_.passes >= opt_.max_passes || result_.added_vertices >= max_added_;
   }
@@ -119,8 +128,10 @@ class Delaunayzer {
   // FLIPS: for each non-Delaunay facet, flip with the first acceptable
   // neighbour (FLIPPABLE_NEIGHBOR).
   void flips(const std::vector<int>& candidates) {
-    for (int b : candidates)
+    for (int b : candidates) {
+      poll_cancel();
       if (!delaunay_[b]) try_flip(b);
+    }
   }
 
   bool try_flip(int b) {
@@ -187,6 +198,7 @@ class Delaunayzer {
     for (size_t f = 0; f < delaunay_.size(); ++f)
       if (!delaunay_[f]) todo.emplace_back(static_cast<int>(f), version_[f]);
     for (const auto& [f, ver] : todo) {
+      poll_cancel();
       if (version_[f] != ver || delaunay_[f]) continue;
       if (result_.added_vertices >= max_added_) return;
       const Triangle& t = m_.triangles[f];
@@ -269,6 +281,7 @@ class Delaunayzer {
   double min_edge_ = 0;
   int max_added_ = 0;
   int input_facets_ = 0;
+  unsigned polls_ = 0;
   DelaunayzationResult result_;
 };
 

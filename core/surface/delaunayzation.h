@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "delaunay/facet_oracle.h"
+#include "mesh/cancel.h"
 #include "mesh/mesh.h"
 
 namespace vd {
@@ -25,6 +26,8 @@ struct DelaunayzationOptions {
   double split_jitter = 1e-4;    // relative to the edge length, along the edge
   // Places split vertices on the true surface (CAD input); null: on the chord.
   const SurfaceGeometry* geometry = nullptr;
+  // Set from another thread to stop: delaunayize then throws CancelledError.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct DelaunayzationResult {

@@ -1,0 +1,27 @@
+// Cooperative cancellation of a long run (the Python module's Ctrl-C, a GUI's
+// Cancel button). The caller owns an atomic flag and passes its address in
+// the options; the pipeline looks at it between phases and every few hundred
+// steps of its long loops, and unwinds with CancelledError. Polling instead of
+// killing a thread keeps every container and CGAL structure consistent.
+#pragma once
+
+#include <atomic>
+#include <stdexcept>
+
+namespace vd {
+
+// The run was stopped through its cancel flag; no result exists.
+class CancelledError : public std::runtime_error {
+ public:
+  CancelledError() : std::runtime_error("cancelled") {}
+};
+
+inline bool cancel_requested(const std::atomic<bool>* cancel) {
+  return cancel != nullptr && cancel->load(std::memory_order_relaxed);
+}
+
+inline void throw_if_cancelled(const std::atomic<bool>* cancel) {
+  if (cancel_requested(cancel)) throw CancelledError();
+}
+
+}  // namespace vd
