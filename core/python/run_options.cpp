@@ -1,0 +1,228 @@
+#include "python/run_options.h"
+
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <thread>
+
+#include "mesh/cancel.h"
+#include "mesh/error.h"
+
+namespace vd::python {
+namespace {
+
+std::string type_name(py::handle v) { return py::str(py::type::handle_of(v).attr("__name__")).cast<std::string>(); }
+
+double number(py::handle v, const std::string& name) {
+  if (PyBool_Check(v.ptr()) || PyUnicode_Check(v.ptr()))
+    throw py::type_error("option " + name + ": expected a number, got " + type_name(v));
+  double x = 0;
+  try {
+    x = v.cast<double>();
+  } catch (const py::cast_error&) {
+    throw py::type_error("option " + name + ": expected a number, got " + type_name(v));
+  }
+  if (!std::isfinite(x)) throw py::value_error("option " + name + ": not a finite number");
+  return x;
+}
+
+long long integer(py::handle v, const std::string& name) {
+  if (PyBool_Check(v.ptr())) throw py::type_error("option " + name + ": expected an integer, got bool");
+  try {
+    return v.cast<long long>();
+  } catch (const py::cast_error&) {
+    throw py::type_error("option " + name + ": expected an integer, got " + type_name(v));
+  }
+}
+
+bool boolean(py::handle v, const std::string& name) {
+  // numpy.bool_ comes from comparisons on arrays: accept it beside bool.
+  if (!PyBool_Check(v.ptr()) && type_name(v) != "bool_")
+    throw py::type_error("option " + name + ": expected True or False, got " + type_name(v));
+  return v.cast<bool>();
+}
+
+void check(bool ok, const std::string& message) {
+  if (!ok) throw py::value_error(message);
+}
+
+}  // namespace
+
+const char* const kOptionsDoc = R"(Options (keyword arguments; the command line's options of the same name):
+    size (float, 0): target edge length; 0: surface input: from its own edges,
+        graded; CAD input: bounding-box diagonal / 25 (reported)
+    gradation (float, 0.3): largest growth of the size per unit distance
+    interior (bool, True): interior vertices; False is --no-interior
+    sliver_angle (float, 10): boundary slivers under this dihedral angle (deg) are removed
+    keep_slivers (bool, False): no sliver removal
+    oracle (str, "dt"): facet Delaunayhood test, "dt", "lp" or "sphere"
+    lp_limit (int, -1): largest LP the lp oracle solves (-1: no limit)
+    flips (bool, True): False is --no-flips (only splits)
+    flip_angle (float, 20): largest ridge angle (deg) a flip may create
+    sharp_angle (float, 40): face ids of untagged input split where normals differ more (deg)
+    seed (int, 1): the same input, options and seed give the same mesh
+    shift (float, 1e-4): random shift relative to the local edge length, in [0, 0.1]
+    max_passes (int, 200), max_added (int, -1: 20 x input vertices + 1000): Delaunayzation guards
+    progress (callable(str) or None): called with the name of each phase as it starts
+        (on the worker thread, holding the GIL); an exception raised there stops the run
+        and is re-raised by the call
+    cancel (vdmesh.CancelToken or None): cancel.set() from any thread stops the run,
+        which then raises vdmesh.Cancelled
+  CAD input only:
+    deflection (float, 0): chord height of the face tessellation (0: size / 10,
+        at most the mean thickness 2V/A / 40)
+    planar_splits (bool, False): split vertices at chord mid-points instead of on the CAD geometry
+)";
+
+RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
+  static const std::set<std::string> kCommon = {
+      "size",     "gradation",  "interior",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit",
+      "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
+      "progress", "cancel"};
+  static const std::set<std::string> kCad = {"deflection", "planar_splits"};
+  RunOptions run;
+  MeshOptions& opt = run.cad.mesh;
+  opt.size.uniform = 0;
+  for (const auto& [key, value] : kwargs) {
+    const std::string name = key.cast<std::string>();
+    if (!kCommon.count(name) && !(cad_input && kCad.count(name))) {
+      const bool cad_only = kCad.count(name) > 0;
+      throw py::type_error("unexpected keyword argument '" + name + "'" +
+                           (cad_only ? " (an option of mesh_cad only)" : " (see help(vdmesh.mesh_surface))"));
+    }
+    if (name == "size") opt.size.uniform = number(value, name);
+    else if (name == "gradation") opt.size.gradation = number(value, name);
+    else if (name == "interior") opt.interior = boolean(value, name);
+    else if (name == "sliver_angle") opt.slivers.sliver_angle_deg = number(value, name);
+    else if (name == "keep_slivers") opt.remove_slivers = !boolean(value, name);
+    else if (name == "oracle") {
+      if (!PyUnicode_Check(value.ptr())) throw py::type_error("option oracle: expected a str, got " + type_name(value));
+      opt.oracle = value.cast<std::string>();
+    } else if (name == "lp_limit") opt.oracle_options.lp_limit = static_cast<int>(integer(value, name));
+    else if (name == "flips") opt.delaunayzation.flips = boolean(value, name);
+    else if (name == "flip_angle") opt.delaunayzation.flip_angle_deg = number(value, name);
+    else if (name == "sharp_angle") opt.sharp_angle_deg = number(value, name);
+    else if (name == "seed") {
+      const long long s = integer(value, name);
+      check(s >= 0, "option seed: must not be negative");
+      opt.seed = static_cast<std::uint64_t>(s);
+    } else if (name == "shift") opt.shift = number(value, name);
+    else if (name == "max_passes") opt.delaunayzation.max_passes = static_cast<int>(integer(value, name));
+    else if (name == "max_added") opt.delaunayzation.max_added_vertices = static_cast<int>(integer(value, name));
+    else if (name == "progress") {
+      if (!value.is_none() && !PyCallable_Check(value.ptr()))
+        throw py::type_error("option progress: expected a callable, got " + type_name(value));
+      run.progress = py::reinterpret_borrow<py::object>(value);
+    } else if (name == "cancel") {
+      if (!value.is_none()) {
+        if (!py::isinstance<CancelToken>(value))
+          throw py::type_error("option cancel: expected a vdmesh.CancelToken, got " + type_name(value));
+        run.token = value.cast<const CancelToken&>().flag;
+      }
+    } else if (name == "deflection") run.cad.tessellation.deflection = number(value, name);
+    else if (name == "planar_splits") run.cad.splits_on_geometry = !boolean(value, name);
+  }
+  // The command line's checks, with the option names of this module.
+  check(opt.size.uniform >= 0, "option size: must not be negative");
+  check(opt.size.gradation > 0, "option gradation: must be positive");
+  check(opt.shift >= 0 && opt.shift <= 0.1, "option shift: must be in [0, 0.1]");
+  check(opt.delaunayzation.flip_angle_deg >= 0 && opt.delaunayzation.flip_angle_deg <= 180,
+        "option flip_angle: must be in [0, 180]");
+  check(opt.oracle == "dt" || opt.oracle == "lp" || opt.oracle == "sphere",
+        "option oracle: unknown oracle '" + opt.oracle + "' (choose dt, lp or sphere)");
+  check(run.cad.tessellation.deflection >= 0, "option deflection: must not be negative");
+  check(opt.delaunayzation.max_passes >= 0, "option max_passes: must not be negative");
+  return run;
+}
+
+namespace {
+
+// What the worker and the watching thread share.
+struct RunState {
+  std::mutex mutex;
+  std::condition_variable done_signal;
+  bool done = false;
+  std::optional<MeshResult> result;
+  std::exception_ptr error;
+  // An exception of the progress callback, kept until the watching thread
+  // (which holds the GIL then) re-raises it.
+  std::optional<py::error_already_set> callback_error;
+};
+
+}  // namespace
+
+MeshResult run_interruptible(RunOptions& run, const std::function<MeshResult(const MeshOptions&)>& work) {
+  auto state = std::make_shared<RunState>();
+  // The run's own flag: Ctrl-C and the caller's token both raise it.
+  auto stop = std::make_shared<std::atomic<bool>>(false);
+  MeshOptions opt = run.cad.mesh;
+  opt.cancel = stop.get();
+  if (run.progress && !run.progress.is_none()) {
+    // A borrowed pointer (run.progress keeps it alive for the call): the core
+    // copies its options, and copying a py::object would touch reference
+    // counts without the GIL.
+    PyObject* callback = run.progress.ptr();
+    opt.progress = [callback, state, stop](const std::string& phase) {
+      py::gil_scoped_acquire gil;
+      try {
+        py::handle fn(callback);
+        fn(phase);
+      } catch (py::error_already_set& e) {
+        state->callback_error.emplace(std::move(e));
+        stop->store(true);
+        throw CancelledError();
+      }
+    };
+  }
+
+  std::thread worker([&work, opt, state]() {
+    std::optional<MeshResult> result;
+    std::exception_ptr error;
+    try {
+      result.emplace(work(opt));
+    } catch (...) {
+      error = std::current_exception();
+    }
+    std::lock_guard<std::mutex> lock(state->mutex);
+    state->result = std::move(result);
+    state->error = error;
+    state->done = true;
+    state->done_signal.notify_all();
+  });
+
+  std::optional<py::error_already_set> interrupt;
+  for (;;) {
+    {
+      py::gil_scoped_release release;
+      std::unique_lock<std::mutex> lock(state->mutex);
+      if (state->done_signal.wait_for(lock, std::chrono::milliseconds(50), [&] { return state->done; })) break;
+    }
+    // Signals are handled only here, in the main thread holding the GIL; in
+    // other threads PyErr_CheckSignals returns 0 and the token is the way.
+    if (!interrupt && PyErr_CheckSignals() != 0) {
+      interrupt.emplace();  // fetches the KeyboardInterrupt (or the handler's exception)
+      stop->store(true);
+    }
+    if (run.token && run.token->load()) stop->store(true);
+  }
+  {
+    py::gil_scoped_release release;
+    worker.join();
+  }
+  // Python errors are re-raised here, with the GIL held. A run that ended
+  // anyway after Ctrl-C still raises KeyboardInterrupt: the user asked to stop.
+  if (state->callback_error) throw *state->callback_error;
+  if (interrupt) throw *interrupt;
+  if (state->error) std::rethrow_exception(state->error);  // CancelledError here: the token
+  return std::move(*state->result);
+}
+
+py::dict report_dict(const MeshReport& report) {
+  return py::module_::import("json").attr("loads")(report_json(report));
+}
+
+}  // namespace vd::python

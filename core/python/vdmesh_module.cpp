@@ -1,0 +1,351 @@
+// The Python module `vdmesh`: the core's mesher, CAD mesher and converters
+// for Python (and FreeCAD) users. Meshes come and go as numpy arrays; the
+// report is the dict of `vdmesh mesh --report`. Meshing runs on a worker
+// thread with the GIL released and stops on Ctrl-C (run_options.h).
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <string>
+
+#include "cad/cad_mesher.h"
+#include "cad/cad_model.h"
+#include "converters/registry.h"
+#include "mesh/cancel.h"
+#include "mesh/error.h"
+#include "python/mesh_arrays.h"
+#include "python/run_options.h"
+
+#ifndef VDMESH_VERSION
+#define VDMESH_VERSION "unknown"
+#endif
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+
+namespace vd::python {
+namespace {
+
+// The module's exception classes (kept for the life of the process, as the
+// module is never unloaded).
+PyObject* g_error = nullptr;
+PyObject* g_input_error = nullptr;
+PyObject* g_recovery_error = nullptr;
+PyObject* g_cancelled = nullptr;
+
+PyObject* add_exception(py::module_& m, const char* name, const char* doc, py::tuple bases) {
+  const std::string qualified = std::string("vdmesh.") + name;
+  PyObject* type = PyErr_NewExceptionWithDoc(qualified.c_str(), doc, bases.ptr(), nullptr);
+  if (!type) throw py::error_already_set();
+  m.add_object(name, py::handle(type));
+  return type;
+}
+
+void register_exceptions(py::module_& m) {
+  g_error = add_exception(m, "Error", "Base class of the errors vdmesh raises.",
+                          py::make_tuple(py::handle(PyExc_Exception)));
+  g_input_error = add_exception(
+      m, "InputError",
+      "Bad input: an unreadable or malformed file, or an invalid surface (open, self-intersecting, degenerate, "
+      "contradicting region tags). The message names the file and line, or the facets (exit code 3 of the "
+      "command line).",
+      py::make_tuple(py::handle(g_error), py::handle(PyExc_ValueError)));
+  g_recovery_error = add_exception(
+      m, "RecoveryError",
+      "Some facets could not be made Delaunay within the guards (exit code 4 of the command line). The attribute "
+      "`report` holds the report of the run so far, with the vertex ids of the facets still missing in "
+      "report['missing_facets'].",
+      py::make_tuple(py::handle(g_error), py::handle(PyExc_RuntimeError)));
+  g_cancelled = add_exception(m, "Cancelled", "The run was stopped through its CancelToken; there is no result.",
+                              py::make_tuple(py::handle(g_error)));
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const RecoveryWithReport& e) {
+      py::object error = py::handle(g_recovery_error)(e.what());
+      error.attr("report") = report_dict(e.report);
+      PyErr_SetObject(g_recovery_error, error.ptr());
+    } catch (const RecoveryError& e) {
+      PyErr_SetString(g_recovery_error, e.what());
+    } catch (const InputError& e) {
+      PyErr_SetString(g_input_error, e.what());
+    } catch (const UsageError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const CancelledError& e) {
+      PyErr_SetString(g_cancelled, e.what());
+    }
+  });
+}
+
+// str or os.PathLike, converted while the GIL is held.
+std::string path_string(py::handle path, const char* name) {
+  py::object s = py::module_::import("os").attr("fspath")(path);
+  if (!py::isinstance<py::str>(s)) throw py::type_error(std::string(name) + ": expected a str path");
+  return s.cast<std::string>();
+}
+
+// A surface to mesh from arrays, or a copy of a vdmesh.Mesh.
+Mesh surface_input(py::handle points, py::handle triangles, py::handle faces, py::handle regions,
+                   py::handle point_size) {
+  Mesh input;
+  if (py::isinstance<Mesh>(points)) {
+    if (!triangles.is_none() || !faces.is_none() || !regions.is_none() || !point_size.is_none())
+      throw py::type_error("mesh_surface: give either a vdmesh.Mesh or the arrays, not both");
+    input = points.cast<const Mesh&>();
+  } else {
+    if (triangles.is_none()) throw py::type_error("mesh_surface: triangles are required with a points array");
+    set_points(input, points);
+    set_triangles(input, triangles);
+    if (!faces.is_none()) set_triangle_faces(input, faces, "faces");
+    if (!regions.is_none()) set_triangle_regions(input, regions, "regions");
+    if (!point_size.is_none()) set_point_size(input, point_size);
+  }
+  // As `vdmesh mesh` does with a volume file: only its surface is meshed.
+  input.tets.clear();
+  input.tet_mid.clear();
+  input.triangle_mid.clear();
+  check_indices(input);
+  if (input.triangles.empty()) throw InputError("no surface facets to mesh");
+  return input;
+}
+
+py::tuple result_tuple(MeshResult&& result) {
+  py::dict report = report_dict(result.report);
+  return py::make_tuple(py::cast(std::move(result.mesh)), report);
+}
+
+py::tuple mesh_surface_py(py::object points, py::object triangles, py::object faces, py::object regions,
+                          py::object point_size, const py::kwargs& kwargs) {
+  RunOptions run = parse_options(kwargs, false);
+  const Mesh input = surface_input(points, triangles, faces, regions, point_size);
+  auto work = [&input](const MeshOptions& opt) {
+    MeshResult partial;
+    try {
+      return mesh_surface(input, opt, &partial);
+    } catch (const RecoveryError& e) {
+      throw RecoveryWithReport(e, std::move(partial.report));
+    }
+  };
+  return result_tuple(run_interruptible(run, work));
+}
+
+struct CadSource {
+  std::string path, brep;
+};
+
+CadSource cad_source(py::handle path, py::handle brep, const char* function) {
+  if (path.is_none() == brep.is_none())
+    throw py::type_error(std::string(function) + ": give exactly one of path= (a STEP, IGES or BREP file) and brep= (a BREP string)");
+  CadSource s;
+  if (!path.is_none()) {
+    s.path = path_string(path, "path");
+    if (!cad::CadModel::is_cad_file(s.path))
+      throw py::value_error(s.path + ": not a CAD file (.step .stp .iges .igs .brep .brp)");
+  } else {
+    if (!py::isinstance<py::str>(brep) && !py::isinstance<py::bytes>(brep))
+      throw py::type_error("brep: expected the BREP text as str or bytes");
+    s.brep = brep.cast<std::string>();
+  }
+  return s;
+}
+
+cad::CadModel read_cad(const CadSource& source) {
+  return source.path.empty() ? cad::CadModel::from_brep_string(source.brep) : cad::CadModel::read(source.path);
+}
+
+py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs) {
+  RunOptions run = parse_options(kwargs, true);
+  const CadSource source = cad_source(path, brep, "mesh_cad");
+  const cad::CadMeshOptions base = run.cad;
+  auto work = [&source, &base](const MeshOptions& opt) {
+    cad::CadMeshOptions copt = base;
+    copt.mesh = opt;
+    if (opt.progress) opt.progress("read CAD");
+    const cad::CadModel model = read_cad(source);
+    throw_if_cancelled(opt.cancel);
+    MeshResult partial;
+    try {
+      return cad::mesh_cad(model, copt, &partial);
+    } catch (const RecoveryError& e) {
+      throw RecoveryWithReport(e, std::move(partial.report));
+    }
+  };
+  return result_tuple(run_interruptible(run, work));
+}
+
+Mesh tessellate_cad_py(py::object path, py::object brep, double size, double deflection) {
+  const CadSource source = cad_source(path, brep, "tessellate_cad");
+  if (!(size >= 0) || !(deflection >= 0)) throw py::value_error("size and deflection must not be negative");
+  py::gil_scoped_release release;
+  cad::TessellationOptions topt;
+  topt.size = size;
+  topt.deflection = deflection;
+  return read_cad(source).tessellate(topt);
+}
+
+Mesh read_py(py::object path, const std::string& format) {
+  const std::string p = path_string(path, "path");
+  py::gil_scoped_release release;
+  return io::read_mesh(p, format);
+}
+
+void write_py(const Mesh& mesh, py::object path, bool binary, int msh_version, const std::string& format) {
+  const std::string p = path_string(path, "path");
+  if (msh_version != 22 && msh_version != 41) throw py::value_error("msh_version must be 22 or 41");
+  check_indices(mesh);
+  io::WriteOptions options;
+  options.binary = binary;
+  options.msh_version = msh_version;
+  io::format_for(p, format);  // an unknown format before any work
+  py::gil_scoped_release release;
+  io::write_mesh(mesh, p, options, format);
+}
+
+py::list formats_py() {
+  py::list out;
+  for (const io::Format& f : io::formats())
+    out.append(py::dict("name"_a = f.name, "extensions"_a = f.extensions, "volume"_a = f.holds_volume,
+                        "writable"_a = static_cast<bool>(f.write)));
+  return out;
+}
+
+Mesh make_mesh(py::object points, py::object triangles, py::object triangle_faces, py::object triangle_regions,
+               py::object tets, py::object tet_regions, py::object point_size,
+               std::map<int, std::string> region_names, std::map<int, std::string> face_names) {
+  Mesh m;
+  if (!points.is_none()) set_points(m, points);
+  if (!triangles.is_none()) set_triangles(m, triangles);
+  if (!triangle_faces.is_none()) set_triangle_faces(m, triangle_faces);
+  if (!triangle_regions.is_none()) set_triangle_regions(m, triangle_regions);
+  if (!tets.is_none()) set_tets(m, tets);
+  if (!tet_regions.is_none()) set_tet_regions(m, tet_regions);
+  if (!point_size.is_none()) set_point_size(m, point_size);
+  m.region_names = std::move(region_names);
+  m.face_names = std::move(face_names);
+  return m;
+}
+
+void bind_mesh(py::module_& m) {
+  py::class_<Mesh>(m, "Mesh", R"(A mesh: points, tagged triangles and tetrahedra with a region.
+
+Conventions (README, "Conventions"): region 0 is the exterior, regions are 1..N,
+-1 means unknown; a triangle's normal (right-hand rule) points into its front
+region; tetrahedra are positive (det(v1-v0, v2-v0, v3-v0) > 0); indices are 0-based.
+
+Every attribute returns a new numpy array (a copy): change a mesh by assigning
+whole arrays, e.g. mesh.points = mesh.points * 2. The same holds for the
+region_names and face_names dicts.)")
+      .def(py::init(&make_mesh), "points"_a = py::none(), "triangles"_a = py::none(), "triangle_faces"_a = py::none(),
+           "triangle_regions"_a = py::none(), "tets"_a = py::none(), "tet_regions"_a = py::none(),
+           "point_size"_a = py::none(), "region_names"_a = std::map<int, std::string>(),
+           "face_names"_a = std::map<int, std::string>(),
+           "A mesh from arrays; every argument is optional (arrays as for the attributes of the same name).")
+      .def_property("points", &points_array, [](Mesh& m, py::handle a) { set_points(m, a); },
+                    "(N, 3) float64 coordinates")
+      .def_property("point_size", &point_size_array, &set_point_size,
+                    "(N,) float64 mesh size per point, or an empty array when none is given")
+      .def_property("triangles", &triangles_array, [](Mesh& m, py::handle a) { set_triangles(m, a); },
+                    "(F, 3) int32 vertex indices; assigning a different count keeps the tags of the first rows")
+      .def_property("triangle_faces", &triangle_faces_array,
+                    [](Mesh& m, py::handle a) { set_triangle_faces(m, a); },
+                    "(F,) int32 topological face id per triangle (-1: none)")
+      .def_property("triangle_regions", &triangle_regions_array,
+                    [](Mesh& m, py::handle a) { set_triangle_regions(m, a); },
+                    "(F, 2) int32 regions (front, back) per triangle; the normal points into front (-1: unknown)")
+      .def_property("tets", &tets_array, &set_tets, "(T, 4) int32 vertex indices of positive tetrahedra")
+      .def_property("tet_regions", &tet_regions_array, &set_tet_regions, "(T,) int32 region per tetrahedron")
+      .def_property("triangle_mid", &triangle_mid_array, &set_triangle_mid,
+                    "(F, 3) int32 mid-edge nodes of second-order triangles (edges 01, 12, 20), or (0, 3)")
+      .def_property("tet_mid", &tet_mid_array, &set_tet_mid,
+                    "(T, 6) int32 mid-edge nodes of second-order tetrahedra (edges 01, 12, 20, 03, 13, 23), or (0, 6)")
+      .def_readwrite("region_names", &Mesh::region_names, "dict region id -> name (e.g. 'Solid1'); a copy")
+      .def_readwrite("face_names", &Mesh::face_names, "dict face id -> name (e.g. 'Face3'); a copy")
+      .def_property_readonly("second_order", &Mesh::second_order, "True when mid-edge nodes are present")
+      .def("__repr__", [](const Mesh& mesh) {
+        return "<vdmesh.Mesh: " + std::to_string(mesh.points.size()) + " points, " +
+               std::to_string(mesh.triangles.size()) + " triangles, " + std::to_string(mesh.tets.size()) +
+               " tetrahedra>";
+      });
+}
+
+void bind_cancel_token(py::module_& m) {
+  py::class_<CancelToken>(m, "CancelToken", R"(Stops a mesh_surface / mesh_cad call from another thread.
+
+    token = vdmesh.CancelToken()
+    threading.Thread(target=lambda: vdmesh.mesh_surface(p, t, cancel=token)).start()
+    token.set()   # the call raises vdmesh.Cancelled within a fraction of a second
+
+Ctrl-C needs no token when the call runs in the main thread: it raises
+KeyboardInterrupt there.)")
+      .def(py::init<>())
+      .def("set", [](CancelToken& t) { t.flag->store(true); }, "Ask the runs using this token to stop.")
+      .def("clear", [](CancelToken& t) { t.flag->store(false); }, "Make the token usable for a new run.")
+      .def("is_set", [](const CancelToken& t) { return t.flag->load(); });
+}
+
+}  // namespace
+}  // namespace vd::python
+
+PYBIND11_MODULE(vdmesh, m) {
+  using namespace vd::python;
+  m.doc() = R"(vdmesh: tetrahedral meshes by the variational Delaunay method of Krysl & Ortiz.
+
+    mesh, report = vdmesh.mesh_surface(points, triangles, faces, regions, size=0.1)
+    mesh, report = vdmesh.mesh_cad(path="part.step", size=2)
+    mesh = vdmesh.read("in.msh"); vdmesh.write(mesh, "out.inp")
+
+Meshes are vdmesh.Mesh objects whose attributes are numpy arrays; the report is
+the dict `vdmesh mesh --report` writes as JSON. Meshing releases the GIL and
+stops on Ctrl-C (KeyboardInterrupt) or through a vdmesh.CancelToken.)";
+  m.attr("__version__") = VDMESH_VERSION;
+  register_exceptions(m);
+  bind_mesh(m);
+  bind_cancel_token(m);
+
+  const std::string options_doc = kOptionsDoc;
+  m.def("mesh_surface", &mesh_surface_py, "points"_a, "triangles"_a = py::none(), "faces"_a = py::none(),
+        "regions"_a = py::none(), "point_size"_a = py::none(),
+        (R"(Tetrahedra of a closed triangulated surface: (mesh, report).
+
+points: (N, 3) coordinates, or a vdmesh.Mesh (its surface is meshed; then give
+    no other array).
+triangles: (F, 3) vertex indices.
+faces: (F,) topological face id per triangle; None: smooth patches split at
+    sharp edges (sharp_angle).
+regions: (F, 2) regions (front, back) per triangle, the normal pointing into
+    front, 0 the exterior; None: found from the surface.
+point_size: (N,) mesh size per point, or None.
+
+Returns the output mesh (surface with face ids and regions, tetrahedra with
+their region) and the report dict. Raises vdmesh.InputError for invalid input,
+vdmesh.RecoveryError when facets stay non-Delaunay within the guards,
+ValueError/TypeError for bad arguments or options.
+
+)" + options_doc).c_str());
+  m.def("mesh_cad", &mesh_cad_py, "path"_a = py::none(), "brep"_a = py::none(),
+        (R"(Tetrahedra of a CAD part or assembly: (mesh, report).
+
+path: a .step/.stp, .iges/.igs or .brep/.brp file; or
+brep: the text of a BREP (what Part.Shape.exportBrepToString() gives in FreeCAD).
+
+Touching solids are fused first, so that shared faces become interfaces.
+Region i is Solid<i> and face j is Face<j> (1-based, FreeCAD's numbering);
+mesh.region_names and mesh.face_names hold these names. report['cad'] gives
+OpenCASCADE's volume per solid and area per face beside the mesh's.
+
+)" + options_doc).c_str());
+  m.def("tessellate_cad", &tessellate_cad_py, "path"_a = py::none(), "brep"_a = py::none(), "size"_a = 0.0,
+        "deflection"_a = 0.0,
+        "The tagged surface mesh_cad starts from (face ids, solid regions), as `vdmesh convert part.step out.stl` "
+        "writes it; size 0: chosen from the part.");
+  m.def("read", &read_py, "path"_a, "format"_a = "",
+        "Read a mesh file of any format vdmesh knows (see formats()); format: a format name when the extension "
+        "is ambiguous. Raises vdmesh.InputError naming the file and line for malformed content.");
+  m.def("write", &write_py, "mesh"_a, "path"_a, "binary"_a = false, "msh_version"_a = 41, "format"_a = "",
+        "Write a mesh; the format follows the extension (or format=). binary: the binary variant where there is "
+        "one; msh_version: 22 or 41 for Gmsh files.");
+  m.def("formats", &formats_py,
+        "The formats read() and write() know: dicts with name, extensions, volume (can hold tetrahedra) and "
+        "writable.");
+}
