@@ -27,3 +27,4 @@ class VDMeshWorkbench(Workbench):  # noqa: F821 (FreeCAD's InitGui namespace)
 
 
 Gui.addWorkbench(VDMeshWorkbench())  # noqa: F821
+FreeCAD.__unit_test__ += ["TestVDMeshGui"]  # noqa: F821

@@ -1,43 +1,26 @@
-"""Headless test of the vdmesh FreeCAD workbench (Mod/VDMesh) through its own code path.
-
-Run (FreeCAD 0.20 on Debian 12; the notes in README "FreeCAD workbench"):
-    VDMESH_BIN=build/bin/vdmesh freecadcmd tests/freecad/test_vdmesh_workbench.py
-freecadcmd exits 0 even when a script raises, so the script calls sys.exit itself.
+"""Headless tests of the workbench's Mesh code path (vdmeshwb.meshobject.create_mesh, as the Mesh
+command runs it). Part of TestVDMeshApp: `freecadcmd -t TestVDMeshApp.TestVDMeshWorkbench -M Mod/VDMesh`.
 
 Meshes (1) a box 10x10x4 with a hole of diameter 4 (Part::Cut of Part::Box and Part::Cylinder) and
-(2) a BooleanFragments of two touching boxes of different sizes (two solids, one interface face) with
-vdmeshwb.meshobject.create_mesh, as the Mesh command does; checks the FemMesh: tetrahedra with
-FemMesh's orientation, Solid<i>_Volumes/_Nodes per solid and Face<j>_Faces/_Nodes per face, volume per
-solid within 1 % of FreeCAD's, the face numbering against FreeCAD's Face<j> (vdmesh's per-face CAD
-areas, and the nodes of each face group lying on that face); the analysis; recompute with another
-size; export through `vdmesh convert`; bad geometry (an open shell made a solid: vdmesh exit 3) gives
-a VDMeshError and leaves the document unchanged.
+(2) a BooleanFragments of two touching boxes of different sizes (two solids, one interface face);
+checks the FemMesh: tetrahedra with FemMesh's orientation, Solid<i>_Volumes/_Nodes per solid and
+Face<j>_Faces/_Nodes per face, volume per solid within 1 % of FreeCAD's, the face numbering against
+FreeCAD's Face<j> (vdmesh's per-face CAD areas, and the nodes of each face group lying on that face);
+the analysis; recompute with another size; export through `vdmesh convert`; bad geometry (an open
+shell made a solid: vdmesh exit 3) gives a VDMeshError and leaves the document unchanged.
 """
 import os
-import sys
 import tempfile
 import time
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__)) if "__file__" in globals() else \
-    os.path.join(os.environ.get("VDMESH_SOURCE_DIR", os.getcwd()), "tests", "freecad")
-SOURCE = os.environ.get("VDMESH_SOURCE_DIR", os.path.dirname(os.path.dirname(HERE)))
-WB = os.path.join(SOURCE, "Mod", "VDMesh")
-if WB not in sys.path:
-    sys.path.insert(0, WB)
+import FreeCAD
+import Part
+from FreeCAD import Vector
 
-import FreeCAD  # noqa: E402
-import Part  # noqa: E402
-from FreeCAD import Vector  # noqa: E402
+from vdmeshwb import engine, femmesh, meshobject
 
-from vdmeshwb import engine, femmesh, meshobject  # noqa: E402
-
-FIGURES = []  # printed at the end: what the test measured
-
-
-def figure(line):
-    FIGURES.append(line)
-    FreeCAD.Console.PrintMessage("  " + line + "\n")
+from .support import figure, print_figures
 
 
 class MeshChecks:
@@ -107,6 +90,7 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
     @classmethod
     def tearDownClass(cls):
         FreeCAD.closeDocument(cls.doc.Name)
+        print_figures("TestVDMeshWorkbench")
 
     def box_with_hole(self):
         doc = self.doc
@@ -218,17 +202,3 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         with self.assertRaises(engine.VDMeshError):
             meshobject.create_mesh(sheet)
         self.assertEqual(sorted(o.Name for o in doc.Objects), names)
-
-
-def main():
-    suite = unittest.defaultTestLoader.loadTestsFromTestCase(TestVDMeshWorkbench)
-    result = unittest.TextTestRunner(verbosity=2, stream=sys.stdout).run(suite)
-    print("\nfigures:\n" + "\n".join(FIGURES))
-    sys.stdout.flush()
-    sys.exit(0 if result.wasSuccessful() else 1)
-
-
-# `freecadcmd file.py` imports this file as a module named after it; `freecadcmd -t module` uses
-# unittest's loader instead and must not run main().
-if __name__ in ("__main__", "test_vdmesh_workbench") and "-t" not in sys.argv:
-    main()

@@ -63,7 +63,7 @@ class Parameters:
     """Meshing parameters; the names are the mesh object's properties."""
 
     def __init__(self, size=0.0, interior=True, flips=True, ridge_angle=20.0, oracle="dt", lp_limit=0,
-                 sliver_angle=10.0, seed=1):
+                 sliver_angle=10.0, seed=1, order=1):
         self.size = size            # 0: vdmesh chooses (bounding-box diagonal / 25)
         self.interior = interior
         self.flips = flips
@@ -72,6 +72,7 @@ class Parameters:
         self.lp_limit = lp_limit    # 0: no limit
         self.sliver_angle = sliver_angle
         self.seed = seed
+        self.order = order          # 2: 10-node tetrahedra (C3D10 in the deck)
 
     def options(self):
         o = []
@@ -89,6 +90,8 @@ class Parameters:
             o += ["--lp-limit", str(int(self.lp_limit))]
         o += ["--sliver-angle", repr(float(self.sliver_angle))]
         o += ["--seed", str(int(self.seed))]
+        if int(self.order) == 2:  # only then: a vdmesh without --order still meshes first order
+            o += ["--order", "2"]
         return o
 
 

@@ -6,8 +6,9 @@ Groups (named like FreeCAD's Gmsh mesher names a physical group <Name>):
 
 Orientation: vdmesh writes positive tetrahedra (det(v1-v0, v2-v0, v3-v0) > 0, as Abaqus); a FemMesh
 (SMESH) stores them negative and its Abaqus writer swaps the first two nodes, so the first two nodes
-are swapped here. Face triangles are added with their normal pointing out of the tetrahedron that
-owns them (for an outer face: out of the part).
+are swapped here (for C3D10 with their mid-edge nodes). Face triangles (6-node ones for C3D10) are
+added with their normal pointing out of the tetrahedron that owns them (for an outer face: out of the
+part).
 """
 import Fem
 
@@ -20,6 +21,18 @@ def signed_volume6(p0, p1, p2, p3):
             + a[2] * (b[0] * c[1] - b[1] * c[0]))
 
 
+# Abaqus (positive) node order -> FemMesh (negative) node order, and back: swapping corners 0 and 1
+# swaps the mid-edge nodes of 12 / 02 and of 13 / 03 too (Abaqus C3D10: 01 12 20 03 13 23).
+# The permutation is its own inverse.
+TET4_SWAP = (1, 0, 2, 3)
+TET10_SWAP = (1, 0, 2, 3, 4, 6, 5, 8, 7, 9)
+
+
+def swap_orientation(nodes):
+    order = TET4_SWAP if len(nodes) == 4 else TET10_SWAP
+    return [nodes[i] for i in order]
+
+
 def to_femmesh(inp):
     """inp: inpreader.InpMesh. Returns (Fem.FemMesh, info dict)."""
     fm = Fem.FemMesh()
@@ -27,12 +40,7 @@ def to_femmesh(inp):
         x, y, z = inp.nodes[nid]
         fm.addNode(x, y, z, nid)
     for eid in sorted(inp.elements):
-        c = inp.elements[eid]
-        if len(c) == 4:
-            fm.addVolume([c[1], c[0], c[2], c[3]], eid)
-        else:  # C3D10: corners swapped as above, mid-edge nodes follow (01<->01, 12<->02, 02<->12, ...)
-            n = list(c)
-            fm.addVolume([n[1], n[0], n[2], n[3], n[4], n[6], n[5], n[8], n[7], n[9]], eid)
+        fm.addVolume(swap_orientation(inp.elements[eid]), eid)
     next_id = max(inp.elements) + 1 if inp.elements else 1
     info = {"solids": [], "faces": []}
     for name, elems in sorted(inp.elsets.items(), key=lambda kv: _natural(kv[0])):

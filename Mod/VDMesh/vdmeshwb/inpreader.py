@@ -2,12 +2,17 @@
 
 Understands: *NODE; *ELEMENT, TYPE=C3D4 (or C3D10), ELSET=<region> (one block per region);
 *ELSET, ELSET=<name>; *SURFACE, NAME=<Face j>, TYPE=ELEMENT with lines "element, S1..S4";
-*NSET, NSET=<name> (id lists). Other keywords and ** comments are skipped.
+*NSET, NSET=<name> (id lists, or names of earlier sets as FreeCAD writes them). Other keywords and
+** comments are skipped.
 """
 
 # C3D4 faces S1..S4 by corner (0-based), as in abaqus.cpp. On a positive tetrahedron
 # (det(v1-v0, v2-v0, v3-v0) > 0) each of these triples has its right-hand normal pointing inwards.
 TET_FACES = ((0, 1, 2), (0, 3, 1), (1, 3, 2), (2, 3, 0))
+# C3D10: the mid-edge node of corners (i, j) is node TET10_MID[i, j] (0-based: 01, 12, 20, 03, 13, 23)
+TET10_MID = {}
+for _k, (_i, _j) in enumerate(((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))):
+    TET10_MID[_i, _j] = TET10_MID[_j, _i] = 4 + _k
 
 
 class InpMesh:
@@ -19,10 +24,16 @@ class InpMesh:
         self.nsets = {}      # name -> [node ids]
 
     def face_nodes(self, element, face, outward=True):
-        """Corner node ids of a tetrahedron face; outward=True: normal out of the element."""
+        """Node ids of a tetrahedron face: 3 corners, then for C3D10 the mid-edge nodes of the edges
+        corner1-corner2, corner2-corner3, corner3-corner1. outward=True: normal out of the element."""
         e = self.elements[element]
-        a, b, c = (e[i] for i in TET_FACES[face])
-        return (a, c, b) if outward else (a, b, c)
+        i, j, k = TET_FACES[face]
+        if outward:
+            j, k = k, j
+        corners = (i, j, k)
+        if len(e) == 4:
+            return tuple(e[c] for c in corners)
+        return tuple(e[c] for c in corners) + tuple(e[TET10_MID[corners[m], corners[(m + 1) % 3]]] for m in range(3))
 
 
 def _options(line):
@@ -97,7 +108,9 @@ def read_inp(path):
                     if target:
                         m.elsets[target].append(eid)
                 elif mode in ("elset", "nset"):
-                    (m.elsets if mode == "elset" else m.nsets)[target].extend(int(x) for x in fields)
+                    sets = m.elsets if mode == "elset" else m.nsets
+                    for x in fields:  # Abaqus allows names of earlier sets among the ids
+                        sets[target].extend([int(x)] if x.lstrip("-").isdigit() else sets.get(x, []))
                 elif mode == "surface":
                     face = fields[1].upper()
                     if face not in ("S1", "S2", "S3", "S4"):

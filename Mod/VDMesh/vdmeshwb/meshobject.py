@@ -15,6 +15,8 @@ from . import engine, femmesh, inpreader
 
 TYPE = "Fem::FemMeshObjectPython"
 ORACLES = ["dt", "lp", "sphere"]
+# the values of FreeCAD's Gmsh mesh object's ElementOrder, so that both objects read alike
+ELEMENT_ORDERS = ["1st", "2nd"]
 
 
 def _add(obj, ptype, name, group, doc, value=None):
@@ -30,7 +32,7 @@ def params_of(obj):
                              ridge_angle=float(getattr(obj.RidgeAngle, "Value", obj.RidgeAngle)),
                              oracle=obj.Oracle, lp_limit=obj.LPLimit,
                              sliver_angle=float(getattr(obj.SliverAngle, "Value", obj.SliverAngle)),
-                             seed=obj.Seed)
+                             seed=obj.Seed, order=ELEMENT_ORDERS.index(obj.ElementOrder) + 1)
 
 
 def shape_of(part):
@@ -52,6 +54,7 @@ def run_mesh(part, params):
     fm, info = femmesh.to_femmesh(deck)
     info["nodes"] = len(deck.nodes)
     info["tetrahedra"] = len(deck.elements)
+    info["nodes_per_tetrahedron"] = max(len(c) for c in deck.elements.values())
     return fm, info, inp, report, text
 
 
@@ -77,6 +80,11 @@ class VDMeshObject:
         _add(obj, "App::PropertyInteger", "LPLimit", "VDMesh", "Largest LP the lp oracle solves (0: no limit)", p.lp_limit)
         _add(obj, "App::PropertyAngle", "SliverAngle", "VDMesh", "Boundary slivers under this dihedral angle are removed", p.sliver_angle)
         _add(obj, "App::PropertyInteger", "Seed", "VDMesh", "Random seed: same part, options and seed give the same mesh", p.seed)
+        if "ElementOrder" not in obj.PropertiesList:  # also added to objects saved before it existed
+            obj.addProperty("App::PropertyEnumeration", "ElementOrder", "VDMesh",
+                            "1st: 4-node tetrahedra; 2nd: 10-node tetrahedra (vdmesh --order 2)")
+            obj.ElementOrder = ELEMENT_ORDERS
+            obj.ElementOrder = ELEMENT_ORDERS[int(p.order) - 1]
         _add(obj, "App::PropertyFile", "OutputFile", "VDMesh", "vdmesh's Abaqus deck of the last run (used by Export)")
         _add(obj, "App::PropertyString", "Report", "VDMesh", "Report of the last run (JSON)")
         obj.setEditorMode("Report", 1)
@@ -169,7 +177,8 @@ def create_mesh(part, params=None, analysis=None, name="VDMesh"):
 
 
 def mesh_summary(info, report):
-    lines = ["%d nodes, %d tetrahedra, groups: %s; %s" % (info.get("nodes", 0), info.get("tetrahedra", 0),
+    lines = ["%d nodes, %d %d-node tetrahedra, groups: %s; %s" % (info.get("nodes", 0), info.get("tetrahedra", 0),
+                                                           info.get("nodes_per_tetrahedron", 4),
                                                            ", ".join(info.get("solids", [])),
                                                            ", ".join(info.get("faces", [])))]
     if report:
@@ -207,8 +216,8 @@ EXPORT_FILTERS = [
 
 def write_inp_from_femmesh(fm, path):
     """Our deck from a FemMesh alone (the mesh object's OutputFile is gone, e.g. after a reload):
-    nodes, 4-node tetrahedra back in Abaqus order, one ELSET per <Name>_Volumes group. Face tags are
-    not written (the regions are)."""
+    nodes, tetrahedra (4 or 10 nodes) back in Abaqus order, one ELSET per <Name>_Volumes group. Face
+    tags are not written (the regions are)."""
     nodes = fm.Nodes
     groups = femmesh.group_ids(fm)
     by_set, seen = [], set()
@@ -226,12 +235,14 @@ def write_inp_from_femmesh(fm, path):
             v = nodes[n]
             f.write("%d, %r, %r, %r\n" % (n, v.x, v.y, v.z))
         for name, elems in by_set:
-            f.write("*ELEMENT, TYPE=C3D4, ELSET=%s\n" % name)
-            for e in elems:
-                c = fm.getElementNodes(e)
-                if len(c) != 4:
-                    raise engine.VDMeshError("export from a FemMesh handles 4-node tetrahedra only")
-                f.write("%d, %d, %d, %d, %d\n" % (e, c[1], c[0], c[2], c[3]))
+            for n_nodes, etype in ((4, "C3D4"), (10, "C3D10")):
+                block = [e for e in elems if len(fm.getElementNodes(e)) == n_nodes]
+                if not block:
+                    continue
+                f.write("*ELEMENT, TYPE=%s, ELSET=%s\n" % (etype, name))
+                for e in block:
+                    c = femmesh.swap_orientation(fm.getElementNodes(e))
+                    f.write("%d, %s\n" % (e, ", ".join(str(n) for n in c)))
     return path
 
 

@@ -16,6 +16,7 @@ class MeshTaskPanel:
         self.part = part if part is not None else (mesh_object.Part if mesh_object else None)
         self.obj = mesh_object
         self.form = QtGui.QWidget()
+        self.form.setObjectName("VDMeshTaskPanel")  # the GUI test finds the panel and its widgets by name
         self.form.setWindowTitle("vdmesh: tetrahedral mesh")
         self.form.setWindowIcon(QtGui.QIcon(icon()))
         lay = QtGui.QVBoxLayout(self.form)
@@ -24,48 +25,64 @@ class MeshTaskPanel:
         grid = QtGui.QFormLayout()
         p = meshobject.params_of(mesh_object) if mesh_object else engine.Parameters()
         self.size = QtGui.QDoubleSpinBox()
+        self.size.setObjectName("size")
         self.size.setRange(0.0, 1e9)
         self.size.setDecimals(4)
         self.size.setSpecialValueText("automatic (diagonal / 25)")
         self.size.setValue(p.size)
         grid.addRow("Size", self.size)
         self.interior = QtGui.QCheckBox("interior vertices")
+        self.interior.setObjectName("interior")
         self.interior.setChecked(p.interior)
         grid.addRow("", self.interior)
         self.flips = QtGui.QCheckBox("flips (off: splits only)")
+        self.flips.setObjectName("flips")
         self.flips.setChecked(p.flips)
         grid.addRow("", self.flips)
         self.ridge = QtGui.QDoubleSpinBox()
+        self.ridge.setObjectName("ridge")
         self.ridge.setRange(0.0, 180.0)
         self.ridge.setSuffix(" deg")
         self.ridge.setValue(p.ridge_angle)
         grid.addRow("Ridge angle", self.ridge)
         self.oracle = QtGui.QComboBox()
+        self.oracle.setObjectName("oracle")
         self.oracle.addItems(meshobject.ORACLES)
         self.oracle.setCurrentIndex(meshobject.ORACLES.index(p.oracle))
         grid.addRow("Oracle", self.oracle)
         self.lp = QtGui.QSpinBox()
+        self.lp.setObjectName("lp")
         self.lp.setRange(0, 10 ** 8)
         self.lp.setSpecialValueText("no limit")
         self.lp.setValue(p.lp_limit)
         grid.addRow("LP size limit", self.lp)
         self.sliver = QtGui.QDoubleSpinBox()
+        self.sliver.setObjectName("sliver")
         self.sliver.setRange(0.0, 90.0)
         self.sliver.setSuffix(" deg")
         self.sliver.setValue(p.sliver_angle)
         grid.addRow("Sliver angle", self.sliver)
         self.seed = QtGui.QSpinBox()
+        self.seed.setObjectName("seed")
         self.seed.setRange(0, 2 ** 31 - 1)
         self.seed.setValue(p.seed)
         grid.addRow("Seed", self.seed)
+        self.order = QtGui.QComboBox()
+        self.order.setObjectName("order")
+        self.order.addItems(["1st (4-node tetrahedra)", "2nd (10-node tetrahedra)"])
+        self.order.setCurrentIndex(int(p.order) - 1)
+        grid.addRow("Element order", self.order)
         lay.addLayout(grid)
         self.run = QtGui.QPushButton("Mesh" if mesh_object is None else "Remesh")
+        self.run.setObjectName("run")
         self.run.clicked.connect(self.mesh)
         lay.addWidget(self.run)
         self.status = QtGui.QLabel("")
+        self.status.setObjectName("status")
         self.status.setWordWrap(True)
         lay.addWidget(self.status)
         self.report = QtGui.QPlainTextEdit()
+        self.report.setObjectName("report")
         self.report.setReadOnly(True)
         font = QtGui.QFont("Monospace")
         font.setStyleHint(QtGui.QFont.TypeWriter)
@@ -77,7 +94,8 @@ class MeshTaskPanel:
         return engine.Parameters(size=self.size.value(), interior=self.interior.isChecked(),
                                  flips=self.flips.isChecked(), ridge_angle=self.ridge.value(),
                                  oracle=self.oracle.currentText(), lp_limit=self.lp.value(),
-                                 sliver_angle=self.sliver.value(), seed=self.seed.value())
+                                 sliver_angle=self.sliver.value(), seed=self.seed.value(),
+                                 order=self.order.currentIndex() + 1)
 
     def show_error(self, e):
         self.status.setText('<span style="color:#b00000"><b>vdmesh failed</b> (document unchanged)</span>')
@@ -99,6 +117,7 @@ class MeshTaskPanel:
                 o = self.obj
                 o.Size, o.Interior, o.Flips, o.RidgeAngle = p.size, p.interior, p.flips, p.ridge_angle
                 o.Oracle, o.LPLimit, o.SliverAngle, o.Seed = p.oracle, p.lp_limit, p.sliver_angle, p.seed
+                o.ElementOrder = meshobject.ELEMENT_ORDERS[p.order - 1]
                 fm, info, inp, report, text = meshobject.run_mesh(self.part, p)
                 meshobject.apply_result(o, fm, inp, report)
                 o.purgeTouched()
@@ -116,7 +135,14 @@ class MeshTaskPanel:
         return True
 
     def getStandardButtons(self):
-        return int(QtGui.QDialogButtonBox.Close)
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Close)
+
+    def accept(self):
+        """OK: mesh (when Mesh was not pressed yet) and close; on failure the panel stays open with the
+        error, as after Mesh."""
+        if self.obj is None and not self.mesh():
+            return False
+        return self.reject()
 
     def reject(self):
         FreeCADGui.Control.closeDialog()

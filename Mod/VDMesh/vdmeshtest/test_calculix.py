@@ -1,0 +1,81 @@
+"""CalculiX through FreeCAD's FEM solver machinery on a vdmesh mesh, against the same analysis on
+FreeCAD's own Gmsh mesh (calculix_case.py: a steel / aluminium cantilever of two solids with a hole,
+one material per solid, fixed face, pressure). Part of TestVDMeshApp:
+`freecadcmd -t TestVDMeshApp.TestVDMeshCalculix -M Mod/VDMesh`.
+
+Both meshes are second order (10-node tetrahedra): linear tetrahedra in bending converge too slowly
+to agree within 2 % at sizes a test can afford (tests/freecad/bench_calculix.py, README). The sizes
+are ones at which each mesher's result agrees with its own finer meshes (README, "FreeCAD workbench").
+"""
+import os
+import re
+import unittest
+
+import FreeCAD
+
+from vdmeshwb import engine, femmesh, meshobject
+
+from . import calculix_case as case
+from .support import figure, print_figures
+
+VDMESH_SIZE = 4.0
+GMSH_SIZE = 2.5
+AGREEMENT = 0.02
+
+
+def material_element_counts(inp_path):
+    """{material name: number of elements of its element set} in the deck FreeCAD wrote for CalculiX."""
+    with open(inp_path) as f:
+        text = f.read()
+    counts = {}
+    for elset, material in re.findall(r"\*SOLID SECTION,\s*ELSET=(\w+),\s*MATERIAL=(\w+)", text, re.I):
+        block = re.search(r"\*ELSET,\s*ELSET=%s\s*\n(.*?)(?=\n\*)" % re.escape(elset), text, re.S | re.I)
+        counts[material] = len([x for x in re.split(r"[,\s]+", block.group(1)) if x.strip()]) if block else 0
+    return counts
+
+
+class TestVDMeshCalculix(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.doc = FreeCAD.newDocument("VDMeshCalculix")
+        cls.part = case.make_part(cls.doc)
+
+    @classmethod
+    def tearDownClass(cls):
+        FreeCAD.closeDocument(cls.doc.Name)
+        print_figures("TestVDMeshCalculix", "ccx")
+
+    def test_vdmesh_against_gmsh(self):
+        part = self.part
+        analysis, solver = case.make_analysis(self.doc, part, "V")
+        obj, info, report, text = meshobject.create_mesh(part, engine.Parameters(size=VDMESH_SIZE, order=2),
+                                                         analysis=analysis)
+        self.assertIn(obj, analysis.Group)
+        self.assertEqual(info["nodes_per_tetrahedron"], 10)
+        vd = case.run_ccx(analysis, solver, obj)
+
+        # one material per solid: FreeCAD's deck gives each material exactly the tetrahedra of its solid
+        groups = femmesh.group_ids(obj.FemMesh)
+        solid_of = {name: case.solid_name(part.Shape, pred) for (name, _, _), pred in
+                    zip(case.MATERIALS, (lambda c: c.x < case.LENGTH / 2, lambda c: c.x > case.LENGTH / 2))}
+        self.assertTrue(os.path.isfile(vd["inp_file"]), "no CalculiX deck %r" % vd["inp_file"])
+        counts = material_element_counts(vd["inp_file"])
+        for name, solid in solid_of.items():
+            expected = len(obj.FemMesh.getGroupElements(groups[solid + "_Volumes"]))
+            self.assertEqual(counts.get(name), expected, "%s elements of %s" % (name, solid))
+
+        g_analysis, g_solver = case.make_analysis(self.doc, part, "G")
+        gmsh = case.gmsh_mesh(self.doc, part, GMSH_SIZE, 2, "")
+        gm = case.run_ccx(g_analysis, g_solver, gmsh)
+        self.assertEqual(gm["nodes_per_tetrahedron"], 10)
+
+        for key in ("max_displacement", "P_alu"):
+            rel = abs(vd[key] - gm[key]) / abs(gm[key])
+            figure("%s: vdmesh (size %g, %d nodes, %d tets) %.6g, Gmsh (size %g, %d nodes, %d tets) %.6g: %.2f %%"
+                   % (key, VDMESH_SIZE, vd["nodes"], vd["tetrahedra"], vd[key], GMSH_SIZE, gm["nodes"],
+                      gm["tetrahedra"], gm[key], 100 * rel), "ccx")
+            self.assertLess(rel, AGREEMENT, key)
+        figure("von Mises between the hole and the top face (P_steel_over_hole): vdmesh %.5g, Gmsh %.5g (not asserted)"
+               % (vd["P_steel_over_hole"], gm["P_steel_over_hole"]), "ccx")
+        figure("CalculiX through FemToolsCcx: vdmesh %.0f s, Gmsh %.0f s; materials per solid: %s"
+               % (vd["ccx_seconds"], gm["ccx_seconds"], counts), "ccx")
