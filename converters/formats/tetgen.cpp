@@ -1,9 +1,18 @@
 // TetGen's mesh files: X.node (points), X.ele (tetrahedra, the first
 // attribute is the region), X.face (triangles, the marker is the face id).
 // Any of them, or the base X, names the set; reading takes the ones present.
-// Numbering starts at 0 or 1, as the first node says. Ten-node tetrahedra are
-// read by their corners; second-order meshes are written linear.
+// Numbering starts at 0 or 1, as the first node says. Second order (`tetgen
+// -o2`): ten-node tetrahedra and six-node faces, read and written.
+//
+// TetGen 1.5.0 (Debian 12's) orders a tetrahedron's mid-edge nodes on the
+// edges (23, 03, 01, 12, 13, 02), checked against `tetgen -pq1.4o2` output
+// (tests/unit/converters_roundtrip_test.cpp runs it); a face's on (01, 12, 20),
+// as vdmesh. The .face file does not say how many nodes a face has, so the
+// number of fields on its first line does (see face_layout).
+#include <array>
+#include <cstdint>
 #include <filesystem>
+#include <string_view>
 
 #include "formats.h"
 #include "io_util.h"
@@ -59,6 +68,10 @@ namespace {
 
 using detail::Cursor;
 
+// kTetgenMid[k]: the position in TetMidNodes (01, 12, 20, 03, 13, 23) of the
+// k-th mid node TetGen writes.
+constexpr int kTetgenMid[6] = {5, 3, 0, 1, 4, 2};
+
 void read_ele(const std::string& path, Mesh& m, int first) {
   const std::string data = detail::load_file(path);
   Cursor in(data, path);
@@ -72,7 +85,11 @@ void read_ele(const std::string& path, Mesh& m, int first) {
     in.integer("a tetrahedron number");
     Tetrahedron t;
     for (int& v : t.v) v = detail::tetgen_vertex(in, m, first, "a tetrahedron node");
-    for (int64_t j = 4; j < k; ++j) detail::tetgen_vertex(in, m, first, "a tetrahedron node");
+    if (k == 10) {
+      TetMidNodes mid;
+      for (int j : kTetgenMid) mid[j] = detail::tetgen_vertex(in, m, first, "a tetrahedron mid node");
+      m.tet_mid.push_back(mid);
+    }
     if (nattr > 0) {
       const double a = in.real("a region attribute");
       if (a < -2e9 || a > 2e9) in.fail("region attribute out of range");
@@ -83,20 +100,65 @@ void read_ele(const std::string& path, Mesh& m, int first) {
   }
 }
 
+// A face line is: number, 3 or 6 nodes, the marker when the header says so,
+// and 2 adjacent tetrahedra with `-nn`. Without the marker the counts after
+// the number are 3, 5 (linear) or 6, 8 (second order); with it one more: no
+// count is ambiguous. Returns the nodes per face.
+int face_layout(size_t fields_after_number, bool markers, const Cursor& in) {
+  const size_t marker_fields = markers ? 1 : 0;
+  if (fields_after_number >= marker_fields) {
+    const size_t nodes_and_adjacent = fields_after_number - marker_fields;
+    if (nodes_and_adjacent == 3 || nodes_and_adjacent == 5) return 3;
+    if (nodes_and_adjacent == 6 || nodes_and_adjacent == 8) return 6;
+  }
+  in.fail("a face line needs 3 or 6 nodes" + std::string(markers ? ", a marker" : "") +
+          " and optionally 2 adjacent tetrahedra, not " + std::to_string(fields_after_number) + " fields");
+}
+
+int face_vertex(const Cursor& in, std::string_view field, const Mesh& m, int first) {
+  int64_t id = 0;
+  if (!Cursor::parse_int(field, id))
+    in.fail("expected a face node (an integer), found '" + std::string(field.substr(0, 40)) + "'");
+  if (id < first || static_cast<uint64_t>(id - first) >= m.points.size())
+    in.fail("a face node " + std::to_string(id) + " does not exist");
+  return static_cast<int>(id - first);
+}
+
 void read_face(const std::string& path, Mesh& m, int first) {
   const std::string data = detail::load_file(path);
   Cursor in(data, path);
   in.set_comment('#');
   const uint64_t n = in.count("the number of faces", data.size());
-  const uint64_t markers = in.count("the boundary marker flag");
+  const bool markers = in.count("the boundary marker flag") != 0;
   m.triangles.reserve(detail::capped(n, data.size(), 8));
+  int nodes = 0;
   for (uint64_t i = 0; i < n; ++i) {
     in.integer("a face number");
+    std::array<std::string_view, 9> field;
+    size_t count = 0;
+    while (in.line_has_more()) {
+      if (count == field.size()) in.fail("too many fields on a face line");
+      field[count++] = in.token_in_line();
+    }
+    const int layout = face_layout(count, markers, in);
+    if (i == 0) nodes = layout;
+    if (layout != nodes)
+      in.fail("this face has " + std::to_string(layout) + " nodes, the first one " + std::to_string(nodes));
     Triangle t;
-    for (int& v : t.v) v = detail::tetgen_vertex(in, m, first, "a face node");
-    if (markers) t.face = in.int32("a face marker");
+    for (int k = 0; k < 3; ++k) t.v[k] = face_vertex(in, field[k], m, first);
+    if (nodes == 6) {
+      TriMidNodes mid;
+      for (int k = 0; k < 3; ++k) mid[k] = face_vertex(in, field[3 + k], m, first);
+      m.triangle_mid.push_back(mid);
+    }
+    if (markers) {
+      int64_t marker = 0;
+      if (!Cursor::parse_int(field[nodes], marker) || marker < INT32_MIN || marker > INT32_MAX)
+        in.fail("expected a face marker (a 32-bit integer), found '" + std::string(field[nodes].substr(0, 40)) + "'");
+      t.face = static_cast<int>(marker);
+    }
     m.triangles.push_back(t);
-    in.skip_line();  // adjacent tetrahedra
+    in.skip_line();
   }
 }
 
@@ -142,22 +204,29 @@ void write_tetgen(const Mesh& m, const std::string& path, const WriteOptions&) {
   }
   if (!m.tets.empty()) {
     detail::Out out;
-    out.reserve(m.tets.size() * 48 + 64);
-    out << m.tets.size() << " 4 1\n";
+    const bool quad = !m.tet_mid.empty();
+    out.reserve(m.tets.size() * (quad ? 96 : 48) + 64);
+    out << m.tets.size() << (quad ? " 10 1\n" : " 4 1\n");
     for (size_t i = 0; i < m.tets.size(); ++i) {
       const Tetrahedron& t = m.tets[i];
-      out << i + 1 << ' ' << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.v[3] + 1 << ' '
-          << t.region << '\n';
+      out << i + 1 << ' ' << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.v[3] + 1 << ' ';
+      if (quad)
+        for (int j : kTetgenMid) out << m.tet_mid[i][j] + 1 << ' ';
+      out << t.region << '\n';
     }
     out.save(base + ".ele" + suffix);
   }
   if (!m.triangles.empty()) {
     detail::Out out;
-    out.reserve(m.triangles.size() * 40 + 64);
+    const bool quad = !m.triangle_mid.empty();
+    out.reserve(m.triangles.size() * (quad ? 64 : 40) + 64);
     out << m.triangles.size() << " 1\n";
     for (size_t i = 0; i < m.triangles.size(); ++i) {
       const Triangle& t = m.triangles[i];
-      out << i + 1 << ' ' << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.face << '\n';
+      out << i + 1 << ' ' << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ';
+      if (quad)
+        for (int v : m.triangle_mid[i]) out << v + 1 << ' ';
+      out << t.face << '\n';
     }
     out.save(base + ".face" + suffix);
   }
