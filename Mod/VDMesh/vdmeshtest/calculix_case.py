@@ -104,7 +104,8 @@ def gmsh_mesh(doc, part, size, order, tag):
 def run_ccx(analysis, solver, mesh_obj):
     """Runs CalculiX on mesh_obj; returns a dict of figures (max displacement, von Mises at POINTS)."""
     from femtools import ccxtools
-    analysis.addObject(mesh_obj)
+    if mesh_obj not in analysis.Group:
+        analysis.addObject(mesh_obj)
     analysis.Document.recompute()
     t = time.time()
     fea = ccxtools.FemToolsCcx(analysis, solver)

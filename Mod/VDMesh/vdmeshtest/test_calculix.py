@@ -54,8 +54,11 @@ class TestVDMeshCalculix(unittest.TestCase):
         self.assertEqual(info["nodes_per_tetrahedron"], 10)
         vd = case.run_ccx(analysis, solver, obj)
 
-        # one material per solid: FreeCAD's deck gives each material exactly the tetrahedra of its solid
+        # one material per solid: the workbench added <Material>_Volumes groups, and FreeCAD's deck
+        # gives each material exactly the tetrahedra of its solid
         groups = femmesh.group_ids(obj.FemMesh)
+        for name, _, _ in case.MATERIALS:
+            self.assertIn(name + "V_Volumes", groups)
         solid_of = {name: case.solid_name(part.Shape, pred) for (name, _, _), pred in
                     zip(case.MATERIALS, (lambda c: c.x < case.LENGTH / 2, lambda c: c.x > case.LENGTH / 2))}
         self.assertTrue(os.path.isfile(vd["inp_file"]), "no CalculiX deck %r" % vd["inp_file"])

@@ -12,6 +12,7 @@ freecad-workbench-3dview.png.
 """
 import os
 import tempfile
+import time
 import unittest
 
 import FreeCAD
@@ -26,11 +27,13 @@ from .support import figure, print_figures
 SIZE = 1.0
 
 
-def process_events(ms=300):
-    """Lets Qt and Coin draw (the 3D view repaints from the event loop)."""
-    loop = QtCore.QEventLoop()
-    QtCore.QTimer.singleShot(ms, loop.quit)
-    loop.exec_()
+def process_events(seconds=0.3):
+    """Lets Qt and Coin draw (the 3D view repaints from the event loop). A polling loop: a nested
+    QEventLoop quit by a single-shot timer sometimes never returned under FreeCAD's test runner."""
+    end = time.time() + seconds
+    while time.time() < end:
+        QtGui.QApplication.processEvents(QtCore.QEventLoop.AllEvents, 50)
+        time.sleep(0.02)
 
 
 def task_panel():
@@ -135,7 +138,7 @@ class TestVDMeshGui(unittest.TestCase):
         view = Gui.ActiveDocument.ActiveView
         view.viewIsometric()
         view.fitAll()
-        process_events(1000)
+        process_events(1.0)
 
         shot = os.path.join(self.out, "freecad-workbench.png")
         screen = QtGui.QApplication.primaryScreen().grabWindow(0)

@@ -99,6 +99,8 @@ class VDMeshObject:
             FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
             raise
         apply_result(obj, fm, inp, report)
+        for analysis in analyses_of(obj):
+            add_material_groups(obj, analysis)
 
     def onDocumentRestored(self, obj):
         self.add_properties(obj, engine.Parameters())
@@ -128,6 +130,45 @@ def apply_result(obj, fm, inp, report):
         kept = inp
     obj.OutputFile = kept
     obj.Report = json.dumps(report or {})
+
+
+def analyses_of(obj):
+    return [o for o in obj.InList if o.isDerivedFrom("Fem::FemAnalysis")]
+
+
+def add_material_groups(obj, analysis):
+    """Adds a volume group <Material>_Volumes for each solid material object of the analysis, the
+    union of the Solid<i>_Volumes groups its References name (all tetrahedra when it names none).
+
+    FreeCAD's CalculiX writer takes a material's elements from the group named <Material>_...;
+    without one it searches the mesh geometrically, which is slow and misses elements whose nodes
+    are classified outside the solid (it failed on second-order meshes of curved parts)."""
+    fm = obj.FemMesh
+    groups = femmesh.group_ids(fm)
+    materials = [m for m in analysis.Group
+                 if m.isDerivedFrom("App::MaterialObjectPython") and getattr(m, "Category", "Solid") == "Solid"]
+    changed = False
+    for m in materials:
+        name = m.Name + "_Volumes"
+        if name in groups:
+            fm.removeGroup(groups[name])
+            changed = True
+        solids = [sub for o, subs in m.References if o == obj.Part for sub in subs if sub.startswith("Solid")]
+        if m.References and not solids:
+            continue  # refers to another part or to faces: not ours to say
+        if solids:
+            missing = [s for s in solids if s + "_Volumes" not in groups]
+            if missing:
+                raise engine.VDMeshError("%s refers to %s, which the mesh does not have" % (m.Label, ", ".join(missing)))
+            elems = sorted({e for s in solids for e in fm.getGroupElements(groups[s + "_Volumes"])})
+        else:
+            elems = list(fm.Volumes)
+        g = fm.addGroup(name, "Volume")
+        fm.addGroupElements(g, elems)
+        changed = True
+    if changed:
+        obj.FemMesh = fm
+    return [m.Name for m in materials]
 
 
 def _keep_dir(obj):
@@ -168,6 +209,7 @@ def create_mesh(part, params=None, analysis=None, name="VDMesh"):
         analysis = analysis or find_analysis(doc)
         if analysis is not None:
             analysis.addObject(obj)
+            add_material_groups(obj, analysis)
         obj.purgeTouched()
     except Exception:
         doc.abortTransaction()
