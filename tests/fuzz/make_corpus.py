@@ -11,6 +11,7 @@ that once crashed a reader.
 """
 import gzip
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -80,7 +81,7 @@ def main():
             suffix = "".join("_" + o.strip("-").replace("msh-version", "") for o in opts if o != "--msh-version")
             seed(ext.strip("."), "seed_%s%s" % (ext.strip("."), suffix), open(out, "rb").read())
         seed("poly", "seed_poly_hole", HOLED_POLY.encode())
-        seed("gz", "seed_off_gz", gzip.compress(open(os.path.join(tmp, "out.off"), "rb").read()))
+        seed("gz", "seed_off_gz", gzip.compress(open(os.path.join(tmp, "out.off"), "rb").read(), mtime=0))
         # TetGen: with and without the .face part, and first and second order.
         base = os.path.join(tmp, "tg")
         convert(vdmesh, src, base + ".node", [])
@@ -88,6 +89,15 @@ def main():
         seed("tetgen", "seed_node_ele_face", b"\0".join(parts))
         seed("tetgen", "seed_node_ele", b"\0".join(parts[:2]))
         seed("tetgen", "seed_node_only", parts[0])
+        # Second order from the real program: 10-node .ele, 3-node hull .face.
+        if shutil.which("tetgen"):
+            with open(os.path.join(tmp, "five.node"), "w") as f:
+                f.write("5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n")
+            subprocess.run(["tetgen", "-o2Q", "five.node"], cwd=tmp, check=True, capture_output=True)
+            parts = [open(os.path.join(tmp, "five.1" + ext), "rb").read() for ext in (".node", ".ele", ".face")]
+            seed("tetgen", "seed_tetgen_o2", b"\0".join(parts))
+        else:
+            print("make_corpus: tetgen not found, seed_tetgen_o2 not made", file=sys.stderr)
 
 
 if __name__ == "__main__":
