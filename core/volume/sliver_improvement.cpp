@@ -10,27 +10,45 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/point_grid.h"
 #include "geometry/predicates.h"
 #include "mesh/tet_faces.h"
 
 namespace vd {
 
-double smallest_dihedral_if_positive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+namespace {
+
+// Cosine between the outward normals of the two faces at the smallest
+// dihedral angle: the angle is 180 - acos of it, so it orders tetrahedra as
+// their smallest angle does, without the acos. -2 when not positive.
+double smallest_dihedral_score(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const Vec3 ab = b - a, ac = c - a, ad = d - a;
-  if (dot(cross(ab, ac), ad) <= 0) return -1.0;
+  if (dot(cross(ab, ac), ad) <= 0) return -2.0;
   // Outward normals of the faces opposite d, c, b and a of a positive tetrahedron.
   const Vec3 n[4] = {cross(ac, ab), cross(ab, ad), cross(ad, ac), cross(c - b, d - b)};
   double len[4];
   for (int i = 0; i < 4; ++i) {
     len[i] = norm(n[i]);
-    if (!(len[i] > 0)) return -1.0;
+    if (!(len[i] > 0)) return -2.0;
   }
   // The dihedral angle at an edge is pi minus the angle between the outward
   // normals of its two faces: the smallest angle has the smallest cosine.
   double lowest = 1.0;
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j) lowest = std::min(lowest, dot(n[i], n[j]) / (len[i] * len[j]));
-  return 180.0 - std::acos(std::clamp(lowest, -1.0, 1.0)) * 180.0 / M_PI;
+  return std::clamp(lowest, -1.0, 1.0);
+}
+
+double degrees_of_score(double score) {
+  return score < -1.0 ? -1.0 : 180.0 - std::acos(score) * 180.0 / M_PI;
+}
+
+double score_of_degrees(double deg) { return deg < 0 ? -2.0 : -std::cos(deg * M_PI / 180.0); }
+
+}  // namespace
+
+double smallest_dihedral_if_positive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return degrees_of_score(smallest_dihedral_score(a, b, c, d));
 }
 
 namespace {
@@ -74,7 +92,8 @@ int apex(const std::array<int, 4>& v, const Triple& f) {
 // remove.
 class TetComplex {
  public:
-  explicit TetComplex(Mesh& m) : m_(m), star_(m.points.size()), on_surface_(m.points.size(), false) {
+  explicit TetComplex(Mesh& m)
+      : m_(m), star_(m.points.size()), stamp_(m.points.size(), 0), on_surface_(m.points.size(), false) {
     for (const Triangle& t : m.triangles) {
       constrained_.insert(sorted_triple(t.v));
       for (int v : t.v) on_surface_[v] = true;
@@ -86,8 +105,20 @@ class TetComplex {
   const Vec3& point(int v) const { return m_.points[v]; }
   void move_point(int v, const Vec3& p) {
     m_.points[v] = p;
-    for (int t : star_[v]) quality_[t] = measure(tets_[t].v);
+    for (int t : star_[v]) {
+      quality_[t] = measure(tets_[t].v);
+      for (int x : tets_[t].v) touch(x);
+    }
   }
+
+  // Whether anything that a flip or move for t looks at (the tetrahedra
+  // around its vertices and their shapes) changed since t last failed.
+  bool worth_retrying(int t) const {
+    long latest = 0;
+    for (int x : tets_[t].v) latest = std::max(latest, stamp_[x]);
+    return latest > failed_at_[t];
+  }
+  void mark_failed(int t) { failed_at_[t] = clock_; }
   int size() const { return static_cast<int>(tets_.size()); }
   bool alive(int t) const { return alive_[t]; }
   const Tetrahedron& tet(int t) const { return tets_[t]; }
@@ -118,9 +149,11 @@ class TetComplex {
     const int id = size();
     tets_.push_back(t);
     alive_.push_back(true);
+    failed_at_.push_back(-1);
     quality_.push_back(measure(t.v));
     for (int i = 0; i < 4; ++i) {
       star_[t.v[i]].push_back(id);
+      touch(t.v[i]);
       const Triple key = sorted_triple(face_opposite(t.v, i));
       auto& p = faces_.try_emplace(key, std::array<int, 2>{-1, -1}).first->second;
       if (p[0] < 0) p[0] = id;
@@ -192,11 +225,16 @@ class TetComplex {
   }
 
  private:
+  void touch(int v) { stamp_[v] = ++clock_; }
+
   Mesh& m_;
   std::vector<Tetrahedron> tets_;
   std::vector<bool> alive_;
   std::vector<double> quality_;
+  std::vector<long> failed_at_;  // clock_ when the tetrahedron last failed to improve
   std::vector<std::vector<int>> star_;
+  std::vector<long> stamp_;      // clock_ of the last change around each vertex
+  long clock_ = 0;
   std::vector<bool> on_surface_;
   std::unordered_set<Triple, TripleHash> constrained_;
   std::unordered_map<Triple, std::array<int, 2>, TripleHash> faces_;
@@ -320,16 +358,25 @@ bool apply_if_valid(TetComplex& c, const Replacement& r, SliverStats& stats) {
 }
 
 // Witness spheres of the surface facets (see the header): an empty sphere
-// through each facet, taken while the tetrahedra are still Delaunay, kept as
-// its four defining points so that the exact in-sphere predicate decides.
+// through each facet, kept as its defining points so that exact predicates
+// decide. The smallest one, the facet's equatorial sphere, when it is empty;
+// else the smaller circumsphere of the tetrahedra beside the facet, empty
+// while the tetrahedra are still Delaunay (before any change).
 class WitnessSpheres {
  public:
   WitnessSpheres(const TetComplex& c, const Mesh& m) {
+    PointGrid grid;
+    grid.build(m.points);
+    std::vector<int> occupants;
     double edge_sum = 0;
     for (const Triangle& t : m.triangles)
       for (int e = 0; e < 3; ++e) edge_sum += norm(m.points[t.v[(e + 1) % 3]] - m.points[t.v[e]]);
     cell_ = m.triangles.empty() ? 1.0 : 2.0 * edge_sum / (3.0 * m.triangles.size());
     for (const Triangle& f : m.triangles) {
+      if (equatorial_sphere_occupants(grid, f.v[0], f.v[1], f.v[2], occupants) && occupants.empty()) {
+        add({m.points[f.v[0]], m.points[f.v[1]], m.points[f.v[2]], Vec3{}}, true);
+        continue;
+      }
       int chosen = -1;
       double radius = std::numeric_limits<double>::infinity();
       for (int t : c.face_tets(f.v)) {
@@ -340,7 +387,7 @@ class WitnessSpheres {
       }
       if (chosen < 0) continue;
       const auto& v = c.tet(chosen).v;
-      add({c.point(v[0]), c.point(v[1]), c.point(v[2]), c.point(v[3])});
+      add({c.point(v[0]), c.point(v[1]), c.point(v[2]), c.point(v[3])}, false);
     }
   }
 
@@ -348,7 +395,8 @@ class WitnessSpheres {
   bool allows(const Vec3& p) const {
     auto outside = [&](int s) {
       const auto& w = spheres_[s];
-      return side_of_circumsphere(w[0], w[1], w[2], w[3], p) == SphereSide::outside;
+      return (equatorial_[s] ? side_of_equatorial_sphere(w[0], w[1], w[2], p)
+                             : side_of_circumsphere(w[0], w[1], w[2], w[3], p)) == SphereSide::outside;
     };
     for (int s : large_)
       if (!outside(s)) return false;
@@ -370,10 +418,11 @@ class WitnessSpheres {
     return {static_cast<std::int64_t>(std::floor(p.x / cell_)), static_cast<std::int64_t>(std::floor(p.y / cell_)),
             static_cast<std::int64_t>(std::floor(p.z / cell_))};
   }
-  void add(const std::array<Vec3, 4>& w) {
+  void add(const std::array<Vec3, 4>& w, bool equatorial) {
     const int id = static_cast<int>(spheres_.size());
     spheres_.push_back(w);
-    const Ball b = circumsphere(w[0], w[1], w[2], w[3]);
+    equatorial_.push_back(equatorial);
+    const Ball b = equatorial ? equatorial_sphere(w[0], w[1], w[2]) : circumsphere(w[0], w[1], w[2], w[3]);
     // Spheres spanning many cells (and flat tetrahedra, radius +inf) are
     // tested for every point instead of being spread over cells.
     if (!(b.radius < 3.0 * cell_)) {
@@ -389,6 +438,7 @@ class WitnessSpheres {
 
   double cell_ = 1.0;
   std::vector<std::array<Vec3, 4>> spheres_;
+  std::vector<bool> equatorial_;  // else the circumsphere of all four points
   std::vector<int> large_;
   std::unordered_map<Cell, std::vector<int>, CellHash> cells_;
 };
@@ -429,23 +479,24 @@ double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
   if (!neighbours) return old_quality;
   centroid = (1.0 / neighbours) * centroid;
   spacing /= neighbours;
-  // Smallest angle with v at x, stopping early once it cannot beat `floor`.
+  // Score of the smallest angle with v at x (smallest_dihedral_score),
+  // stopping early once it cannot beat `floor`.
   auto quality_at = [&](const Vec3& x, double floor) {
-    double lo = 180;
+    double lo = 1.0;
     for (Local l : local) {
       l.p[l.slot] = x;
-      lo = std::min(lo, smallest_dihedral_if_positive(l.p[0], l.p[1], l.p[2], l.p[3]));
+      lo = std::min(lo, smallest_dihedral_score(l.p[0], l.p[1], l.p[2], l.p[3]));
       if (lo <= floor) return lo;
     }
     return lo;
   };
   static const std::vector<Vec3> directions = compass_directions();
   Vec3 x = c.point(v);
-  double q = old_quality;
+  double q = score_of_degrees(old_quality);
   const double qc = quality_at(centroid, q);
   if (qc > q) x = centroid, q = qc;
   double step = 0.2 * spacing;
-  for (int round = 0; round < 60 && step > 1e-3 * spacing; ++round) {
+  for (int round = 0; round < 40 && step > 1e-3 * spacing; ++round) {
     Vec3 best = x;
     double best_q = q;
     for (const Vec3& d : directions) {
@@ -453,11 +504,11 @@ double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
       const double qy = quality_at(y, best_q);
       if (qy > best_q) best = y, best_q = qy;
     }
-    if (best_q > q + 1e-9) x = best, q = best_q;
+    if (best_q > q + 1e-12) x = best, q = best_q;
     else step *= 0.5;
   }
   to = x;
-  return q;
+  return degrees_of_score(q);
 }
 
 // Case C for tetrahedron t: the best accepted move of one of its interior vertices.
@@ -516,13 +567,17 @@ void improve_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats) {
     std::sort(slivers.begin(), slivers.end());
     long changes = 0;
     for (const auto& [quality, t] : slivers) {
-      if (!c.alive(t) || c.quality(t) >= o.sliver_angle_deg) continue;
+      if (!c.alive(t) || c.quality(t) >= o.sliver_angle_deg || !c.worth_retrying(t)) continue;
       Replacement r;
       if (o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) {
         ++changes;
         continue;
       }
-      if (o.moves && move_a_vertex(c, *witnesses, t, stats)) ++changes;
+      if (o.moves && move_a_vertex(c, *witnesses, t, stats)) {
+        ++changes;
+        continue;
+      }
+      c.mark_failed(t);
     }
     if (!changes) break;
   }
