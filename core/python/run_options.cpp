@@ -67,6 +67,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     seed (int, 1): the same input, options and seed give the same mesh
     shift (float, 1e-4): random shift relative to the local edge length, in [0, 0.1]
     max_passes (int, 200), max_added (int, -1: 20 x input vertices + 1000): Delaunayzation guards
+    order (int, 1): 2 gives 10-node tetrahedra (mesh.tet_mid, mesh.triangle_mid); on CAD
+        input the surface's mid-edge nodes lie on the CAD faces and edges
     progress (callable(str) or None): called with the name of each phase as it starts
         (on the worker thread, holding the GIL); an exception raised there stops the run
         and is re-raised by the call
@@ -82,7 +84,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   static const std::set<std::string> kCommon = {
       "size",     "gradation",  "interior",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
-      "progress", "cancel"};
+      "order",    "progress",   "cancel"};
   static const std::set<std::string> kCad = {"deflection", "planar_splits"};
   RunOptions run;
   MeshOptions& opt = run.cad.mesh;
@@ -113,6 +115,11 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
     } else if (name == "shift") opt.shift = number(value, name);
     else if (name == "max_passes") opt.delaunayzation.max_passes = static_cast<int>(integer(value, name));
     else if (name == "max_added") opt.delaunayzation.max_added_vertices = static_cast<int>(integer(value, name));
+    else if (name == "order") {
+      const long long order = integer(value, name);
+      check(order == 1 || order == 2, "option order: must be 1 or 2");
+      opt.order = static_cast<int>(order);
+    }
     else if (name == "progress") {
       if (!value.is_none() && !PyCallable_Check(value.ptr()))
         throw py::type_error("option progress: expected a callable, got " + type_name(value));

@@ -1,0 +1,469 @@
+"""The vdmesh Python module: meshing from numpy arrays and from CAD, the
+converters, the report, errors, and stopping a long run (Ctrl-C, CancelToken).
+
+Run with Debian's python3 and PYTHONPATH=<build>/python (ctest python.module
+sets it); gmsh's Python module (python3-gmsh) makes the CAD part and meshio
+reads our files back."""
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import unittest
+
+import numpy as np
+
+import vdmesh
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "cli"))
+from surface_shapes import icosphere  # noqa: E402
+
+
+def box_surface(lo, hi):
+    """Six faces of an axis-aligned box as 12 triangles with outward normals."""
+    x0, y0, z0 = lo
+    x1, y1, z1 = hi
+    pts = np.array([(x, y, z) for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], dtype=float)
+    # vertex index of (i, j, k) in {0, 1}^3
+    v = lambda i, j, k: i + 2 * j + 4 * k  # noqa: E731
+    faces = [  # counter-clockwise seen from outside
+        (v(0, 0, 0), v(0, 0, 1), v(0, 1, 1), v(0, 1, 0)),  # x = x0
+        (v(1, 0, 0), v(1, 1, 0), v(1, 1, 1), v(1, 0, 1)),  # x = x1
+        (v(0, 0, 0), v(1, 0, 0), v(1, 0, 1), v(0, 0, 1)),  # y = y0
+        (v(0, 1, 0), v(0, 1, 1), v(1, 1, 1), v(1, 1, 0)),  # y = y1
+        (v(0, 0, 0), v(0, 1, 0), v(1, 1, 0), v(1, 0, 0)),  # z = z0
+        (v(0, 0, 1), v(1, 0, 1), v(1, 1, 1), v(0, 1, 1)),  # z = z1
+    ]
+    tris, ids = [], []
+    for fid, (a, b, c, d) in enumerate(faces, start=1):
+        tris += [(a, b, c), (a, c, d)]
+        ids += [fid, fid]
+    return pts, np.array(tris), np.array(ids)
+
+
+# Plane of each face of box_surface: (axis, which end).
+BOX_PLANES = {1: (0, 0), 2: (0, 1), 3: (1, 0), 4: (1, 1), 5: (2, 0), 6: (2, 1)}
+
+
+def tet_volumes(mesh):
+    p = mesh.points[mesh.tets]
+    return np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6.0
+
+
+def region_volumes(mesh):
+    return np.bincount(mesh.tet_regions, weights=tet_volumes(mesh))
+
+
+def enclosed_volumes(points, tris, regions, count):
+    """Volume per region enclosed by a tagged surface (divergence theorem):
+    a facet's normal points out of its back region into its front region."""
+    p = points[tris]
+    signed = np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])) / 6.0
+    out = np.zeros(count + 1)
+    np.add.at(out, regions[:, 1], signed)
+    np.add.at(out, regions[:, 0], -signed)
+    return out
+
+
+def two_pyramids():
+    """Two square pyramids, apexes 0.05 apart (regions 1 and 2, faces 1..10)."""
+    def pyramid(c, height, first):
+        pts = np.array(c, float) + [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0], [0, 0, height]]
+        tris = [(0, 2, 1), (0, 3, 2), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]
+        if height < 0:
+            tris = [(a, c, b) for a, b, c in tris]
+        return pts, np.array(tris) + first, np.array([0, 0, 1, 2, 3, 4]) + 1 + first
+    p1, t1, f1 = pyramid((0, 0, 0), 1, 0)
+    p2, t2, f2 = pyramid((0, 0, 2.05), -1, 5)
+    return np.vstack([p1, p2]), np.vstack([t1, t2]), np.concatenate([f1, f2])
+
+
+def canonical(tris):
+    """Each triangle rotated to start at its smallest index (same orientation)."""
+    tris = np.asarray(tris)
+    k = tris.argmin(axis=1)
+    return np.stack([tris[np.arange(len(tris)), (k + j) % 3] for j in range(3)], axis=1)
+
+
+class MeshFromArrays(unittest.TestCase):
+    def test_cube_volume_faces_and_regions(self):
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        regions = np.tile([0, 1], (len(tris), 1))
+        mesh, report = vdmesh.mesh_surface(pts, tris, ids, regions, size=0.2, seed=3)
+        self.assertGreater(len(mesh.tets), 100)
+        vol = tet_volumes(mesh)
+        self.assertTrue((vol > 0).all(), "every tetrahedron positive")
+        self.assertEqual(set(mesh.tet_regions.tolist()), {1})
+        self.assertAlmostEqual(vol.sum(), 1.0, delta=1e-12)
+        # Face ids survive: each output triangle lies on the plane of its input face.
+        faces = mesh.triangle_faces
+        self.assertEqual(set(faces.tolist()), set(range(1, 7)))
+        for fid, (axis, end) in BOX_PLANES.items():
+            coords = mesh.points[mesh.triangles[faces == fid]][:, :, axis]
+            self.assertLess(np.abs(coords - end).max(), 1e-12, "face %d stays on its plane" % fid)
+        self.assertTrue((mesh.triangle_regions == [0, 1]).all())
+        self.assertEqual(report["counts"]["tetrahedra"], len(mesh.tets))
+
+    def test_second_order(self):
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        mesh, report = vdmesh.mesh_surface(pts, tris, ids, size=0.4, order=2)
+        self.assertTrue(mesh.second_order)
+        self.assertEqual(mesh.tet_mid.shape, (len(mesh.tets), 6))
+        self.assertEqual(mesh.triangle_mid.shape, (len(mesh.triangles), 3))
+        # Planar faces: every mid-edge node is the mid-point of its edge
+        # (edges 01, 12, 20, 03, 13, 23).
+        edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+        p = mesh.points
+        for k, (a, b) in enumerate(edges):
+            mid = 0.5 * (p[mesh.tets[:, a]] + p[mesh.tets[:, b]])
+            self.assertLess(np.abs(p[mesh.tet_mid[:, k]] - mid).max(), 1e-12)
+        self.assertAlmostEqual(region_volumes(mesh)[1], 1.0, delta=1e-12)
+        with self.assertRaisesRegex(ValueError, "order"):
+            vdmesh.mesh_surface(pts, tris, order=3)
+
+    def test_two_regions_with_interface(self):
+        # Two unit boxes side by side; the shared square x = 1 is one interface
+        # face (id 7) with region 1 behind and region 2 in front.
+        left, tl, il = box_surface((0, 0, 0), (1, 1, 1))
+        right, tr, ir = box_surface((1, 0, 0), (2, 1, 1))
+        # Weld: right's x = 1 corners are left's x = 1 corners.
+        pts = np.vstack([left, right])
+        tr = tr + len(left)
+        remap = {len(left) + i: j for i in range(8) for j in range(8) if np.array_equal(right[i], left[j])}
+        tr = np.vectorize(lambda x: remap.get(x, x))(tr)
+        keep_left = il != 2          # left's x = 1 face becomes the interface
+        keep_right = ir != 1         # right's x = 0 face is dropped
+        tris = np.vstack([tl[keep_left], tl[~keep_left], tr[keep_right]])
+        ids = np.concatenate([il[keep_left], np.full(2, 7), ir[keep_right] + 10])
+        regions = np.vstack([np.tile([0, 1], (keep_left.sum(), 1)), np.tile([2, 1], (2, 1)),
+                             np.tile([0, 2], (keep_right.sum(), 1))])
+        used = np.unique(tris)
+        pts_used = pts[used]
+        tris = np.searchsorted(used, tris)
+        expected = enclosed_volumes(pts_used, tris, regions, 2)
+        np.testing.assert_allclose(expected[1:], [1.0, 1.0], atol=1e-15)
+
+        mesh, report = vdmesh.mesh_surface(pts_used, tris, ids, regions, size=0.25)
+        vols = region_volumes(mesh)
+        np.testing.assert_allclose(vols[1:], expected[1:], atol=1e-12)
+        self.assertEqual(report["counts"]["tets_per_region"][1:], np.bincount(mesh.tet_regions)[1:].tolist())
+        interface = mesh.triangle_faces == 7
+        self.assertGreater(interface.sum(), 2)
+        self.assertTrue((mesh.triangle_regions[interface] == [2, 1]).all())
+        self.assertTrue(np.abs(mesh.points[mesh.triangles[interface]][:, :, 0] - 1).max() < 1e-12)
+        self.assertTrue(report["counts"]["regions_from_tags"])
+
+    def test_icosphere_splits_only_keeps_the_volume(self):
+        # Without flips and sliver removal every added vertex lies on an input
+        # facet, so the enclosed volume is the input polyhedron's exactly.
+        p, t = icosphere(2)
+        pts, tris = np.array(p), np.array(t)
+        expected = enclosed_volumes(pts, tris, np.tile([0, 1], (len(tris), 1)), 1)[1]
+        mesh, report = vdmesh.mesh_surface(pts, tris, flips=False, keep_slivers=True, size=0.3)
+        self.assertGreater(len(mesh.tets), 0)
+        self.assertAlmostEqual(region_volumes(mesh)[1], expected, delta=1e-12 * expected)
+        self.assertEqual(report["delaunayzation"]["flips"], 0)
+        self.assertEqual(report["slivers"]["removed_boundary"], 0)
+        self.assertEqual(report["counts"]["face_patches_assigned"], 1, "one smooth patch: faces from sharp edges")
+
+    def test_same_seed_same_mesh(self):
+        p, t = icosphere(2)
+        a, _ = vdmesh.mesh_surface(np.array(p), np.array(t), seed=7)
+        b, _ = vdmesh.mesh_surface(np.array(p), np.array(t), seed=7)
+        c, _ = vdmesh.mesh_surface(np.array(p), np.array(t), seed=8)
+        np.testing.assert_array_equal(a.points, b.points)
+        np.testing.assert_array_equal(a.tets, b.tets)
+        self.assertFalse(np.array_equal(a.points, c.points), "another seed, another random shift")
+
+    def test_mesh_object_as_input_and_oracles(self):
+        pts, tris, ids = box_surface((0, 0, 0), (2, 1, 1))
+        surface = vdmesh.Mesh(points=pts, triangles=tris, triangle_faces=ids)
+        for oracle in ("dt", "lp", "sphere"):
+            mesh, report = vdmesh.mesh_surface(surface, oracle=oracle, interior=False)
+            self.assertEqual(report["oracle"]["name"], oracle)
+            self.assertEqual(report["interior"]["vertices"], 0)
+            self.assertAlmostEqual(region_volumes(mesh)[1], 2.0, delta=1e-12)
+
+
+class Report(unittest.TestCase):
+    def test_keys_and_values(self):
+        p, t = icosphere(2)
+        mesh, r = vdmesh.mesh_surface(np.array(p), np.array(t), size=0.25)
+        self.assertEqual(set(r), {"complete", "counts", "oracle", "delaunayzation", "interior", "slivers", "shift",
+                                  "seconds", "quality", "missing_facets"})
+        self.assertTrue(r["complete"])
+        self.assertEqual(r["missing_facets"], [])
+        c = r["counts"]
+        self.assertEqual(c["input_vertices"], len(p))
+        self.assertEqual(c["input_facets"], len(t))
+        self.assertEqual(c["output_vertices"], len(mesh.points))
+        self.assertEqual(c["output_facets"], len(mesh.triangles))
+        self.assertEqual(c["tetrahedra"], len(mesh.tets))
+        self.assertEqual(c["regions"], 1)
+        self.assertGreater(r["interior"]["vertices"], 0)
+        self.assertLessEqual(r["interior"]["vertices"], len(mesh.points) - len(p) - c["added_surface_vertices"])
+        q = r["quality"]
+        self.assertEqual(q["inverted"], 0)
+        self.assertGreater(q["min_dihedral_deg"], 0)
+        self.assertLess(q["min_dihedral_deg"], 70.53)
+        self.assertGreater(q["max_dihedral_deg"], 70.52)
+        self.assertEqual(sum(q["dihedral_histogram_10deg"]), 6 * len(mesh.tets))
+        self.assertIn("delaunayzation", r["seconds"])
+        self.assertTrue(all(s >= 0 for s in r["seconds"].values()))
+
+
+class Converters(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="vdmesh-py-")
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        self.mesh, _ = vdmesh.mesh_surface(pts, tris, ids, size=0.3)
+
+    def test_formats_listed(self):
+        names = {f["name"] for f in vdmesh.formats()}
+        self.assertTrue({"gmsh", "vtu"} <= names, names)
+        exts = {e for f in vdmesh.formats() for e in f["extensions"]}
+        self.assertTrue({".msh", ".vtu", ".inp", ".off", ".stl"} <= exts, exts)
+
+    def test_round_trip(self):
+        m = self.mesh
+        for name, binary in (("out.msh", True), ("out.msh", False), ("out.vtu", False), ("out.inp", False)):
+            path = os.path.join(self.dir, name)
+            vdmesh.write(m, path, binary=binary)
+            back = vdmesh.read(path)
+            np.testing.assert_allclose(back.points, m.points, rtol=0, atol=0 if binary else 1e-12)
+            np.testing.assert_array_equal(back.tets, m.tets)
+            np.testing.assert_array_equal(back.tet_regions, m.tet_regions)
+            # Writers may group triangles by face: compare (triangle, face id) as sets.
+            tagged = lambda mesh: sorted(map(tuple, np.column_stack([canonical(mesh.triangles),  # noqa: E731
+                                                                      mesh.triangle_faces]).tolist()))
+            self.assertEqual(tagged(back), tagged(m), name)
+
+    def test_third_party_reader_agrees(self):
+        import meshio
+        path = os.path.join(self.dir, "out.vtu")
+        vdmesh.write(self.mesh, path)
+        read = meshio.read(path)
+        tetra = np.vstack([c.data for c in read.cells if c.type == "tetra"])
+        np.testing.assert_array_equal(tetra, self.mesh.tets)
+        np.testing.assert_allclose(read.points, self.mesh.points, atol=1e-12)
+
+    def test_mesh_attributes_round_trip(self):
+        m = vdmesh.Mesh(points=[[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], tets=[[0, 1, 2, 3]], tet_regions=[4],
+                        region_names={4: "Solid4"})
+        self.assertEqual(m.points.dtype, np.float64)
+        self.assertEqual(m.tets.tolist(), [[0, 1, 2, 3]])
+        self.assertEqual(m.region_names, {4: "Solid4"})
+        path = os.path.join(self.dir, "one.msh")
+        vdmesh.write(m, path)
+        self.assertEqual(vdmesh.read(path).tet_regions.tolist(), [4])
+
+
+def make_brep(path, build):
+    """A BREP made by gmsh's OpenCASCADE kernel, in a child process so that
+    gmsh and vdmesh never share a process."""
+    code = ("import gmsh, sys\ngmsh.initialize()\ngmsh.option.setNumber('General.Terminal', 0)\n"
+            "occ = gmsh.model.occ\n" + build + "\nocc.synchronize()\ngmsh.write(sys.argv[1])\ngmsh.finalize()\n")
+    # Without the sanitizer runtime the sanitized suite preloads for vdmesh.
+    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+    subprocess.run(["/usr/bin/python3", "-c", code, path], check=True, timeout=120, env=env)
+
+
+class Cad(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="vdmesh-py-cad-")
+        cls.path = os.path.join(cls.dir, "boxhole.brep")
+        make_brep(cls.path, "occ.cut([(3, occ.addBox(0, 0, 0, 10, 10, 4))], [(3, occ.addCylinder(5, 5, -1, 0, 0, 6, 2))])")
+        with open(cls.path) as f:
+            cls.brep = f.read()
+
+    def test_brep_string_volume(self):
+        mesh, report = vdmesh.mesh_cad(brep=self.brep, size=1.5)
+        exact = 400 - np.pi * 4 * 4
+        cad = report["cad"]
+        self.assertEqual((cad["solids"], cad["faces"]), (1, 7))
+        # The report prints 6 significant digits.
+        self.assertAlmostEqual(cad["volumes"][0]["cad"], exact, delta=1e-5 * exact)
+        vol = region_volumes(mesh)
+        self.assertEqual(len(vol), 2)
+        # Chords of the hole lose a little volume; the report's mesh volume is ours.
+        self.assertAlmostEqual(vol[1], exact, delta=5e-3 * exact)
+        self.assertAlmostEqual(vol[1], cad["volumes"][0]["mesh"], delta=1e-5 * exact)
+        self.assertEqual(mesh.region_names, {1: "Solid1"})
+        self.assertEqual(set(mesh.face_names.values()), {"Face%d" % j for j in range(1, 8)})
+        self.assertEqual(set(mesh.triangle_faces.tolist()), set(range(1, 8)))
+
+    def test_file_and_string_agree(self):
+        a, _ = vdmesh.mesh_cad(brep=self.brep, size=2, interior=False)
+        b, _ = vdmesh.mesh_cad(path=self.path, size=2, interior=False)
+        np.testing.assert_array_equal(a.points, b.points)
+        np.testing.assert_array_equal(a.tets, b.tets)
+
+    def test_tessellation(self):
+        surface = vdmesh.tessellate_cad(path=self.path, size=2)
+        self.assertEqual(len(surface.tets), 0)
+        self.assertEqual(set(surface.triangle_faces.tolist()), set(range(1, 8)))
+        self.assertEqual(set(surface.triangle_regions.ravel().tolist()), {0, 1})
+        # Each normal points into the front region: the enclosed volume is the part's.
+        vol = enclosed_volumes(surface.points, surface.triangles, surface.triangle_regions, 1)
+        exact = 400 - np.pi * 4 * 4
+        self.assertAlmostEqual(vol[1], exact, delta=5e-3 * exact)
+        self.assertAlmostEqual(vol[0], -exact, delta=5e-3 * exact)
+
+    def test_cad_errors(self):
+        with self.assertRaises(vdmesh.InputError) as e:
+            vdmesh.mesh_cad(brep="hello")
+        self.assertIn("BREP", str(e.exception))
+        with self.assertRaises(TypeError):
+            vdmesh.mesh_cad()
+        with self.assertRaises(TypeError):
+            vdmesh.mesh_cad(path=self.path, brep=self.brep)
+        with self.assertRaises(ValueError):
+            vdmesh.mesh_cad(path=os.path.join(self.dir, "part.txt"))
+
+
+class BadInput(unittest.TestCase):
+    def test_open_surface(self):
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        with self.assertRaises(vdmesh.InputError) as e:
+            vdmesh.mesh_surface(pts, tris[:-2], ids[:-2])
+        self.assertIsInstance(e.exception, ValueError)
+        self.assertIn("open", str(e.exception))
+
+    def test_bad_arrays(self):
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        with self.assertRaisesRegex(ValueError, r"triangles\[3\] refers to vertex 8"):
+            bad = tris.copy()
+            bad[3, 1] = 8
+            vdmesh.mesh_surface(pts, bad)
+        with self.assertRaisesRegex(TypeError, "expected integers"):
+            vdmesh.mesh_surface(pts, tris.astype(float))
+        with self.assertRaisesRegex(ValueError, "shape"):
+            vdmesh.mesh_surface(pts[:, :2], tris)
+        with self.assertRaisesRegex(ValueError, "not finite"):
+            p = pts.copy()
+            p[2, 0] = np.nan
+            vdmesh.mesh_surface(p, tris)
+        with self.assertRaisesRegex(ValueError, "rows for 12 triangles"):
+            vdmesh.mesh_surface(pts, tris, ids[:5])
+
+    def test_bad_options(self):
+        pts, tris, _ = box_surface((0, 0, 0), (1, 1, 1))
+        with self.assertRaisesRegex(TypeError, "unexpected keyword argument 'sise'"):
+            vdmesh.mesh_surface(pts, tris, sise=1)
+        with self.assertRaisesRegex(TypeError, "mesh_cad only"):
+            vdmesh.mesh_surface(pts, tris, deflection=1)
+        with self.assertRaisesRegex(ValueError, "size"):
+            vdmesh.mesh_surface(pts, tris, size=-1)
+        with self.assertRaisesRegex(ValueError, "unknown oracle 'foo'"):
+            vdmesh.mesh_surface(pts, tris, oracle="foo")
+        with self.assertRaisesRegex(TypeError, "interior"):
+            vdmesh.mesh_surface(pts, tris, interior="no")
+
+    def test_bad_files(self):
+        d = tempfile.mkdtemp(prefix="vdmesh-py-bad-")
+        path = os.path.join(d, "broken.off")
+        with open(path, "w") as f:
+            f.write("OFF\n3 1 0\n0 0 0\n1 0 0\n")
+        with self.assertRaises(vdmesh.InputError) as e:
+            vdmesh.read(path)
+        self.assertIn("broken.off", str(e.exception))
+        with self.assertRaises(vdmesh.InputError):
+            vdmesh.read(os.path.join(d, "missing.off"))
+        with self.assertRaisesRegex(ValueError, "xyz"):
+            vdmesh.write(vdmesh.Mesh(), os.path.join(d, "out.xyz"))
+
+    def test_recovery_error_carries_the_report(self):
+        # The paper's two almost touching pyramids (§9.8) need vertices or
+        # flips; the guard allows neither.
+        pts, tris, faces = two_pyramids()
+        with self.assertRaises(vdmesh.RecoveryError) as e:
+            vdmesh.mesh_surface(pts, tris, faces, max_added=0, flips=False, interior=False)
+        report = e.exception.report
+        self.assertFalse(report["complete"])
+        self.assertGreater(len(report["missing_facets"]), 0)
+        self.assertIn(str(len(report["missing_facets"])), str(e.exception))
+
+
+def long_job():
+    """A run whose interior vertices take a minute or more (about 600,000 in
+    a unit sphere). The size is just above the longest surface edge (0.0207),
+    so that no phase before them refines the surface: the time goes into the
+    candidate loop, which looks at the cancel flag every 256 candidates."""
+    p, t = icosphere(6)
+    return np.array(p), np.array(t), 0.021
+
+
+class Interrupt(unittest.TestCase):
+    LIMIT = 10.0  # seconds from the request to the exception; typically under 2
+
+    def test_ctrl_c_in_the_main_thread(self):
+        pts, tris, size = long_job()
+        phases, started, sent = [], threading.Event(), []
+
+        def progress(phase):
+            phases.append(phase)
+            if phase == "interior vertices":
+                started.set()
+
+        def interrupt():
+            started.wait(600)
+            time.sleep(2)
+            sent.append(time.monotonic())
+            os.kill(os.getpid(), signal.SIGINT)
+
+        threading.Thread(target=interrupt, daemon=True).start()
+        with self.assertRaises(KeyboardInterrupt):
+            vdmesh.mesh_surface(pts, tris, size=size, progress=progress)
+        self.assertTrue(sent, "the signal was sent during the run")
+        self.assertLess(time.monotonic() - sent[0], self.LIMIT)
+        self.assertEqual(phases[-1], "interior vertices", "stopped in the phase it was in")
+
+    def test_cancel_token_from_another_thread_and_gil_released(self):
+        pts, tris, size = long_job()
+        token = vdmesh.CancelToken()
+        started, outcome = threading.Event(), []
+
+        def progress(phase):
+            if phase == "interior vertices":
+                started.set()
+
+        def work():
+            try:
+                vdmesh.mesh_surface(pts, tris, size=size, progress=progress, cancel=token)
+                outcome.append("finished")
+            except vdmesh.Cancelled:
+                outcome.append("cancelled")
+
+        worker = threading.Thread(target=work)
+        worker.start()
+        self.assertTrue(started.wait(600))
+        # The GIL is free while the worker meshes: this thread keeps running Python.
+        spins, t0 = 0, time.monotonic()
+        while time.monotonic() - t0 < 1.0:
+            spins += 1
+        self.assertGreater(spins, 10000)
+        sent = time.monotonic()
+        token.set()
+        worker.join(self.LIMIT + 60)
+        self.assertFalse(worker.is_alive())
+        self.assertLess(time.monotonic() - sent, self.LIMIT)
+        self.assertEqual(outcome, ["cancelled"])
+        self.assertTrue(token.is_set())
+
+    def test_exception_in_progress_stops_the_run(self):
+        p, t = icosphere(2)
+
+        def progress(phase):
+            if phase == "tetrahedralize":
+                raise RuntimeError("stop at " + phase)
+
+        with self.assertRaisesRegex(RuntimeError, "stop at tetrahedralize"):
+            vdmesh.mesh_surface(np.array(p), np.array(t), progress=progress)
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
