@@ -7,6 +7,7 @@
 // Reads nodes, tetrahedra, triangle shells, ELSETs and element surfaces back.
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -33,6 +34,16 @@ std::string sanitized(const std::string& name) {
 std::string region_set_name(const Mesh& m, int region) {
   if (region == kUnknownRegion) return "RegionUnknown";
   return sanitized(detail::region_name(m, region));
+}
+
+// CalculiX reads each field of a data line through 20 characters: a longer
+// number stops it ("ERROR reading *NODE"), and 4.8502286207676093E-05 is 22.
+// The shortest exact text is written when it fits, else the most digits that do.
+std::string_view abaqus_number(double v, char (&buf)[32]) {
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  for (int digits = 16; r.ptr - buf > 20 && digits > 0; --digits)
+    r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, digits);
+  return {buf, static_cast<size_t>(r.ptr - buf)};
 }
 
 void node_list(detail::Out& out, const std::vector<int>& ids) {
@@ -74,7 +85,10 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
   out << "*NODE, NSET=NALL\n";
   for (size_t i = 0; i < m.points.size(); ++i) {
     const Vec3& p = m.points[i];
-    out << i + 1 << ", " << p.x << ", " << p.y << ", " << p.z << '\n';
+    char buf[32];
+    out << i + 1 << ", " << abaqus_number(p.x, buf);
+    out << ", " << abaqus_number(p.y, buf);
+    out << ", " << abaqus_number(p.z, buf) << '\n';
   }
   std::map<int, std::vector<size_t>> by_face;
   for (size_t i = 0; i < m.triangles.size(); ++i) by_face[m.triangles[i].face].push_back(i);
