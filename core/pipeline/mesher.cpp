@@ -7,6 +7,7 @@
 #include "mesh/error.h"
 #include "surface/face_patches.h"
 #include "surface/validate_surface.h"
+#include "surface/size_refinement.h"
 
 namespace vd {
 namespace {
@@ -97,8 +98,9 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   if (options.validate) validate_surface(m);
   if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg);
 
+  report.size_splits = refine_surface_to_size(m, options.size.uniform).splits;
   timer.start("random shift");
-  if (options.shift > 0) report.shift = random_shift(m, {options.shift, options.seed});
+  if (options.shift > 0) report.shift = random_shift(m, {options.shift, options.seed, options.sharp_angle_deg});
 
   timer.start("tetrahedralize");
   DelaunayTetrahedralization dt;

@@ -69,6 +69,7 @@ struct MeshReport {
   int output_vertices = 0, output_facets = 0;
   int added_surface_vertices = 0, added_surface_facets = 0;
   int face_patches_assigned = 0;     // > 0 when face ids came from sharp edges
+  int size_splits = 0;               // surface edges split down to the given size
   std::vector<long> tets_per_region; // index = region id (0 unused)
   std::string oracle;
   OracleStats oracle_stats;

@@ -37,7 +37,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"output_vertices\": " << r.output_vertices << ", \"output_facets\": " << r.output_facets
     << ", \"added_surface_vertices\": " << r.added_surface_vertices
     << ", \"added_surface_facets\": " << r.added_surface_facets
-    << ", \"face_patches_assigned\": " << r.face_patches_assigned << ", \"tetrahedra\": " << q.tets
+    << ", \"face_patches_assigned\": " << r.face_patches_assigned << ", \"size_splits\": " << r.size_splits << ", \"tetrahedra\": " << q.tets
     << ", \"tets_per_region\": " << json_array(r.tets_per_region) << ", \"regions\": " << r.regions.regions
     << ", \"regions_from_tags\": " << (r.regions.regions_from_tags ? "true" : "false") << "},\n";
   s << "  \"oracle\": {\"name\": \"" << r.oracle << "\", \"queries\": " << o.queries << ", \"delaunay\": " << o.delaunay
@@ -143,6 +143,7 @@ std::string report_table(const MeshReport& r) {
     if (!which_area.empty()) row("largest face area error", which_area + " " + num(100.0 * worst_area) + " %");
   }
   row("input", std::to_string(r.input_vertices) + " vertices, " + std::to_string(r.input_facets) + " facets");
+  if (r.size_splits > 0) row("split to the size", std::to_string(r.size_splits) + " surface edges");
   row("added on the surface", std::to_string(r.added_surface_vertices) + " vertices, " +
                                   std::to_string(r.added_surface_facets) + " facets");
   row("interior vertices", std::to_string(r.interior_vertices));

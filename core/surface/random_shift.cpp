@@ -10,13 +10,17 @@
 namespace vd {
 namespace {
 
-// A feature edge separates topological faces or regions, or is not a plain
-// manifold edge; vertices on it may move only along it.
-bool is_feature_edge(const std::vector<Triangle>& tris, const std::vector<int>& on_edge) {
+// A feature edge separates topological faces or regions, is not a plain
+// manifold edge, or is a crease; vertices on it may move only along it.
+// Moving a vertex of a 90-degree crease "in its tangent plane" would move
+// the box's corner off the box.
+bool is_feature_edge(const Mesh& m, const std::vector<int>& on_edge, double cos_crease) {
   if (on_edge.size() != 2) return true;
-  const Triangle& a = tris[on_edge[0]];
-  const Triangle& b = tris[on_edge[1]];
-  return a.face != b.face || std::minmax(a.front, a.back) != std::minmax(b.front, b.back);
+  const Triangle& a = m.triangles[on_edge[0]];
+  const Triangle& b = m.triangles[on_edge[1]];
+  if (a.face != b.face || std::minmax(a.front, a.back) != std::minmax(b.front, b.back)) return true;
+  // Same face and regions: consistently oriented, so the normals compare directly.
+  return dot(facet_normal(m.points, a), facet_normal(m.points, b)) < cos_crease;
 }
 
 Vec3 random_unit(std::mt19937_64& rng) {
@@ -40,6 +44,7 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options) {
   // Local size: mean length of the incident surface edges, else the given size.
   const std::vector<double> size = surface_vertex_sizes(m, edges);
 
+  const double cos_crease = std::cos(options.crease_angle_deg * M_PI / 180.0);
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> unit(0.5, 1.0);
   for (size_t v = 0; v < n; ++v) {
@@ -63,7 +68,7 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options) {
       const Triangle& t = m.triangles[f];
       normal = normal + facet_area(m.points, t) * facet_normal(m.points, t);
       for (int w : t.v)
-        if (w != static_cast<int>(v) && is_feature_edge(m.triangles, edges.facets(v, w)))
+        if (w != static_cast<int>(v) && is_feature_edge(m, edges.facets(v, w), cos_crease))
           if (std::find(feature_ends.begin(), feature_ends.end(), w) == feature_ends.end())
             feature_ends.push_back(w);
     }

@@ -14,6 +14,10 @@ namespace vd {
 struct ShiftOptions {
   double relative = 1e-4;  // of the local edge length
   std::uint64_t seed = 1;
+  // An edge where the facet normals turn by more than this is a feature edge
+  // even inside one topological face (an OBJ group may wrap a box's corner),
+  // as for face patches (--sharp-angle).
+  double crease_angle_deg = 40.0;
 };
 
 struct ShiftStats {

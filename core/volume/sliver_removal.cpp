@@ -59,8 +59,11 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats
         const bool exterior_on_front = a.front == 0;
         if (opp_on_front != exterior_on_front) std::swap(g[j].v[1], g[j].v[2]);
       }
+      // The ridge limit before and after, as for a flip: two facets folded
+      // at a box's edge replaced by a flat pair would cut the edge off.
       const Vec3 n0 = facet_normal(m.points, g[0]), n1 = facet_normal(m.points, g[1]);
       if (dot(n0, n1) < cos_ridge) continue;
+      if (dot(facet_normal(m.points, a), facet_normal(m.points, b)) < cos_ridge) continue;
       removed[ti] = true;
       facet_of.erase(sorted_triple(a.v));
       facet_of.erase(sorted_triple(b.v));
