@@ -398,8 +398,14 @@ class WitnessSpheres {
       return (equatorial_[s] ? side_of_equatorial_sphere(w[0], w[1], w[2], p)
                              : side_of_circumsphere(w[0], w[1], w[2], w[3], p)) == SphereSide::outside;
     };
-    for (int s : large_)
+    for (int s : large_) {
+      // Clearly outside by the approximate ball (centre and radius carry a
+      // relative error far below the margin): no exact test needed.
+      const Ball& b = balls_[s];
+      const double reach = b.radius * (1 + 1e-6);
+      if (std::isfinite(reach) && dot(p - b.centre, p - b.centre) > reach * reach) continue;
       if (!outside(s)) return false;
+    }
     auto it = cells_.find(cell_of(p));
     if (it != cells_.end())
       for (int s : it->second)
@@ -423,6 +429,7 @@ class WitnessSpheres {
     spheres_.push_back(w);
     equatorial_.push_back(equatorial);
     const Ball b = equatorial ? equatorial_sphere(w[0], w[1], w[2]) : circumsphere(w[0], w[1], w[2], w[3]);
+    balls_.push_back(b);
     // Spheres spanning many cells (and flat tetrahedra, radius +inf) are
     // tested for every point instead of being spread over cells.
     if (!(b.radius < 3.0 * cell_)) {
@@ -439,6 +446,7 @@ class WitnessSpheres {
   double cell_ = 1.0;
   std::vector<std::array<Vec3, 4>> spheres_;
   std::vector<bool> equatorial_;  // else the circumsphere of all four points
+  std::vector<Ball> balls_;       // approximate, for the grid and a first filter
   std::vector<int> large_;
   std::unordered_map<Cell, std::vector<int>, CellHash> cells_;
 };

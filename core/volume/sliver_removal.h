@@ -22,7 +22,10 @@ namespace vd {
 
 struct SliverOptions {
   double sliver_angle_deg = 10.0;  // tetrahedra with a smaller dihedral angle are slivers
-  double ridge_angle_deg = 20.0;   // case A: largest angle between the two new facets
+  // Case A: largest angle between the two new facets. Small, because on a
+  // curved face the new facets leave the input surface by about this angle
+  // times their size, and B and C clear most slivers without it.
+  double ridge_angle_deg = 0.1;
   bool flips = true;               // case B
   bool moves = true;               // case C
   int max_passes = 8;              // of cases B and C over the remaining slivers
