@@ -6,6 +6,11 @@ one material per solid, fixed face, pressure). Part of TestVDMeshApp:
 Both meshes are second order (10-node tetrahedra): linear tetrahedra in bending converge too slowly
 to agree within 2 % at sizes a test can afford (tests/freecad/bench_calculix.py, README). The sizes
 are ones at which each mesher's result agrees with its own finer meshes (README, "FreeCAD workbench").
+
+Asserted: the largest displacement (0.43 % apart at these sizes). The von Mises stress at single points
+is printed, not asserted: neither mesher's value has converged at affordable sizes (at P_alu Gmsh goes
+2.204 -> 2.391 and vdmesh 2.301 -> 2.472 from the coarser to the finer size, 8 % each), so a 2 % bound
+on it would measure the reference's discretisation error, not vdmesh.
 """
 import os
 import re
@@ -73,13 +78,14 @@ class TestVDMeshCalculix(unittest.TestCase):
         gm = case.run_ccx(g_analysis, g_solver, gmsh)
         self.assertEqual(gm["nodes_per_tetrahedron"], 10)
 
-        for key in ("max_displacement", "P_alu"):
+        for key in ("max_displacement",):
             rel = abs(vd[key] - gm[key]) / abs(gm[key])
             figure("%s: vdmesh (size %g, %d nodes, %d tets) %.6g, Gmsh (size %g, %d nodes, %d tets) %.6g: %.2f %%"
                    % (key, VDMESH_SIZE, vd["nodes"], vd["tetrahedra"], vd[key], GMSH_SIZE, gm["nodes"],
                       gm["tetrahedra"], gm[key], 100 * rel), "ccx")
             self.assertLess(rel, AGREEMENT, key)
-        figure("von Mises between the hole and the top face (P_steel_over_hole): vdmesh %.5g, Gmsh %.5g (not asserted)"
-               % (vd["P_steel_over_hole"], gm["P_steel_over_hole"]), "ccx")
+        for key in ("P_alu", "P_steel_over_hole"):
+            figure("von Mises at %s: vdmesh %.5g, Gmsh %.5g (not asserted: not converged, see above)"
+                   % (key, vd[key], gm[key]), "ccx")
         figure("CalculiX through FemToolsCcx: vdmesh %.0f s, Gmsh %.0f s; materials per solid: %s"
                % (vd["ccx_seconds"], gm["ccx_seconds"], counts), "ccx")
