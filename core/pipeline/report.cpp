@@ -18,9 +18,17 @@ std::string json_array(const Range& r) {
   return s.str();
 }
 
+// Six digits for the table; every digit in the JSON, where a volume error of
+// 1e-6 must still show.
 std::string num(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+std::string exact(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
   return buf;
 }
 
@@ -44,7 +52,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"by_tetrahedralization\": " << o.by_tetrahedralization << ", \"by_stored_apex\": " << o.by_stored_apex
     << ", \"by_equatorial_sphere\": " << o.by_equatorial_sphere << ", \"by_candidate_apex\": " << o.by_candidate_apex
     << ", \"by_lp\": " << o.by_lp << ", \"lp_solved\": " << o.lp_solved << ", \"lp_average_size\": "
-    << num(o.lp_solved ? double(o.lp_unknowns) / o.lp_solved : 0.0) << ", \"lp_refused_by_limit\": "
+    << exact(o.lp_solved ? double(o.lp_unknowns) / o.lp_solved : 0.0) << ", \"lp_refused_by_limit\": "
     << o.lp_refused_by_limit << ", \"lp_ambiguous\": " << o.lp_ambiguous << ", \"wrong_answers_caught\": "
     << d.oracle_wrong << "},\n";
   s << "  \"delaunayzation\": {\"passes\": " << d.passes << ", \"flips\": " << d.flips << ", \"splits\": " << d.splits
@@ -53,14 +61,14 @@ std::string report_json(const MeshReport& r) {
     << ", \"lattice_points\": " << r.interior.lattice_points << ", \"candidates\": " << r.interior.candidates
     << ", \"rejected_outside\": " << r.interior.rejected_outside << ", \"rejected_near_vertex\": "
     << r.interior.rejected_near_vertex << ", \"rejected_near_surface\": " << r.interior.rejected_near_surface
-    << ", \"smallest_size\": " << num(r.smallest_size) << "},\n";
+    << ", \"smallest_size\": " << exact(r.smallest_size) << "},\n";
   const auto& sl = r.slivers;
   s << "  \"slivers\": {\"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
     << ", \"flips_23\": " << sl.flips_23 << ", \"flips_32\": " << sl.flips_32
     << ", \"edge_removals\": " << sl.edge_removals << ", \"moves\": " << sl.moves
     << ", \"moves_blocked\": " << sl.moves_blocked << ", \"after\": " << sl.slivers_after
-    << ", \"min_dihedral_before_deg\": " << num(sl.min_dihedral_before_deg)
-    << ", \"min_dihedral_after_deg\": " << num(sl.min_dihedral_after_deg)
+    << ", \"min_dihedral_before_deg\": " << exact(sl.min_dihedral_before_deg)
+    << ", \"min_dihedral_after_deg\": " << exact(sl.min_dihedral_after_deg)
     << ", \"tets_below_5_deg_before\": " << sl.below_5_before << ", \"tets_below_10_deg_before\": "
     << sl.below_10_before << ", \"tets_below_5_deg_after\": " << sl.below_5_after
     << ", \"tets_below_10_deg_after\": " << sl.below_10_after << "},\n";
@@ -68,34 +76,34 @@ std::string report_json(const MeshReport& r) {
     << ", \"on_edge\": " << r.shift.moved_on_edge << ", \"fixed\": " << r.shift.fixed << "},\n";
   s << "  \"seconds\": {";
   for (size_t i = 0; i < r.seconds.size(); ++i)
-    s << (i ? ", " : "") << "\"" << r.seconds[i].first << "\": " << num(r.seconds[i].second);
+    s << (i ? ", " : "") << "\"" << r.seconds[i].first << "\": " << exact(r.seconds[i].second);
   s << "},\n";
   s << "  \"quality\": {\"tetrahedra\": " << q.tets << ", \"inverted\": " << q.inverted
-    << ", \"min_dihedral_deg\": " << num(q.min_dihedral_deg) << ", \"max_dihedral_deg\": " << num(q.max_dihedral_deg)
-    << ", \"min_radius_ratio\": " << num(q.min_radius_ratio) << ", \"mean_radius_ratio\": " << num(q.mean_radius_ratio)
+    << ", \"min_dihedral_deg\": " << exact(q.min_dihedral_deg) << ", \"max_dihedral_deg\": " << exact(q.max_dihedral_deg)
+    << ", \"min_radius_ratio\": " << exact(q.min_radius_ratio) << ", \"mean_radius_ratio\": " << exact(q.mean_radius_ratio)
     << ", \"tets_below_5_deg\": " << q.below_5_deg << ", \"tets_below_10_deg\": " << q.below_10_deg
     << ", \"dihedral_histogram_10deg\": " << json_array(q.dihedral_histogram)
     << ", \"radius_ratio_histogram_0.1\": " << json_array(q.radius_ratio_histogram) << "},\n";
+  if (r.second_order.nodes > 0) {
+    const auto& so = r.second_order;
+    s << "  \"second_order\": {\"nodes\": " << so.nodes << ", \"surface_nodes\": " << so.surface_nodes
+      << ", \"on_geometry\": " << so.on_geometry << ", \"kept_straight\": " << so.kept_straight
+      << ", \"min_scaled_jacobian\": " << exact(so.min_scaled_jacobian) << "},\n";
+  }
   if (r.cad.used) {
     const auto& c = r.cad;
     auto measures = [&](const std::vector<ReferenceMeasure>& v) {
       std::ostringstream a;
       a << "[";
       for (size_t i = 0; i < v.size(); ++i)
-        a << (i ? ", " : "") << "{\"name\": \"" << v[i].name << "\", \"cad\": " << num(v[i].reference)
-          << ", \"mesh\": " << num(v[i].mesh) << "}";
-  if (r.second_order.nodes > 0) {
-    const auto& so = r.second_order;
-    s << "  \"second_order\": {\"nodes\": " << so.nodes << ", \"surface_nodes\": " << so.surface_nodes
-      << ", \"on_geometry\": " << so.on_geometry << ", \"kept_straight\": " << so.kept_straight
-      << ", \"min_scaled_jacobian\": " << num(so.min_scaled_jacobian) << "},\n";
-  }
+        a << (i ? ", " : "") << "{\"name\": \"" << v[i].name << "\", \"cad\": " << exact(v[i].reference)
+          << ", \"mesh\": " << exact(v[i].mesh) << "}";
       a << "]";
       return a.str();
     };
     s << "  \"cad\": {\"units\": \"" << c.units << "\", \"solids\": " << c.solids << ", \"faces\": " << c.faces
-      << ", \"interface_faces\": " << c.interface_faces << ", \"size\": " << num(c.size)
-      << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << num(c.deflection)
+      << ", \"interface_faces\": " << c.interface_faces << ", \"size\": " << exact(c.size)
+      << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << exact(c.deflection)
       << ", \"occ_triangles\": " << c.occ_triangles
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
       << ", \"surface_facets\": " << c.surface_facets << ",\n    \"volumes\": " << measures(c.volumes)
@@ -168,6 +176,10 @@ std::string report_table(const MeshReport& r) {
                                           std::to_string(sl.below_5_before) + ", " +
                                           std::to_string(sl.below_10_before));
   row("tets under 5 / 10 deg", std::to_string(q.below_5_deg) + " / " + std::to_string(q.below_10_deg));
+  if (r.second_order.nodes > 0)
+    row("second order", std::to_string(r.second_order.nodes) + " mid-edge nodes, " +
+                            std::to_string(r.second_order.on_geometry - r.second_order.kept_straight) +
+                            " on the CAD geometry, min scaled Jacobian " + num(r.second_order.min_scaled_jacobian));
   std::string times;
   double total = 0;
   for (const auto& [phase, sec] : r.seconds) {
@@ -179,7 +191,3 @@ std::string report_table(const MeshReport& r) {
 }
 
 }  // namespace vd
-  if (r.second_order.nodes > 0)
-    row("second order", std::to_string(r.second_order.nodes) + " mid-edge nodes, " +
-                            std::to_string(r.second_order.on_geometry - r.second_order.kept_straight) +
-                            " on the CAD geometry, min scaled Jacobian " + num(r.second_order.min_scaled_jacobian));

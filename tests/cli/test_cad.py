@@ -92,6 +92,56 @@ check(len(errors) == 3 and errors[0] > errors[1] > errors[2],
       "cylinder volume error shrinks with the size: %s" % ", ".join("%.4f %%" % (100 * e) for e in errors))
 check(len(errors) == 3 and errors[2] < 0.001, "cylinder at size 0.5: volume error under 0.1 %")
 
+# Second order on CAD: the mid-edge nodes of the surface lie on the cylinder
+# (radius 3 from the axis, or on the end planes), and the volume of the
+# curved elements is far closer to OpenCASCADE's than the straight mesh's.
+code, rep, target, err = mesh(cyl, "--size", "2", "--order", "2", "--quiet")
+check(code == 0, "cylinder --order 2 meshes (exit %s: %s)" % (code, err.strip()[-200:]))
+if code == 0:
+    import meshio
+    m = meshio.read(target)
+    tets = m.cells_dict.get("tetra10")
+    tris = m.cells_dict.get("triangle6")
+    check(tets is not None and tris is not None and len(tets) > 0,
+          "cylinder --order 2: tetra10 and triangle6 cells (meshio: %s)" % sorted(m.cells_dict))
+    if tets is not None and tris is not None:
+        mids = m.points[np.unique(tris[:, 3:])]
+        r = np.hypot(mids[:, 0], mids[:, 1])
+        on_side = np.abs(r - 3) < 1e-6
+        on_ends = (np.abs(mids[:, 2]) < 1e-9) | (np.abs(mids[:, 2] - 10) < 1e-9)
+        check(bool(np.all(on_side | on_ends)),
+              "cylinder --order 2: every surface mid-edge node on the cylinder or an end plane "
+              "(%d on the side, %d on the ends, %d off)" % (on_side.sum(), on_ends.sum(), (~(on_side | on_ends)).sum()))
+        # Quadratic volume by the degree-3 rule, in the VTK/Abaqus edge order.
+        edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+        x = m.points[tets]
+
+        def jac(l):
+            d = []
+            for i in range(4):
+                g = (4 * l[i] - 1) * x[:, i]
+                for e, (a, b) in enumerate(edges):
+                    if a == i:
+                        g = g + 4 * l[b] * x[:, 4 + e]
+                    if b == i:
+                        g = g + 4 * l[a] * x[:, 4 + e]
+                d.append(g)
+            return np.einsum("ij,ij->i", np.cross(d[1] - d[0], d[2] - d[0]), d[3] - d[0])
+
+        quad = [(-0.8, (0.25,) * 4)] + [(0.45, tuple(0.5 if j == i else 1 / 6 for j in range(4))) for i in range(4)]
+        dets = [jac(l) for _, l in quad]
+        volume = sum(w * d for (w, _), d in zip(quad, dets)).sum() / 6
+        cad = rep["cad"]["volumes"][0]["cad"]
+        err2 = abs(volume - cad) / cad
+        check(abs(volume - rep["cad"]["volumes"][0]["mesh"]) < 1e-9 * cad,
+              "cylinder --order 2: the report's mesh volume is the curved one (%.9g, meshio %.9g)"
+              % (rep["cad"]["volumes"][0]["mesh"], volume))
+        check(min(d.min() for d in dets) > 0, "cylinder --order 2: det J positive at the quadrature points")
+        check(len(errors) == 3 and err2 < errors[0] / 10,
+              "cylinder at size 2: volume error %.5f %% with --order 2, %.4f %% straight" % (100 * err2, 100 * errors[0]))
+        check(rep["second_order"]["on_geometry"] > 0 and rep["second_order"]["min_scaled_jacobian"] >= 0.1,
+              "cylinder --order 2: report %s" % rep["second_order"])
+
 # The paper's planar mid-points stay available.
 code, rep, _, err = mesh(boxhole, "--planar-splits", "--quiet")
 check(code == 0, "--planar-splits meshes the box with a hole (exit %s)" % code)
