@@ -7,8 +7,8 @@
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "mesh/error.h"
 #include "surface/face_patches.h"
-#include "surface/validate_surface.h"
 #include "surface/size_refinement.h"
+#include "surface/validate_surface.h"
 
 namespace vd {
 namespace {
@@ -98,8 +98,8 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   m.face_names = input.face_names;
   if (options.validate) validate_surface(m);
   if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg);
-
   report.size_splits = refine_surface_to_size(m, options.size.uniform).splits;
+
   timer.start("random shift");
   if (options.shift > 0) report.shift = random_shift(m, {options.shift, options.seed, options.sharp_angle_deg});
 
@@ -188,13 +188,13 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
 
   timer.start("quality");
   report.quality = summarize_quality(m);
-  timer.stop();
-  return result;
-}
-
-}  // namespace vd
   if (options.order == 2) {
     // After the quality figures: they are those of the straight elements.
     timer.start("second order");
     report.second_order = make_second_order(m, options.delaunayzation.geometry);
   }
+  timer.stop();
+  return result;
+}
+
+}  // namespace vd

@@ -12,8 +12,8 @@
 #include "delaunay/facet_oracle.h"
 #include "mesh/cancel.h"
 #include "mesh/mesh.h"
-#include "quality/tet_quality.h"
 #include "mesh/second_order.h"
+#include "quality/tet_quality.h"
 #include "surface/delaunayzation.h"
 #include "surface/random_shift.h"
 #include "volume/interior_vertices.h"
@@ -36,8 +36,8 @@ struct MeshOptions {
   InteriorOptions interior_options;
   bool remove_slivers = true;
   SliverOptions slivers;             // --sliver-angle
-  // Called at the start of each phase; empty: silent.
   int order = 1;                     // 2: 10-node tetrahedra, surface nodes on delaunayzation.geometry
+  // Called at the start of each phase; empty: silent.
   std::function<void(const std::string& phase)> progress;
   // Set from another thread to stop the run: mesh_surface then throws
   // CancelledError (checked between phases and inside the long loops).
@@ -81,11 +81,11 @@ struct MeshReport {
   double smallest_size = 0;          // of the size field
   SliverStats slivers;
   QualitySummary quality;
+  SecondOrderStats second_order;     // filled when order == 2
   std::vector<std::pair<std::string, double>> seconds;  // per phase, in order
   CadInputReport cad;
   bool complete = false;
   std::vector<std::array<int, 3>> missing_facets;       // vertex ids, when not complete
-  SecondOrderStats second_order;     // filled when order == 2
 };
 
 struct MeshResult {
