@@ -153,10 +153,14 @@ class Delaunayzer {
       Triangle A = t, B = t;
       A.v = {s, q, r};
       B.v = {r, p, s};
-      // The ridge limit holds before and after: a pair folded at 90 degrees
-      // inside one face id (an OBJ group around a box's edge) is convex in
-      // its average plane, and flipping it would cut the edge off the solid.
-      if (!convex_in_average_plane(t, t2, A, B) || !ridge_acceptable(t, t2) || !ridge_acceptable(A, B)) continue;
+      // On faceted input the ridge limit holds before and after: a pair
+      // folded at 90 degrees inside one face id (an OBJ group around a box's
+      // edge) is convex in its average plane, and flipping it would cut the
+      // edge off the solid. A CAD face is smooth: its folds are chords, and
+      // refusing them made recovery on the Exhaust assembly split without
+      // end (226,800 added vertices, the guard).
+      const bool fold_ok = opt_.geometry != nullptr || ridge_acceptable(t, t2);
+      if (!convex_in_average_plane(t, t2, A, B) || !fold_ok || !ridge_acceptable(A, B)) continue;
       const int before = delaunay_[b] + delaunay_[b2];
       const bool dA = query(A), dB = query(B);
       const int after = dA + dB;
