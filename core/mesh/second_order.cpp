@@ -5,6 +5,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "surface/edge_map.h"
 #include "surface/surface_geometry.h"
 
 namespace vd {
@@ -18,11 +19,6 @@ constexpr int kTriEdge[3][2] = {{0, 1}, {1, 2}, {2, 0}};
 // too distorted for a solver's integration points; CalculiX stops on a
 // non-positive Jacobian, and near zero the stiffness is already useless.
 constexpr double kMinScaledJacobian = 0.1;
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
 
 double det3(const Vec3& a, const Vec3& b, const Vec3& c) { return dot(a, cross(b, c)); }
 

@@ -6,13 +6,10 @@
 #include <unordered_map>
 #include <vector>
 
+#include "surface/edge_map.h"
+
 namespace vd {
 namespace {
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
 
 // Replaces facet f = (.., p, q, ..) by the two facets on either side of the
 // new vertex n on its edge {p, q}, keeping orientation, face and regions.
