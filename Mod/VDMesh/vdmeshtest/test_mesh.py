@@ -20,7 +20,7 @@ from FreeCAD import Vector
 
 from vdmeshwb import engine, femmesh, meshobject
 
-from .support import figure, print_figures
+from .support import add_box_with_hole, figure, print_figures
 
 
 class MeshChecks:
@@ -92,22 +92,9 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         FreeCAD.closeDocument(cls.doc.Name)
         print_figures("TestVDMeshWorkbench")
 
-    def box_with_hole(self):
-        doc = self.doc
-        box = doc.addObject("Part::Box", "Box")
-        box.Length, box.Width, box.Height = 10, 10, 4
-        box.Placement.Base = Vector(-5, -5, 0)
-        cyl = doc.addObject("Part::Cylinder", "Hole")
-        cyl.Radius, cyl.Height = 2, 6
-        cyl.Placement.Base = Vector(0, 0, -1)
-        cut = doc.addObject("Part::Cut", "BoxWithHole")
-        cut.Base, cut.Tool = box, cyl
-        doc.recompute()
-        return cut
-
     def test_1_box_with_hole(self):
         import ObjectsFem
-        cut = self.box_with_hole()
+        cut = add_box_with_hole(self.doc)
         self.assertEqual(len(cut.Shape.Solids), 1)
         self.assertEqual(len(cut.Shape.Faces), 7)
         analysis = ObjectsFem.makeAnalysis(self.doc, "Analysis")

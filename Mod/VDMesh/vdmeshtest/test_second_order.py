@@ -17,7 +17,7 @@ from FreeCAD import Vector
 
 from vdmeshwb import engine, femmesh, inpreader, meshobject
 
-from .support import figure, print_figures
+from .support import add_box_with_hole, figure, print_figures
 
 # one positive tetrahedron (det(v1-v0, v2-v0, v3-v0) = 6 * 4 > 0) with its mid-edge nodes, numbered
 # so that every Abaqus position has a different node id
@@ -94,16 +94,7 @@ class TestVDMeshSecondOrder(unittest.TestCase):
         """The part is meshed with ElementOrder 2nd (vdmesh --order 2), then 1st on recompute."""
         usage = engine._run([engine.find_binary(), "mesh", "--help"])
         self.assertIn("--order", usage.stdout + usage.stderr, "%s has no --order option" % engine.find_binary())
-        doc = self.doc
-        box = doc.addObject("Part::Box", "Box")
-        box.Length, box.Width, box.Height = 10, 10, 4
-        box.Placement.Base = Vector(-5, -5, 0)
-        cyl = doc.addObject("Part::Cylinder", "Hole")
-        cyl.Radius, cyl.Height = 2, 6
-        cyl.Placement.Base = Vector(0, 0, -1)
-        cut = doc.addObject("Part::Cut", "BoxWithHole")
-        cut.Base, cut.Tool = box, cyl
-        doc.recompute()
+        cut = add_box_with_hole(self.doc)
         t = time.time()
         obj, info, report, text = meshobject.create_mesh(cut, engine.Parameters(size=2.0, order=2))
         elapsed = time.time() - t
@@ -136,7 +127,7 @@ class TestVDMeshSecondOrder(unittest.TestCase):
                "FreeCAD %.6g (%.4f %%); hole's mid-edge nodes off the cylinder by at most %.2g"
                % (fm.NodeCount, fm.VolumeCount, elapsed, vol, cut.Shape.Volume, 100 * err, worst), "order2")
         obj.ElementOrder = "1st"
-        doc.recompute()
+        self.doc.recompute()
         self.assertNotIn("Invalid", obj.State)
         self.assertTrue(all(len(obj.FemMesh.getElementNodes(e)) == 4 for e in obj.FemMesh.Volumes))
         figure("  recompute with ElementOrder 1st: %d 4-node tetrahedra" % obj.FemMesh.VolumeCount, "order2")
