@@ -33,6 +33,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "cli"))
 from surface_shapes import icosphere, write_off  # noqa: E402
+from tet_angles import dihedral_angles  # noqa: E402
 
 DATA = os.environ.get("VDMESH_DATA", os.path.join(HERE, "..", "..", "..", "shared", "data"))
 SHARED = ["surface", "surface-multiregion", "plc-sharp", "surface-large"]
@@ -127,15 +128,7 @@ def quality(pts, tets):
     """Count, smallest dihedral angle, share of tetrahedra with an angle under 10 degrees, inverted count."""
     a, b, c, d = (pts[tets[:, k]] for k in range(4))
     vol = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a)
-    corners = [a, b, c, d]
-    normals = []
-    for k in range(4):
-        f = [corners[j] for j in range(4) if j != k]
-        n = np.cross(f[1] - f[0], f[2] - f[0])
-        n *= -np.sign(np.einsum("ij,ij->i", n, corners[k] - f[0]))[:, None]
-        normals.append(n / np.linalg.norm(n, axis=1)[:, None])
-    angles = np.array([180.0 - np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", normals[k], normals[l]), -1, 1)))
-                       for k in range(4) for l in range(k + 1, 4)])
+    angles = dihedral_angles(pts, tets)
     lowest = angles.min(axis=0)
     return {"tets": len(tets), "min": float(lowest.min()), "under10": int((lowest < 10).sum()),
             "pct10": 100.0 * float((lowest < 10).mean()), "inverted": int((vol <= 0).sum())}

@@ -14,6 +14,7 @@ import numpy as np
 
 from cli_support import check, data, finish, run, tmpdir
 from surface_shapes import icosphere, write_off
+from tet_angles import dihedral_angles
 
 out = tmpdir()
 
@@ -43,17 +44,7 @@ def independent(vtu):
     P = m.points
     a, b, c, d = (P[tets[:, k]] for k in range(4))
     vol = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) / 6.0
-    # Dihedral angles: pi minus the angle between the outward normals of the
-    # two faces at an edge.
-    corners = [a, b, c, d]
-    normals = []
-    for k in range(4):
-        f = [corners[j] for j in range(4) if j != k]
-        n = np.cross(f[1] - f[0], f[2] - f[0])
-        n *= -np.sign(np.einsum("ij,ij->i", n, corners[k] - f[0]))[:, None]
-        normals.append(n / np.linalg.norm(n, axis=1)[:, None])
-    angles = np.array([180.0 - np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", normals[k], normals[l]), -1, 1)))
-                       for k in range(4) for l in range(k + 1, 4)])
+    angles = dihedral_angles(P, tets)
     # Boundary faces: faces of one tetrahedron, or of two in different regions.
     faces = np.sort(np.vstack([tets[:, [1, 2, 3]], tets[:, [0, 2, 3]], tets[:, [0, 1, 3]], tets[:, [0, 1, 2]]]), axis=1)
     owner = np.tile(region, 4)
