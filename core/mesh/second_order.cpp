@@ -171,10 +171,7 @@ SecondOrderStats make_second_order(Mesh& m, const SurfaceGeometry* geometry) {
       const double straight = det3(x[1] - x[0], x[2] - x[0], x[3] - x[0]);
       double worst = 1;
       for (const auto& l : points) worst = std::min(worst, quadratic_tet_jacobian(x, l) / straight);
-      if (worst >= kMinScaledJacobian) {
-        stats.min_scaled_jacobian = std::min(stats.min_scaled_jacobian, worst);
-        continue;
-      }
+      if (worst >= kMinScaledJacobian) continue;
       for (int n : m.tet_mid[t]) {
         if (n < first || !is_curved(n)) continue;
         m.points[n] = chord[n - first];
@@ -187,9 +184,8 @@ SecondOrderStats make_second_order(Mesh& m, const SurfaceGeometry* geometry) {
     next.erase(std::unique(next.begin(), next.end()), next.end());
     todo = std::move(next);
   }
-  // The smallest value over what stayed curved (a re-checked tetrahedron may
-  // have been counted before a neighbour straightened it).
-  stats.min_scaled_jacobian = 1;
+  // The smallest value over what stayed curved, measured once at the end:
+  // a neighbour's straightening can still change a tetrahedron checked earlier.
   for (const auto& [n, ts] : tets_at)
     for (int t : ts) {
       const std::array<Vec3, 10> x = tet_nodes(m, static_cast<size_t>(t));
