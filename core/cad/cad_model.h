@@ -34,6 +34,7 @@ struct TessellationStats {
   int occ_triangles = 0;        // from OpenCASCADE's mesher, before refinement
   int refine_splits = 0;
   int refine_flips = 0;
+  int border_splits = 0;        // facets with two edges on one CAD edge, split at their centre
   int dropped_degenerate = 0;   // collapsed triangles at degenerate edges (cone apexes, poles)
   double seconds_tessellate = 0, seconds_refine = 0;
 };

@@ -20,6 +20,10 @@ namespace {
 
 gp_Pnt2d mid(const gp_Pnt2d& a, const gp_Pnt2d& b) { return {0.5 * (a.X() + b.X()), 0.5 * (a.Y() + b.Y())}; }
 
+double orient2d(const gp_Pnt2d& a, const gp_Pnt2d& b, const gp_Pnt2d& c) {
+  return (b.X() - a.X()) * (c.Y() - a.Y()) - (b.Y() - a.Y()) * (c.X() - a.X());
+}
+
 Vec3 area_vector(const Mesh& m, const std::array<int, 3>& v) {
   return cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
 }
@@ -34,11 +38,8 @@ class Geometry {
  public:
   explicit Geometry(const CadModel::Impl& cad) : cad_(cad), surfaces_(cad.faces.size()), curves_(cad.edge_index.Extent() + 1) {}
 
-  gp_Pnt on_face(int fi, const gp_Pnt2d& uv) {
-    auto& s = surfaces_[fi];
-    if (!s) s = std::make_unique<BRepAdaptor_Surface>(cad_.faces[fi]);
-    return s->Value(uv.X(), uv.Y());
-  }
+  gp_Pnt on_face(int fi, const gp_Pnt2d& uv) { return surface(fi).Value(uv.X(), uv.Y()); }
+
   // The face point nearest to `p`, its (u, v) moved by whole periods to
   // lie nearest `near` (the facet's side of a seam).
   gp_Pnt2d project(int fi, const Vec3& p, const gp_Pnt2d& near) {
@@ -64,6 +65,11 @@ class Geometry {
 
  private:
   const CadModel::Impl& cad_;
+  BRepAdaptor_Surface& surface(int fi) {
+    auto& s = surfaces_[fi];
+    if (!s) s = std::make_unique<BRepAdaptor_Surface>(cad_.faces[fi]);
+    return *s;
+  }
   std::vector<std::unique_ptr<BRepAdaptor_Surface>> surfaces_;
   std::vector<std::unique_ptr<BRepAdaptor_Curve>> curves_;
   std::map<int, FaceProjector> projectors_;
@@ -87,21 +93,28 @@ struct EdgeFacets {
   }
 };
 
+constexpr double kFlipRidgeDeg = 20.0;
+
 int corner(const Triangle& t, int v) { return t.v[0] == v ? 0 : (t.v[1] == v ? 1 : 2); }
 
 class Refiner {
  public:
   Refiner(const CadModel::Impl& cad, CadSurface& s, TessellationStats& stats) : geo_(cad), s_(s), stats_(stats) {}
 
-  void split_long_edges(double size) {
+  // Flips between the passes keep the triangles round: splitting the long
+  // diagonals of OpenCASCADE's needle strips over and over put vertices at
+  // 1/2, 1/4, ... 1/32 of the strip's width (a cylinder at size 0.5 got
+  // edges of 0.016 and 12 times the facets it needs).
+  void split_long_edges(double size, bool flips) {
     for (int pass = 0; pass < 64; ++pass) {
+      if (flips) flip_towards_delaunay(kFlipRidgeDeg);
       const EdgeFacets map(s_.mesh);
       std::vector<std::pair<double, std::uint64_t>> long_edges;
       for (size_t i = 0; i < map.pairs.size(); ++i) {
-        if (i > 0 && map.pairs[i].first == map.pairs[i - 1].first) continue;
         const std::uint64_t k = map.pairs[i].first;
+        if (i > 0 && k == map.pairs[i - 1].first) continue;
         const double l = norm(s_.mesh.points[k >> 32] - s_.mesh.points[k & 0xffffffffu]);
-        if (l > size) long_edges.emplace_back(l, k);
+        if (l > size && !refused_.count(k)) long_edges.emplace_back(l, k);
       }
       if (long_edges.empty()) return;
       std::sort(long_edges.begin(), long_edges.end(), std::greater<>());
@@ -110,8 +123,11 @@ class Refiner {
         std::vector<int> facets = map.facets(key);
         bool stale = false;
         for (int f : facets) stale |= touched[f] != 0;
-        if (stale) continue;
-        split(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), facets);
+        if (stale || refused_.count(key)) continue;
+        if (!split(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), facets)) {
+          refused_.insert(key);
+          continue;
+        }
         touched.resize(s_.mesh.triangles.size(), 1);
         for (int f : facets) touched[f] = 1;
       }
@@ -143,25 +159,26 @@ class Refiner {
   }
 
  private:
-  void split(int p, int q, const std::vector<int>& facets) {
+  // Splits edge (p, q) of `facets`; false (nothing changed) when the new
+  // vertex, placed on the CAD edge, would fold one of the halves over in
+  // the face's (u, v): a thin triangle along a curved border (flips make
+  // them) can have its third corner between the chord and the curve.
+  bool split(int p, int q, const std::vector<int>& facets) {
     Mesh& m = s_.mesh;
     const int v = static_cast<int>(m.points.size());
     const auto span = s_.edge_spans.find(edge_key(p, q));
     std::vector<gp_Pnt2d> uv_new(facets.size());
     Vec3 point;
+    double t_mid = 0;
     if (span != s_.edge_spans.end()) {
-      const CadEdgeSpan e = span->second;
-      s_.edge_spans.erase(span);
-      const double t = 0.5 * (e.t_lo + e.t_hi);
-      point = to_vec(geo_.on_edge(e.edge, t));
-      const int lo = std::min(p, q), hi = std::max(p, q);
-      s_.edge_spans[edge_key(lo, v)] = {e.edge, e.t_lo, t};
-      s_.edge_spans[edge_key(hi, v)] = {e.edge, e.t_hi, t};
+      const CadEdgeSpan& e = span->second;
+      t_mid = 0.5 * (e.t_lo + e.t_hi);
+      point = to_vec(geo_.on_edge(e.edge, t_mid));
       for (size_t k = 0; k < facets.size(); ++k) {
         const int f = facets[k];
         const auto& uv = s_.uv[f];
         const gp_Pnt2d hint = mid(uv[corner(m.triangles[f], p)], uv[corner(m.triangles[f], q)]);
-        uv_new[k] = geo_.uv_on_face(e.edge, s_.facet_face[f], t, hint);
+        uv_new[k] = geo_.uv_on_face(e.edge, s_.facet_face[f], t_mid, hint);
       }
     } else {
       bool one_face = true;
@@ -180,14 +197,35 @@ class Refiner {
       }
       point = one_face ? to_vec(geo_.on_face(s_.facet_face[facets[0]], uv_new[0])) : chord;
     }
+    // Each facet as (a, b, c) with the split edge a -> b: the corner index.
+    std::vector<int> first_corner(facets.size());
+    for (size_t k = 0; k < facets.size(); ++k) {
+      const Triangle& t = m.triangles[facets[k]];
+      int i = 0;
+      while (!((t.v[i] == p || t.v[i] == q) && (t.v[(i + 1) % 3] == p || t.v[(i + 1) % 3] == q))) ++i;
+      first_corner[k] = i;
+      if (span == s_.edge_spans.end()) continue;
+      const auto& uv = s_.uv[facets[k]];
+      const gp_Pnt2d ua = uv[i], ub = uv[(i + 1) % 3], uc = uv[(i + 2) % 3];
+      const double o = orient2d(ua, ub, uc);
+      if (!(o * orient2d(ua, uv_new[k], uc) > 0 && o * orient2d(uv_new[k], ub, uc) > 0)) return false;
+    }
+    bool on_knife = false;
+    if (span != s_.edge_spans.end()) {
+      const CadEdgeSpan e = span->second;
+      on_knife = knife_edges_.count(e.edge) != 0;
+      s_.edge_spans.erase(span);
+      const int lo = std::min(p, q), hi = std::max(p, q);
+      s_.edge_spans[edge_key(lo, v)] = {e.edge, e.t_lo, t_mid};
+      s_.edge_spans[edge_key(hi, v)] = {e.edge, e.t_hi, t_mid};
+    }
     m.points.push_back(point);
+    knife_.push_back(on_knife);
     for (size_t k = 0; k < facets.size(); ++k) {
       const int f = facets[k];
       const Triangle t = m.triangles[f];
       const auto uv = s_.uv[f];
-      // Rotate so that the split edge is (t.v[0], t.v[1]).
-      int i = 0;
-      while (!((t.v[i] == p || t.v[i] == q) && (t.v[(i + 1) % 3] == p || t.v[(i + 1) % 3] == q))) ++i;
+      const int i = first_corner[k];
       const int a = t.v[i], b = t.v[(i + 1) % 3], c = t.v[(i + 2) % 3];
       const gp_Pnt2d ua = uv[i], ub = uv[(i + 1) % 3], uc = uv[(i + 2) % 3];
       Triangle first = t, second = t;
@@ -200,41 +238,140 @@ class Refiner {
       s_.facet_face.push_back(s_.facet_face[f]);
     }
     ++stats_.refine_splits;
+    return true;
+  }
+
+  // Would triangle (x, y, z) have two edges on one CAD edge? It would lie
+  // in the sliver between the curve and its chord, and where the next face
+  // meets this one at a zero angle (a knife edge), in that face's plane:
+  // such a flip made occt_MODERN_Exhaust_1.brep's surface overlap itself.
+  bool hugs_border(int x, int y, int z) const {
+    const int ids[3] = {x, y, z};
+    int edge_of[3];
+    for (int i = 0; i < 3; ++i) {
+      const auto it = s_.edge_spans.find(edge_key(ids[i], ids[(i + 1) % 3]));
+      edge_of[i] = it == s_.edge_spans.end() ? -1 - i : it->second.edge;
+    }
+    return edge_of[0] == edge_of[1] || edge_of[1] == edge_of[2] || edge_of[2] == edge_of[0];
+  }
+
+  // Facets f1 = (a, b, c) and f2 = (b, a, d) around edge (p, q), and the
+  // corner of a in f1 and of b in f2.
+  struct Quad {
+    int a, b, c, d, ia, ib2;
+  };
+  bool quad_of(int f1, int f2, int p, int q, Quad& o) const {
+    const Triangle& t1 = s_.mesh.triangles[f1];
+    const Triangle& t2 = s_.mesh.triangles[f2];
+    const int i1 = corner(t1, p), j1 = corner(t1, q);
+    o.a = (j1 == (i1 + 1) % 3) ? p : q;
+    o.b = o.a == p ? q : p;
+    o.ia = corner(t1, o.a);
+    if (t1.v[(o.ia + 1) % 3] != o.b) return false;
+    o.c = t1.v[(o.ia + 2) % 3];
+    o.ib2 = corner(t2, o.b);
+    if (t2.v[(o.ib2 + 1) % 3] != o.a) return false;  // inconsistent orientation: leave it
+    o.d = t2.v[(o.ib2 + 2) % 3];
+    return o.c != o.d;
+  }
+  // (a, b, c) + (b, a, d) -> (a, d, c) + (d, b, c).
+  void apply_flip(int f1, int f2, const Quad& o) {
+    const auto uv1 = s_.uv[f1], uv2 = s_.uv[f2];
+    const gp_Pnt2d ua = uv1[o.ia], ub = uv1[(o.ia + 1) % 3], uc = uv1[(o.ia + 2) % 3], ud = uv2[(o.ib2 + 2) % 3];
+    s_.mesh.triangles[f1].v = {o.a, o.d, o.c};
+    s_.uv[f1] = {ua, ud, uc};
+    s_.mesh.triangles[f2].v = {o.d, o.b, o.c};
+    s_.uv[f2] = {ud, ub, uc};
   }
 
   bool try_flip(int f1, int f2, int p, int q, const EdgeFacets& map, double cos_limit) {
     Mesh& m = s_.mesh;
-    const Triangle t1 = m.triangles[f1], t2 = m.triangles[f2];
-    const int i1 = corner(t1, p), j1 = corner(t1, q);
-    // t1 = (a, b, c) with the edge directed a -> b; t2 then has b -> a.
-    const int a = (j1 == (i1 + 1) % 3) ? p : q, b = a == p ? q : p;
-    const int ia = corner(t1, a);
-    if (t1.v[(ia + 1) % 3] != b) return false;
-    const int c = t1.v[(ia + 2) % 3];
-    const int ib2 = corner(t2, b);
-    if (t2.v[(ib2 + 1) % 3] != a) return false;  // inconsistent orientation: leave it
-    const int d = t2.v[(ib2 + 2) % 3];
-    if (c == d || !map.facets(edge_key(c, d)).empty()) return false;
+    Quad o;
+    if (!quad_of(f1, f2, p, q, o) || !map.facets(edge_key(o.c, o.d)).empty()) return false;
+    const int a = o.a, b = o.b, c = o.c, d = o.d;
+    if (hugs_border(a, d, c) || hugs_border(d, b, c)) return false;
+    if (knife_[a] || knife_[b] || knife_[c] || knife_[d]) return false;
     const auto& P = m.points;
     if (angle_at(P[c], P[a], P[b]) + angle_at(P[d], P[b], P[a]) <= M_PI * (1 + 1e-9)) return false;
-    const std::array<int, 3> n1 = {a, d, c}, n2 = {d, b, c};
-    const Vec3 old_n = area_vector(m, t1.v) + area_vector(m, t2.v);
-    const Vec3 A1 = area_vector(m, n1), A2 = area_vector(m, n2);
-    if (dot(A1, old_n) <= 0 || dot(A2, old_n) <= 0) return false;
-    const double cos_old = dot(normalized(area_vector(m, t1.v)), normalized(area_vector(m, t2.v)));
+    const Vec3 old1 = area_vector(m, m.triangles[f1].v), old2 = area_vector(m, m.triangles[f2].v);
+    const Vec3 A1 = area_vector(m, {a, d, c}), A2 = area_vector(m, {d, b, c});
+    if (dot(A1, old1 + old2) <= 0 || dot(A2, old1 + old2) <= 0) return false;
+    const double cos_old = dot(normalized(old1), normalized(old2));
     const double cos_new = dot(normalized(A1), normalized(A2));
     if (cos_new < std::min(cos_old, cos_limit)) return false;
-    const auto uv1 = s_.uv[f1], uv2 = s_.uv[f2];
-    const gp_Pnt2d ua = uv1[ia], ub = uv1[(ia + 1) % 3], uc = uv1[(ia + 2) % 3], ud = uv2[(ib2 + 2) % 3];
-    m.triangles[f1].v = n1;
-    s_.uv[f1] = {ua, ud, uc};
-    m.triangles[f2].v = n2;
-    s_.uv[f2] = {ud, ub, uc};
+    // The quadrilateral must be convex in the face's (u, v) too.
+    const auto& uv1 = s_.uv[f1];
+    const gp_Pnt2d ua = uv1[o.ia], ub = uv1[(o.ia + 1) % 3], uc = uv1[(o.ia + 2) % 3], ud = s_.uv[f2][(o.ib2 + 2) % 3];
+    const double o1 = orient2d(ua, ub, uc);
+    if (!(o1 * orient2d(ua, ud, uc) > 0 && o1 * orient2d(ud, ub, uc) > 0 && o1 * orient2d(ub, ua, ud) > 0)) return false;
+    apply_flip(f1, f2, o);
     return true;
   }
 
+ public:
+  // CAD edges where two faces meet at an interior angle under 60 degrees,
+  // down to zero (occt_MODERN_Exhaust_1.brep has a face rising tangentially
+  // off a plane): a flip next to them can lay a facet of one face across
+  // the other, so facets touching their vertices are never flipped.
+  void find_knife_edges() {
+    const Mesh& m = s_.mesh;
+    const EdgeFacets map(m);
+    knife_edges_.clear();
+    for (const auto& [key, span] : s_.edge_spans) {
+      const std::vector<int> around = map.facets(key);
+      if (around.size() != 2) continue;
+      const Triangle& t1 = m.triangles[around[0]];
+      const Triangle& t2 = m.triangles[around[1]];
+      Vec3 n1 = normalized(area_vector(m, t1.v)), n2 = normalized(area_vector(m, t2.v));
+      if (t1.front != t2.front) n2 = -1.0 * n2;  // regions swapped: normals compared as if alike
+      if (dot(n1, n2) < -0.5) knife_edges_.insert(span.edge);
+    }
+    knife_.assign(m.points.size(), 0);
+    for (const auto& [key, span] : s_.edge_spans)
+      if (knife_edges_.count(span.edge)) knife_[key >> 32] = knife_[key & 0xffffffffu] = 1;
+  }
+
+  // A facet with two edges on one CAD edge (three consecutive nodes of a
+  // border curve) lies in the sliver between the curve and its chord; where
+  // the neighbouring face meets this one at a zero angle (a knife edge), it
+  // lies in that face's plane and overlaps it (occt_MODERN_Exhaust_1.brep).
+  // A vertex at its centre on the CAD face lifts it off. Returns the count.
+  int split_border_slivers() {
+    Mesh& m = s_.mesh;
+    int splits = 0;
+    const size_t n = m.triangles.size();
+    for (size_t f = 0; f < n; ++f) {
+      const auto& v = m.triangles[f].v;
+      if (!hugs_border(v[0], v[1], v[2])) continue;
+      const auto uv = s_.uv[f];
+      const gp_Pnt2d c((uv[0].X() + uv[1].X() + uv[2].X()) / 3, (uv[0].Y() + uv[1].Y() + uv[2].Y()) / 3);
+      const int x = static_cast<int>(m.points.size());
+      m.points.push_back(to_vec(geo_.on_face(s_.facet_face[f], c)));
+      knife_.push_back(0);
+      const Triangle t = m.triangles[f];
+      for (int i = 0; i < 3; ++i) {
+        Triangle child = t;
+        child.v = {t.v[i], t.v[(i + 1) % 3], x};
+        if (i == 0) {
+          m.triangles[f] = child;
+          s_.uv[f] = {uv[0], uv[1], c};
+        } else {
+          m.triangles.push_back(child);
+          s_.uv.push_back({uv[i], uv[(i + 1) % 3], c});
+          s_.facet_face.push_back(s_.facet_face[f]);
+        }
+      }
+      ++splits;
+    }
+    return splits;
+  }
+
+ private:
   Geometry geo_;
   CadSurface& s_;
+  std::unordered_set<std::uint64_t> refused_;  // splits that would fold a facet
+  std::unordered_set<int> knife_edges_;         // CAD edge ids
+  std::vector<char> knife_;                     // per vertex: on a knife edge
   TessellationStats& stats_;
 };
 
@@ -243,8 +380,9 @@ class Refiner {
 void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats) {
   const auto t0 = std::chrono::steady_clock::now();
   Refiner r(cad, s, stats);
-  r.split_long_edges(size);
-  if (flips) r.flip_towards_delaunay(20.0);
+  r.find_knife_edges();
+  stats.border_splits = r.split_border_slivers();
+  r.split_long_edges(size, flips);
   stats.seconds_refine = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "mesh/cancel.h"
+
 namespace vd {
 namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -30,7 +32,7 @@ struct DelaunayTetrahedralization::Impl {
 DelaunayTetrahedralization::DelaunayTetrahedralization() : impl_(std::make_unique<Impl>()) {}
 DelaunayTetrahedralization::~DelaunayTetrahedralization() = default;
 
-void DelaunayTetrahedralization::insert(const std::vector<Vec3>& points, int first) {
+void DelaunayTetrahedralization::insert(const std::vector<Vec3>& points, int first, const std::atomic<bool>* cancel) {
   std::vector<int> order(points.size() - static_cast<size_t>(first));
   std::iota(order.begin(), order.end(), first);
   // Spatial sort gives CGAL good location hints: O(n log n) overall.
@@ -53,7 +55,9 @@ void DelaunayTetrahedralization::insert(const std::vector<Vec3>& points, int fir
   impl_->last_located = DT::Cell_handle();  // insertions may delete it
   impl_->handle.resize(points.size());
   DT::Cell_handle hint;
+  unsigned count = 0;
   for (int id : order) {
+    if ((++count & 4095u) == 0) throw_if_cancelled(cancel);
     DT::Vertex_handle v = impl_->dt.insert(to_cgal(points[id]), hint);
     v->info() = id;
     impl_->handle[id] = v;

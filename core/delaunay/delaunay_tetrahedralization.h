@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <memory>
 #include <vector>
 
@@ -20,8 +21,9 @@ class DelaunayTetrahedralization {
   DelaunayTetrahedralization& operator=(const DelaunayTetrahedralization&) = delete;
 
   // Inserts points[first..] (spatially sorted). Vertex ids are the indices
-  // into `points`. Pre: the points are pairwise distinct.
-  void insert(const std::vector<Vec3>& points, int first = 0);
+  // into `points`. Pre: the points are pairwise distinct. Looks at `cancel`
+  // every few thousand points (hundreds of thousands take seconds).
+  void insert(const std::vector<Vec3>& points, int first = 0, const std::atomic<bool>* cancel = nullptr);
   // Inserts one point with id `id` (== number of vertices so far), near
   // vertex `hint` when >= 0. Returns the ids of its Delaunay neighbours: every
   // face that appeared or disappeared with it has all its vertices among them

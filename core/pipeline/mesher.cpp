@@ -105,7 +105,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
 
   timer.start("tetrahedralize");
   DelaunayTetrahedralization dt;
-  dt.insert(m.points);
+  dt.insert(m.points, 0, options.cancel);
   if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
     throw InputError("the input has coincident vertices (" +
                      std::to_string(m.points.size() - dt.number_of_vertices()) + " duplicates)");
@@ -162,7 +162,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     const int first = static_cast<int>(m.points.size());
     m.points.insert(m.points.end(), interior.begin(), interior.end());
     if (!m.point_size.empty()) m.point_size.resize(m.points.size(), 0.0);
-    dt.insert(m.points, first);
+    dt.insert(m.points, first, options.cancel);
     for (int id = first; id < static_cast<int>(m.points.size()); ++id) oracle->vertex_added(id);
     if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
       throw std::runtime_error("an interior vertex coincides with another vertex");

@@ -79,18 +79,22 @@ if code == 0:
     check(faces == set(range(1, 8)), "box with a hole: boundary triangles carry Face1..Face7 (%s)" % sorted(faces))
 
 # Convergence on a curved solid: the volume error shrinks with the size.
+# OpenCASCADE's 20-degree angular deflection already gives the circles
+# 0.51-long chords, so only sizes under that refine them; a short cylinder
+# keeps the finest mesh small (64,000 tetrahedra).
 cyl = make_brep("cylinder", lambda occ: occ.addCylinder(0, 0, 0, 0, 0, 10, 3))
+disc = make_brep("disc", lambda occ: occ.addCylinder(0, 0, 0, 0, 0, 2, 3))
 errors = []
-for size in (2.0, 1.0, 0.5):
-    code, rep, _, err = mesh(cyl, "--size", str(size), "--quiet")
+for size in (1.0, 0.5, 0.25):
+    code, rep, _, err = mesh(disc, "--size", str(size), "--quiet")
     if code != 0:
-        check(False, "cylinder at size %g meshes (exit %s: %s)" % (size, code, err.strip()[-200:]))
+        check(False, "short cylinder at size %g meshes (exit %s: %s)" % (size, code, err.strip()[-200:]))
         continue
     v = rep["cad"]["volumes"][0]
     errors.append(abs(v["mesh"] - v["cad"]) / v["cad"])
 check(len(errors) == 3 and errors[0] > errors[1] > errors[2],
-      "cylinder volume error shrinks with the size: %s" % ", ".join("%.4f %%" % (100 * e) for e in errors))
-check(len(errors) == 3 and errors[2] < 0.001, "cylinder at size 0.5: volume error under 0.1 %")
+      "short cylinder volume error shrinks with the size: %s" % ", ".join("%.4f %%" % (100 * e) for e in errors))
+check(len(errors) == 3 and errors[2] < 0.001, "short cylinder at size 0.25: volume error under 0.1 %")
 
 # Second order on CAD: the mid-edge nodes of the surface lie on the cylinder
 # (radius 3 from the axis, or on the end planes), and the volume of the
@@ -109,9 +113,17 @@ if code == 0:
         r = np.hypot(mids[:, 0], mids[:, 1])
         on_side = np.abs(r - 3) < 1e-6
         on_ends = (np.abs(mids[:, 2]) < 1e-9) | (np.abs(mids[:, 2] - 10) < 1e-9)
-        check(bool(np.all(on_side | on_ends)),
-              "cylinder --order 2: every surface mid-edge node on the cylinder or an end plane "
-              "(%d on the side, %d on the ends, %d off)" % (on_side.sum(), on_ends.sum(), (~(on_side | on_ends)).sum()))
+        # A node goes back onto its chord only where the curved element
+        # would fold (the report counts them; a chord on an end plane is on
+        # the CAD anyway); all others are on the CAD. At size 2 the side's
+        # facets are 0.51 x 2 (OpenCASCADE's 20-degree circles), and about
+        # 5 % of the nodes are kept straight.
+        off = int((~(on_side | on_ends)).sum())
+        straight = rep["second_order"]["kept_straight"]
+        check(off <= straight and straight <= 0.08 * len(mids),
+              "cylinder --order 2: surface mid-edge nodes on the cylinder or an end plane except the %d kept "
+              "straight (at most 8 %% of %d; %d on the side, %d on the ends, %d off)"
+              % (straight, len(mids), on_side.sum(), on_ends.sum(), off))
         # Quadratic volume by the degree-3 rule, in the VTK/Abaqus edge order.
         edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
         x = m.points[tets]
