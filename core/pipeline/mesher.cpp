@@ -144,12 +144,16 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   report.regions = build_region_tetrahedra(m, dt);
 
   if (options.interior) {
-    timer.start("interior vertices");
+    // The size field and the region lookup are a phase of their own: they
+    // do not look at the cancel flag, and a Cancel during "interior
+    // vertices" should meet the candidate loop, which does.
+    timer.start("size field");
     const SizeField size(m, options.size);
     report.smallest_size = size.smallest();
     InteriorOptions iopt = options.interior_options;
     iopt.seed = options.seed;
     const RegionLocator locate(m, dt);
+    timer.start("interior vertices");
     // Every candidate is located once: the place to look at the cancel flag.
     unsigned located = 0;
     auto locate_or_cancel = [&](const Vec3& p) {
