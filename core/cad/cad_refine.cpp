@@ -161,8 +161,9 @@ class Refiner {
  private:
   // Splits edge (p, q) of `facets`; false (nothing changed) when the new
   // vertex, placed on the CAD edge, would fold one of the halves over in
-  // the face's (u, v): a thin triangle along a curved border (flips make
-  // them) can have its third corner between the chord and the curve.
+  // the face's (u, v): a thin triangle along a curved border can have its
+  // third corner between the chord and the curve. A guard: it refused no
+  // split on the cylinder, Exhaust, gmsh_part or wing-fuselage.
   bool split(int p, int q, const std::vector<int>& facets) {
     Mesh& m = s_.mesh;
     const int v = static_cast<int>(m.points.size());
@@ -299,7 +300,8 @@ class Refiner {
     const double cos_old = dot(normalized(old1), normalized(old2));
     const double cos_new = dot(normalized(A1), normalized(A2));
     if (cos_new < std::min(cos_old, cos_limit)) return false;
-    // The quadrilateral must be convex in the face's (u, v) too.
+    // The quadrilateral must be convex in the face's (u, v) too (a guard: it
+    // refused no flip on the cylinder, Exhaust, gmsh_part or wing-fuselage).
     const auto& uv1 = s_.uv[f1];
     const gp_Pnt2d ua = uv1[o.ia], ub = uv1[(o.ia + 1) % 3], uc = uv1[(o.ia + 2) % 3], ud = s_.uv[f2][(o.ib2 + 2) % 3];
     const double o1 = orient2d(ua, ub, uc);
