@@ -55,9 +55,9 @@ void DelaunayTetrahedralization::insert(const std::vector<Vec3>& points, int fir
   impl_->last_located = DT::Cell_handle();  // insertions may delete it
   impl_->handle.resize(points.size());
   DT::Cell_handle hint;
-  unsigned count = 0;
+  CancelPoll poll(cancel, 4096);
   for (int id : order) {
-    if ((++count & 4095u) == 0) throw_if_cancelled(cancel);
+    poll();
     DT::Vertex_handle v = impl_->dt.insert(to_cgal(points[id]), hint);
     v->info() = id;
     impl_->handle[id] = v;

@@ -24,4 +24,19 @@ inline void throw_if_cancelled(const std::atomic<bool>* cancel) {
   if (cancel_requested(cancel)) throw CancelledError();
 }
 
+// For inner loops: reads the flag on every `period`-th call only (a power of
+// two), so that the check costs next to nothing per step.
+class CancelPoll {
+ public:
+  CancelPoll(const std::atomic<bool>* cancel, unsigned period) : cancel_(cancel), mask_(period - 1) {}
+  void operator()() {
+    if ((++calls_ & mask_) == 0) throw_if_cancelled(cancel_);
+  }
+
+ private:
+  const std::atomic<bool>* cancel_;
+  unsigned mask_;
+  unsigned calls_ = 0;
+};
+
 }  // namespace vd

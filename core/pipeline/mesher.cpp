@@ -155,9 +155,9 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     const RegionLocator locate(m, dt);
     timer.start("interior vertices");
     // Every candidate is located once: the place to look at the cancel flag.
-    unsigned located = 0;
+    CancelPoll poll(options.cancel, 256);
     auto locate_or_cancel = [&](const Vec3& p) {
-      if ((++located & 255u) == 0) throw_if_cancelled(options.cancel);
+      poll();
       return locate(p);
     };
     const std::vector<Vec3> interior =

@@ -37,7 +37,7 @@ class Delaunayzer {
     delaunay_.resize(m_.triangles.size());
     version_.assign(m_.triangles.size(), 0);
     for (size_t f = 0; f < m_.triangles.size(); ++f) {
-      poll_cancel();
+      poll_cancel_();
       delaunay_[f] = query(m_.triangles[f]);
     }
     Vec3 lo = m_.points.front(), hi = lo;
@@ -69,10 +69,6 @@ class Delaunayzer {
   }
 
  private:
-  // Cheap enough for the inner loops: the flag is read every 256 calls.
-  void poll_cancel() {
-    if ((++polls_ & 255u) == 0) throw_if_cancelled(opt_.cancel);
-  }
 
   bool guard_hit() const {
     return result_.passes >= opt_.max_passes || result_.added_vertices >= max_added_;
@@ -129,7 +125,7 @@ class Delaunayzer {
   // neighbour (FLIPPABLE_NEIGHBOR).
   void flips(const std::vector<int>& candidates) {
     for (int b : candidates) {
-      poll_cancel();
+      poll_cancel_();
       if (!delaunay_[b]) try_flip(b);
     }
   }
@@ -205,7 +201,7 @@ class Delaunayzer {
     for (size_t f = 0; f < delaunay_.size(); ++f)
       if (!delaunay_[f]) todo.emplace_back(static_cast<int>(f), version_[f]);
     for (const auto& [f, ver] : todo) {
-      poll_cancel();
+      poll_cancel_();
       if (version_[f] != ver || delaunay_[f]) continue;
       if (result_.added_vertices >= max_added_) return;
       const Triangle& t = m_.triangles[f];
@@ -288,7 +284,7 @@ class Delaunayzer {
   double min_edge_ = 0;
   int max_added_ = 0;
   int input_facets_ = 0;
-  unsigned polls_ = 0;
+  CancelPoll poll_cancel_{opt_.cancel, 256};
   DelaunayzationResult result_;
 };
 
