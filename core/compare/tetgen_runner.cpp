@@ -6,8 +6,7 @@
 #include <iterator>
 #include <sstream>
 
-// vdmesh_core has no include path to converters/ (the program links both).
-#include "../../converters/registry.h"
+#include "converters/registry.h"
 #include "mesh/error.h"
 
 namespace vd::compare {
