@@ -79,8 +79,7 @@ std::vector<std::pair<int, int>> triangle_owners(const Mesh& m) {
 }
 
 void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
-  detail::Out out;
-  out.reserve(m.points.size() * 70 + m.tets.size() * 60 + m.triangles.size() * 40 + 1024);
+  detail::Out out(path);
   out << "** Mesh written by vdmesh: add *MATERIAL, *SOLID SECTION and *STEP.\n";
   out << "*NODE, NSET=NALL\n";
   for (size_t i = 0; i < m.points.size(); ++i) {
@@ -140,7 +139,7 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
     out << "*NSET, NSET=" << face_set(f) << "_Nodes\n";
     node_list(out, std::vector<int>(nodes.begin(), nodes.end()));
   }
-  out.save(path);
+  out.finish();
 }
 
 // ---------------------------------------------------------------------------

@@ -161,7 +161,7 @@ struct Writer41 {
     else out << v << sep;
   }
   void end_line() {
-    if (!binary) out.str().back() = '\n';
+    if (!binary) out.replace_last('\n');
   }
 };
 
@@ -277,14 +277,12 @@ void write41(const Mesh& m, Out& out, bool binary) {
 }
 
 void write_gmsh(const Mesh& m, const std::string& path, const WriteOptions& options) {
-  Out out;
-  out.reserve(m.points.size() * (options.binary ? 40 : 70) + m.tets.size() * (options.binary ? 48 : 50) +
-              m.triangles.size() * 40 + 4096);
+  Out out(path);
   if (options.msh_version == 22)
     write22(m, out, options.binary);
   else
     write41(m, out, options.binary);
-  out.save(path);
+  out.finish();
 }
 
 }  // namespace

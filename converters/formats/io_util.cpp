@@ -280,18 +280,79 @@ void Cursor::skip_newline() {
 // ---------------------------------------------------------------------------
 // Out
 
+struct Out::Sink {
+  std::string path, part;
+  FILE* file = nullptr;
+  gzFile gz = nullptr;
+  void write(const char* data, size_t n) {
+    while (n > 0) {
+      const size_t step = std::min<size_t>(n, 1u << 30);
+      const bool ok = gz ? gzwrite(gz, data, static_cast<unsigned>(step)) == static_cast<int>(step)
+                         : std::fwrite(data, 1, step, file) == step;
+      if (!ok) throw InputError(path + ": write error");
+      data += step;
+      n -= step;
+    }
+  }
+  // Closes; true when everything reached the file.
+  bool close() {
+    bool ok = true;
+    if (gz) ok = gzclose(gz) == Z_OK;
+    if (file) ok = std::fclose(file) == 0;
+    gz = nullptr;
+    file = nullptr;
+    return ok;
+  }
+};
+
+Out::Out() { buf_.reserve(1 << 16); }
+
+Out::Out(const std::string& path) {
+  auto sink = std::make_unique<Sink>();
+  sink->path = path;
+  sink->part = path + ".part";
+  if (ends_with_ci(path, ".gz")) sink->gz = gzopen(sink->part.c_str(), "wb6");
+  else sink->file = std::fopen(sink->part.c_str(), "wb");
+  if (!sink->gz && !sink->file) throw InputError(path + ": cannot write: " + std::strerror(errno));
+  sink_ = std::move(sink);
+  buf_.reserve(kChunk + (kChunk >> 2));
+}
+
+Out::~Out() {
+  if (!sink_) return;
+  sink_->close();
+  std::remove(sink_->part.c_str());
+}
+
+void Out::spill() {
+  // All but the last byte, which replace_last() may still change.
+  const size_t n = buf_.size() - 1;
+  sink_->write(buf_.data(), n);
+  buf_.erase(0, n);
+}
+
+void Out::finish() {
+  if (!sink_) return;
+  sink_->write(buf_.data(), buf_.size());
+  buf_.clear();
+  if (!sink_->close()) throw InputError(sink_->path + ": write error");
+  if (std::rename(sink_->part.c_str(), sink_->path.c_str()) != 0)
+    throw InputError(sink_->path + ": cannot write: " + std::strerror(errno));
+  sink_.reset();
+}
+
 Out& Out::integer(long long v) {
   char b[24];
   const auto r = std::to_chars(b, b + sizeof b, v);
   buf_.append(b, static_cast<size_t>(r.ptr - b));
-  return *this;
+  return spill_if_full();
 }
 
 Out& Out::operator<<(double v) {
   char b[32];
   const auto r = std::to_chars(b, b + sizeof b, v);
   buf_.append(b, static_cast<size_t>(r.ptr - b));
-  return *this;
+  return spill_if_full();
 }
 
 // ---------------------------------------------------------------------------
@@ -364,12 +425,23 @@ void sides_from_tets(Mesh& m) {
   if (index.empty()) return;
   std::sort(index.begin(), index.end());
   std::vector<int> front(m.triangles.size(), kUnknownRegion - 1), back(front);
+  // Most tetrahedron faces have a vertex off every triangle; a flag per node
+  // rejects them before the sort and the search (they were most of the time).
+  std::vector<char> on_triangle(m.points.size(), 0);
+  for (const auto& entry : index)
+    for (int v : entry.first) on_triangle[static_cast<size_t>(v)] = 1;
   // Faces of a positive tetrahedron (a,b,c,d) whose normal points into it.
   static const int inward[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
   for (const Tetrahedron& tet : m.tets) {
+    int touching = 0;
+    for (int v : tet.v) touching += on_triangle[static_cast<size_t>(v)];
+    if (touching < 3) continue;
     const bool positive = tet_det(m, tet.v) >= 0;
     for (const auto& f : inward) {
       const int a = tet.v[f[0]], b = tet.v[f[1]], c = tet.v[f[2]];
+      if (!on_triangle[static_cast<size_t>(a)] || !on_triangle[static_cast<size_t>(b)] ||
+          !on_triangle[static_cast<size_t>(c)])
+        continue;
       const Key k = key_of(a, b, c);
       auto it = std::lower_bound(index.begin(), index.end(), std::make_pair(k, -1));
       for (; it != index.end() && it->first == k; ++it) {

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -111,17 +112,25 @@ class Cursor {
   bool binary_ = false;
 };
 
-// Appends text and binary to one growing buffer; save() writes it out.
+// Appends text and binary to a buffer. Built with a path, it streams: once the
+// buffer holds a chunk it goes to PATH.part (gzipped for ".gz"), and finish()
+// renames that to PATH; a writer that throws before finish() leaves no file.
+// A whole 1M-tetrahedron file in memory was most of a writer's peak.
 class Out {
  public:
-  Out() { buf_.reserve(1 << 16); }
+  Out();
+  explicit Out(const std::string& path);
+  ~Out();
+  Out(const Out&) = delete;
+  Out& operator=(const Out&) = delete;
+
   Out& operator<<(std::string_view s) {
     buf_.append(s.data(), s.size());
-    return *this;
+    return spill_if_full();
   }
   Out& operator<<(char c) {
     buf_.push_back(c);
-    return *this;
+    return spill_if_full();
   }
   Out& operator<<(const char* s) { return *this << std::string_view(s); }
   Out& operator<<(const std::string& s) { return *this << std::string_view(s); }
@@ -135,6 +144,7 @@ class Out {
   template <class T>
   void raw(T v) {
     buf_.append(reinterpret_cast<const char*>(&v), sizeof v);
+    spill_if_full();
   }
   template <class T>
   void raw_be(T v) {
@@ -142,13 +152,33 @@ class Out {
     std::memcpy(b, &v, sizeof v);
     for (size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
     buf_.append(b, sizeof b);
+    spill_if_full();
   }
-  void reserve(size_t n) { buf_.reserve(n); }
+  // Replaces the last byte written (a separator becoming a line end); the
+  // streaming buffer always keeps it.
+  void replace_last(char c) {
+    if (!buf_.empty()) buf_.back() = c;
+  }
+  // For appending in place (base64); call spill_if_full() after.
   std::string& str() { return buf_; }
+  Out& spill_if_full() {
+    if (sink_ && buf_.size() >= kChunk) spill();
+    return *this;
+  }
+  void reserve(size_t n) {
+    if (!sink_) buf_.reserve(n);
+  }
+  // In memory: writes the buffer to `path`.
   void save(const std::string& path) const { save_file(path, buf_); }
+  // Streaming: writes the rest and gives the file its name.
+  void finish();
 
  private:
+  static constexpr size_t kChunk = size_t{1} << 20;
+  struct Sink;
+  void spill();
   std::string buf_;
+  std::unique_ptr<Sink> sink_;
 };
 
 // Merges points with identical coordinates (+0 == -0) and renumbers triangles.

@@ -92,8 +92,7 @@ Mesh read_medit(const std::string& path) {
 }
 
 void write_medit(const Mesh& m, const std::string& path, const WriteOptions&) {
-  detail::Out out;
-  out.reserve(m.points.size() * 64 + m.triangles.size() * 32 + m.tets.size() * 40 + 256);
+  detail::Out out(path);
   out << "MeshVersionFormatted 2\nDimension 3\n\nVertices\n" << m.points.size() << '\n';
   for (const Vec3& p : m.points) out << p.x << ' ' << p.y << ' ' << p.z << " 0\n";
   if (!m.triangles.empty()) {
@@ -107,7 +106,7 @@ void write_medit(const Mesh& m, const std::string& path, const WriteOptions&) {
       out << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.v[3] + 1 << ' ' << t.region << '\n';
   }
   out << "\nEnd\n";
-  out.save(path);
+  out.finish();
 }
 
 }  // namespace

@@ -90,8 +90,7 @@ Mesh read_obj(const std::string& path) {
 }
 
 void write_obj(const Mesh& m, const std::string& path, const WriteOptions&) {
-  detail::Out out;
-  out.reserve(m.points.size() * 60 + m.triangles.size() * 30 + 64);
+  detail::Out out(path);
   out << "# written by vdmesh\n";
   for (const Vec3& p : m.points) out << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
   const bool tagged = m.has_face_tags();
@@ -103,7 +102,7 @@ void write_obj(const Mesh& m, const std::string& path, const WriteOptions&) {
     }
     out << "f " << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << '\n';
   }
-  out.save(path);
+  out.finish();
 }
 
 }  // namespace

@@ -59,12 +59,11 @@ Mesh read_off(const std::string& path) {
 }
 
 void write_off(const Mesh& m, const std::string& path, const WriteOptions&) {
-  detail::Out out;
-  out.reserve(m.points.size() * 60 + m.triangles.size() * 30 + 64);
+  detail::Out out(path);
   out << "OFF\n" << m.points.size() << ' ' << m.triangles.size() << " 0\n";
   for (const Vec3& p : m.points) out << p.x << ' ' << p.y << ' ' << p.z << '\n';
   for (const Triangle& t : m.triangles) out << "3 " << t.v[0] << ' ' << t.v[1] << ' ' << t.v[2] << '\n';
-  out.save(path);
+  out.finish();
 }
 
 }  // namespace

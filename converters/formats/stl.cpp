@@ -128,8 +128,7 @@ Vec3 unit_normal(const Mesh& m, const Triangle& t) {
 }
 
 void write_ascii(const Mesh& m, const std::string& path) {
-  detail::Out out;
-  out.reserve(m.triangles.size() * 250 + 64);
+  detail::Out out(path);
   const bool tagged = m.has_face_tags();
   size_t i = 0;
   while (i < m.triangles.size() || i == 0) {
@@ -150,12 +149,11 @@ void write_ascii(const Mesh& m, const std::string& path) {
     out << "endsolid " << name << '\n';
     if (m.triangles.empty()) break;
   }
-  out.save(path);
+  out.finish();
 }
 
 void write_binary(const Mesh& m, const std::string& path) {
-  detail::Out out;
-  out.reserve(84 + 50 * m.triangles.size());
+  detail::Out out(path);
   std::string header = "binary STL written by vdmesh";
   header.resize(80, ' ');
   out << header;
@@ -169,7 +167,7 @@ void write_binary(const Mesh& m, const std::string& path) {
     }
     out.raw(uint16_t{0});
   }
-  out.save(path);
+  out.finish();
 }
 
 void write_stl(const Mesh& m, const std::string& path, const WriteOptions& options) {

@@ -193,19 +193,17 @@ void write_tetgen(const Mesh& m, const std::string& path, const WriteOptions&) {
   const bool gz = path.size() > 3 && detail::iequals(path.substr(path.size() - 3), ".gz");
   const std::string suffix = gz ? ".gz" : "";
   {
-    detail::Out out;
-    out.reserve(m.points.size() * 64 + 64);
+    detail::Out out(base + ".node" + suffix);
     out << m.points.size() << " 3 0 0\n";
     for (size_t i = 0; i < m.points.size(); ++i) {
       const Vec3& p = m.points[i];
       out << i + 1 << ' ' << p.x << ' ' << p.y << ' ' << p.z << '\n';
     }
-    out.save(base + ".node" + suffix);
+    out.finish();
   }
   if (!m.tets.empty()) {
-    detail::Out out;
+    detail::Out out(base + ".ele" + suffix);
     const bool quad = !m.tet_mid.empty();
-    out.reserve(m.tets.size() * (quad ? 96 : 48) + 64);
     out << m.tets.size() << (quad ? " 10 1\n" : " 4 1\n");
     for (size_t i = 0; i < m.tets.size(); ++i) {
       const Tetrahedron& t = m.tets[i];
@@ -214,12 +212,11 @@ void write_tetgen(const Mesh& m, const std::string& path, const WriteOptions&) {
         for (int j : kTetgenMid) out << m.tet_mid[i][j] + 1 << ' ';
       out << t.region << '\n';
     }
-    out.save(base + ".ele" + suffix);
+    out.finish();
   }
   if (!m.triangles.empty()) {
-    detail::Out out;
+    detail::Out out(base + ".face" + suffix);
     const bool quad = !m.triangle_mid.empty();
-    out.reserve(m.triangles.size() * (quad ? 64 : 40) + 64);
     out << m.triangles.size() << " 1\n";
     for (size_t i = 0; i < m.triangles.size(); ++i) {
       const Triangle& t = m.triangles[i];
@@ -228,7 +225,7 @@ void write_tetgen(const Mesh& m, const std::string& path, const WriteOptions&) {
         for (int v : m.triangle_mid[i]) out << v + 1 << ' ';
       out << t.face << '\n';
     }
-    out.save(base + ".face" + suffix);
+    out.finish();
   }
 }
 

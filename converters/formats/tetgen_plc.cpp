@@ -108,8 +108,7 @@ Mesh read_plc(const std::string& path) {
 
 void write_plc(const Mesh& m, const std::string& path, const WriteOptions&) {
   const bool poly = detail::extension_of(path) == ".poly";
-  detail::Out out;
-  out.reserve(m.points.size() * 64 + m.triangles.size() * 40 + 256);
+  detail::Out out(path);
   out << "# written by vdmesh\n" << m.points.size() << " 3 0 0\n";
   for (size_t i = 0; i < m.points.size(); ++i) {
     const Vec3& p = m.points[i];
@@ -123,7 +122,7 @@ void write_plc(const Mesh& m, const std::string& path, const WriteOptions&) {
     out << '\n';
   }
   out << "0\n0\n";
-  out.save(path);
+  out.finish();
 }
 
 }  // namespace

@@ -270,10 +270,9 @@ Mesh read_vtk(const std::string& path) {
 
 void write_vtk(const Mesh& m, const std::string& path, const WriteOptions& options) {
   const bool bin = options.binary;
-  const detail::VtkCells c = detail::vtk_cells(m);
-  const size_t ncells = c.types.size();
-  detail::Out out;
-  out.reserve(m.points.size() * (bin ? 24 : 60) + c.conn.size() * (bin ? 4 : 8) + ncells * 40 + 1024);
+  const detail::VtkCellView c(m);
+  const size_t ncells = c.size();
+  detail::Out out(path);
   out << "# vtk DataFile Version 3.0\nwritten by vdmesh\n" << (bin ? "BINARY" : "ASCII")
       << "\nDATASET UNSTRUCTURED_GRID\nPOINTS " << m.points.size() << " double\n";
   for (const Vec3& p : m.points) {
@@ -281,13 +280,13 @@ void write_vtk(const Mesh& m, const std::string& path, const WriteOptions& optio
     else out << p.x << ' ' << p.y << ' ' << p.z << '\n';
   }
   if (bin) out << '\n';
-  out << "CELLS " << ncells << ' ' << ncells + c.conn.size() << '\n';
+  out << "CELLS " << ncells << ' ' << ncells + c.connectivity_size() << '\n';
   for (size_t i = 0; i < ncells; ++i) {
-    const int64_t k = c.offsets[i + 1] - c.offsets[i];
+    const int k = c.nodes(i);
     if (bin) out.raw_be(static_cast<int32_t>(k));
-    else out << static_cast<long long>(k);
-    for (int64_t j = c.offsets[i]; j < c.offsets[i + 1]; ++j) {
-      const int32_t v = static_cast<int32_t>(c.conn[static_cast<size_t>(j)]);
+    else out << k;
+    for (int j = 0; j < k; ++j) {
+      const int32_t v = c.node(i, j);
       if (bin) out.raw_be(v);
       else out << ' ' << v;
     }
@@ -295,21 +294,21 @@ void write_vtk(const Mesh& m, const std::string& path, const WriteOptions& optio
   }
   if (bin) out << '\n';
   out << "CELL_TYPES " << ncells << '\n';
-  for (int t : c.types) {
-    if (bin) out.raw_be(static_cast<int32_t>(t));
-    else out << t << '\n';
+  for (size_t i = 0; i < ncells; ++i) {
+    if (bin) out.raw_be(static_cast<int32_t>(c.type(i)));
+    else out << c.type(i) << '\n';
   }
   if (bin) out << '\n';
   out << "CELL_DATA " << ncells << '\n';
-  for (const char* name : {"region", "face", "front", "back"}) {
-    out << "SCALARS " << name << " int 1\nLOOKUP_TABLE default\n";
-    for (double v : c.data.at(name)) {
-      if (bin) out.raw_be(static_cast<int32_t>(v));
-      else out << static_cast<int>(v) << '\n';
+  for (int a = 0; a < 4; ++a) {
+    out << "SCALARS " << detail::VtkCellView::kDataNames[a] << " int 1\nLOOKUP_TABLE default\n";
+    for (size_t i = 0; i < ncells; ++i) {
+      if (bin) out.raw_be(static_cast<int32_t>(c.data(a, i)));
+      else out << c.data(a, i) << '\n';
     }
     if (bin) out << '\n';
   }
-  out.save(path);
+  out.finish();
 }
 
 }  // namespace

@@ -4,45 +4,6 @@
 
 namespace vd::io::detail {
 
-VtkCells vtk_cells(const Mesh& m) {
-  VtkCells c;
-  const bool quad_tet = !m.tet_mid.empty(), quad_tri = !m.triangle_mid.empty();
-  const size_t n = m.tets.size() + m.triangles.size();
-  c.offsets.reserve(n + 1);
-  c.conn.reserve(m.tets.size() * (quad_tet ? 10 : 4) + m.triangles.size() * (quad_tri ? 6 : 3));
-  c.types.reserve(n);
-  auto& region = c.data["region"];
-  auto& face = c.data["face"];
-  auto& front = c.data["front"];
-  auto& back = c.data["back"];
-  c.offsets.push_back(0);
-  for (size_t i = 0; i < m.tets.size(); ++i) {
-    for (int v : m.tets[i].v) c.conn.push_back(v);
-    if (quad_tet)
-      for (int v : m.tet_mid[i]) c.conn.push_back(v);
-    c.offsets.push_back(static_cast<int64_t>(c.conn.size()));
-    c.types.push_back(quad_tet ? kVtkQuadraticTet : kVtkTet);
-    region.push_back(m.tets[i].region);
-    face.push_back(-1);
-    front.push_back(-1);
-    back.push_back(-1);
-  }
-  for (size_t i = 0; i < m.triangles.size(); ++i) {
-    const Triangle& t = m.triangles[i];
-    for (int v : t.v) c.conn.push_back(v);
-    if (quad_tri)
-      for (int v : m.triangle_mid[i]) c.conn.push_back(v);
-    c.offsets.push_back(static_cast<int64_t>(c.conn.size()));
-    c.types.push_back(quad_tri ? kVtkQuadraticTriangle : kVtkTriangle);
-    // A boundary triangle belongs to the region behind it.
-    region.push_back(t.back);
-    face.push_back(t.face);
-    front.push_back(t.front);
-    back.push_back(t.back);
-  }
-  return c;
-}
-
 namespace {
 
 const std::vector<double>* array(const VtkCells& c, std::initializer_list<const char*> names) {

@@ -87,10 +87,9 @@ bool base64_decode(std::string_view in, std::string& out) {
 
 void write_vtu(const Mesh& m, const std::string& path, const WriteOptions& options) {
   const bool bin = options.binary;
-  const detail::VtkCells c = detail::vtk_cells(m);
-  const size_t ncells = c.types.size();
-  detail::Out out;
-  out.reserve(m.points.size() * (bin ? 34 : 60) + c.conn.size() * (bin ? 11 : 8) + ncells * 40 + 4096);
+  const detail::VtkCellView c(m);
+  const size_t ncells = c.size();
+  detail::Out out(path);
   const char* format = bin ? "binary" : "ascii";
   out << "<?xml version=\"1.0\"?>\n"
          "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
@@ -103,16 +102,28 @@ void write_vtu(const Mesh& m, const std::string& path, const WriteOptions& optio
     out << " format=\"" << format << "\">\n";
     using T = decltype(value(size_t{0}));
     if (bin) {
-      std::string raw;
-      raw.resize(8 + n * sizeof(T));
+      // base64 of (byte count, values), encoded a piece of whole 3-byte
+      // groups at a time so that the array never exists whole in memory.
+      constexpr size_t kPiece = 3 * 16384;
+      std::vector<unsigned char> piece;
+      piece.reserve(kPiece + 16);
+      auto put = [&](const void* p, size_t size) {
+        const auto* b = static_cast<const unsigned char*>(p);
+        piece.insert(piece.end(), b, b + size);
+        if (piece.size() < kPiece) return;
+        const size_t whole = piece.size() / 3 * 3;
+        base64_append(out.str(), piece.data(), whole);
+        piece.erase(piece.begin(), piece.begin() + static_cast<std::ptrdiff_t>(whole));
+        out.spill_if_full();
+      };
       const uint64_t bytes = n * sizeof(T);
-      std::memcpy(raw.data(), &bytes, 8);
+      out << "          ";
+      put(&bytes, sizeof bytes);
       for (size_t i = 0; i < n; ++i) {
         const T v = value(i);
-        std::memcpy(raw.data() + 8 + i * sizeof(T), &v, sizeof(T));
+        put(&v, sizeof v);
       }
-      out << "          ";
-      base64_append(out.str(), reinterpret_cast<const unsigned char*>(raw.data()), raw.size());
+      base64_append(out.str(), piece.data(), piece.size());
       out << '\n';
     } else {
       for (size_t i = 0; i < n; ++i) {
@@ -129,16 +140,23 @@ void write_vtu(const Mesh& m, const std::string& path, const WriteOptions& optio
   array("Float64", "Points", 3, 3 * m.points.size(),
         [&](size_t i) { return m.points[i / 3][static_cast<int>(i % 3)]; });
   out << "      </Points>\n      <Cells>\n";
-  array("Int64", "connectivity", 1, c.conn.size(), [&](size_t i) { return c.conn[i]; });
-  array("Int64", "offsets", 1, ncells, [&](size_t i) { return c.offsets[i + 1]; });
-  array("UInt8", "types", 1, ncells, [&](size_t i) { return static_cast<uint8_t>(c.types[i]); });
+  // The connectivity is asked for in order, so a running (cell, node) pair
+  // stands for its flat index.
+  size_t cell = 0;
+  int node = 0;
+  array("Int64", "connectivity", 1, c.connectivity_size(), [&](size_t) {
+    const int64_t v = c.node(cell, node);
+    if (++node == c.nodes(cell)) node = 0, ++cell;
+    return v;
+  });
+  array("Int64", "offsets", 1, ncells, [&](size_t i) { return c.end(i); });
+  array("UInt8", "types", 1, ncells, [&](size_t i) { return static_cast<uint8_t>(c.type(i)); });
   out << "      </Cells>\n      <CellData>\n";
-  for (const char* name : {"region", "face", "front", "back"}) {
-    const std::vector<double>& d = c.data.at(name);
-    array("Int32", name, 1, ncells, [&](size_t i) { return static_cast<int32_t>(d[i]); });
-  }
+  for (int a = 0; a < 4; ++a)
+    array("Int32", detail::VtkCellView::kDataNames[a], 1, ncells,
+          [&](size_t i) { return static_cast<int32_t>(c.data(a, i)); });
   out << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-  out.save(path);
+  out.finish();
 }
 
 // ---------------------------------------------------------------------------

@@ -198,6 +198,44 @@ TEST(ConvertersRoundTrip, VolumeFormatsKeepEverything) {
   }
 }
 
+// Writers stream through a 1 MiB buffer into FILE.part, renamed at the end:
+// a mesh whose files span many buffers must come back the same, and no .part
+// may be left behind.
+TEST(ConvertersRoundTrip, LargeMeshesStreamThroughTheBuffer) {
+  const Mesh cube = cube_tets();
+  Mesh m;
+  for (int copy = 0; copy < 4000; ++copy) {
+    const int base = static_cast<int>(m.points.size());
+    // No shift in y: -2.3 + 0.3 + 2 leaves 2.2e-16, which Abaqus' 20-character
+    // numbers cannot carry exactly.
+    const Vec3 shift{2.0 * (copy % 80), 0.0, 1.0 * (copy / 80)};
+    for (const Vec3& p : cube.points) m.points.push_back(p + shift);
+    for (Tetrahedron t : cube.tets) {
+      for (int& v : t.v) v += base;
+      m.tets.push_back(t);
+    }
+    for (Triangle t : cube.triangles) {
+      for (int& v : t.v) v += base;
+      m.triangles.push_back(t);
+    }
+  }
+  for (const Variant& v : volume_variants()) {
+    const std::string path = test::temp_path("large-" + v.file);
+    io::write_mesh(m, path, v.options);
+    if (path.size() < 3 || path.substr(path.size() - 3) != ".gz")
+      EXPECT_GT(std::filesystem::file_size(path), size_t{1} << 20) << describe(v);
+    EXPECT_FALSE(std::filesystem::exists(path + ".part")) << describe(v);
+    expect_same_volume_mesh(m, io::read_mesh(path), v);
+  }
+}
+
+TEST(ConvertersRoundTrip, UnwritablePathIsInputErrorAndNoFile) {
+  const std::string path = test::temp_path("no-such-folder") + "/cube.vtu";
+  EXPECT_THROW(io::write_mesh(cube_tets(), path, {}), InputError);
+  EXPECT_FALSE(std::filesystem::exists(path));
+  EXPECT_FALSE(std::filesystem::exists(path + ".part"));
+}
+
 TEST(ConvertersRoundTrip, SecondOrderVolumeFormats) {
   const Mesh m = second_order(cube_tets());
   // 8 corners + 19 edges (12 cube edges, 6 face diagonals, 1 body diagonal).
