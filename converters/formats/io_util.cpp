@@ -96,29 +96,6 @@ std::string load_file(const std::string& path) {
   return out;
 }
 
-void save_file(const std::string& path, std::string_view data) {
-  if (ends_with_ci(path, ".gz")) {
-    gzFile f = gzopen(path.c_str(), "wb6");
-    if (!f) throw InputError(path + ": cannot write: " + std::strerror(errno));
-    size_t done = 0;
-    while (done < data.size()) {
-      const unsigned n = static_cast<unsigned>(std::min<size_t>(data.size() - done, 1u << 30));
-      if (gzwrite(f, data.data() + done, n) != static_cast<int>(n)) {
-        gzclose(f);
-        throw InputError(path + ": write error");
-      }
-      done += n;
-    }
-    if (gzclose(f) != Z_OK) throw InputError(path + ": write error");
-    return;
-  }
-  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
-  if (!f) throw InputError(path + ": cannot write: " + std::strerror(errno));
-  if (std::fwrite(data.data(), 1, data.size(), f.get()) != data.size())
-    throw InputError(path + ": write error");
-  if (std::fclose(f.release()) != 0) throw InputError(path + ": write error");
-}
-
 // ---------------------------------------------------------------------------
 // Cursor
 
@@ -304,8 +281,6 @@ struct Out::Sink {
     return ok;
   }
 };
-
-Out::Out() { buf_.reserve(1 << 16); }
 
 Out::Out(const std::string& path) {
   auto sink = std::make_unique<Sink>();

@@ -18,8 +18,6 @@ namespace vd::io::detail {
 
 // The bytes of `path`, gunzipped when it ends in ".gz". Throws InputError.
 std::string load_file(const std::string& path);
-// Writes `data` to `path`, gzipped when it ends in ".gz". Throws InputError.
-void save_file(const std::string& path, std::string_view data);
 
 // Lower-case extension with the dot (".msh"), looking through a trailing ".gz".
 std::string extension_of(const std::string& path);
@@ -112,13 +110,12 @@ class Cursor {
   bool binary_ = false;
 };
 
-// Appends text and binary to a buffer. Built with a path, it streams: once the
-// buffer holds a chunk it goes to PATH.part (gzipped for ".gz"), and finish()
-// renames that to PATH; a writer that throws before finish() leaves no file.
-// A whole 1M-tetrahedron file in memory was most of a writer's peak.
+// Writes a file through a buffer: once the buffer holds a chunk it goes to
+// PATH.part (gzipped for ".gz"), and finish() renames that to PATH; a writer
+// that throws before finish() leaves no file. A whole 1M-tetrahedron file in
+// memory was most of a writer's peak.
 class Out {
  public:
-  Out();
   explicit Out(const std::string& path);
   ~Out();
   Out(const Out&) = delete;
@@ -162,15 +159,10 @@ class Out {
   // For appending in place (base64); call spill_if_full() after.
   std::string& str() { return buf_; }
   Out& spill_if_full() {
-    if (sink_ && buf_.size() >= kChunk) spill();
+    if (buf_.size() >= kChunk && sink_) spill();
     return *this;
   }
-  void reserve(size_t n) {
-    if (!sink_) buf_.reserve(n);
-  }
-  // In memory: writes the buffer to `path`.
-  void save(const std::string& path) const { save_file(path, buf_); }
-  // Streaming: writes the rest and gives the file its name.
+  // Writes the rest and gives the file its name.
   void finish();
 
  private:
