@@ -19,6 +19,7 @@ namespace vd::io {
 namespace {
 
 using detail::Cursor;
+using detail::FileBytes;
 
 // C3D4 / C3D10 faces S1..S4 by corner (0-based).
 const int kFaces[4][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
@@ -152,7 +153,7 @@ struct Keyword {
 
 class InpReader {
  public:
-  InpReader(std::string_view data, const std::string& path) : in_(data, path) { in_.set_comma_separates(true); }
+  InpReader(const FileBytes& data, const std::string& path) : in_(data, path) { in_.set_comma_separates(true); }
   Mesh read();
 
  private:
@@ -497,7 +498,7 @@ Mesh InpReader::read() {
 }
 
 Mesh read_abaqus(const std::string& path) {
-  const std::string data = detail::load_file(path);
+  const detail::FileBytes data(path);
   return InpReader(data, path).read();
 }
 

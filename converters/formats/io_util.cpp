@@ -1,5 +1,9 @@
 #include "io_util.h"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -74,26 +78,62 @@ std::string strip_extension(const std::string& path) {
   return std::string(p.substr(0, p.size() - ext.size()));
 }
 
-std::string load_file(const std::string& path) {
-  if (ends_with_ci(path, ".gz")) return gunzip(path);
-  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw InputError(path + ": cannot open: " + std::strerror(errno));
-  // Read straight into the string (sized from the file), then any rest.
-  std::string out;
-  long size = 0;
-  if (std::fseek(f.get(), 0, SEEK_END) == 0) {
-    size = std::ftell(f.get());
-    std::fseek(f.get(), 0, SEEK_SET);
+FileBytes::FileBytes(const std::string& path) {
+  if (ends_with_ci(path, ".gz")) {
+    owned_ = gunzip(path);
+  } else {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw InputError(path + ": cannot open: " + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) == 0 && S_ISDIR(st.st_mode)) {
+      ::close(fd);
+      throw InputError(path + ": cannot open: it is a directory");
+    }
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+      void* p = ::mmap(nullptr, static_cast<size_t>(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
+      if (p != MAP_FAILED) {
+        map_ = p;
+        data_ = static_cast<const char*>(p);
+        size_ = static_cast<size_t>(st.st_size);
+        ::madvise(p, size_, MADV_SEQUENTIAL);
+        ::close(fd);
+        return;
+      }
+    }
+    // Not a regular file (or not mappable): read it.
+    char chunk[1 << 16];
+    for (;;) {
+      const ssize_t n = ::read(fd, chunk, sizeof chunk);
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) {
+        const int err = errno;
+        ::close(fd);
+        throw InputError(path + ": read error: " + std::strerror(err));
+      }
+      if (n == 0) break;
+      owned_.append(chunk, static_cast<size_t>(n));
+    }
+    ::close(fd);
   }
-  if (size > 0) {
-    out.resize(static_cast<size_t>(size));
-    out.resize(std::fread(out.data(), 1, out.size(), f.get()));
-  }
-  char chunk[1 << 14];
-  size_t n;
-  while ((n = std::fread(chunk, 1, sizeof chunk, f.get())) > 0) out.append(chunk, n);
-  if (std::ferror(f.get())) throw InputError(path + ": read error");
-  return out;
+  data_ = owned_.data();
+  size_ = owned_.size();
+}
+
+FileBytes::~FileBytes() {
+  if (map_) ::munmap(map_, size_);
+}
+
+void FileBytes::release(size_t pos) const {
+  if (pos <= released_) return;
+  drop(released_, pos);
+  released_ = pos;
+}
+
+void FileBytes::drop(size_t begin, size_t end) const {
+  if (!map_) return;
+  static const size_t page = static_cast<size_t>(::sysconf(_SC_PAGESIZE));
+  const size_t from = (begin + page - 1) / page * page, to = std::min(end, size_) / page * page;
+  if (to > from) ::madvise(static_cast<char*>(map_) + from, to - from, MADV_DONTNEED);
 }
 
 // ---------------------------------------------------------------------------
@@ -142,6 +182,7 @@ std::string_view Cursor::token_in_line() {
       break;
     ++pos_;
   }
+  if (pos_ >= next_release_) release_passed();
   return data_.substr(start, pos_ - start);
 }
 
@@ -156,6 +197,7 @@ void Cursor::skip_line() {
     ++pos_;
     ++line_;
   }
+  if (pos_ >= next_release_) release_passed();
 }
 
 std::string_view Cursor::rest_of_line() {
@@ -233,17 +275,22 @@ double Cursor::real_in_line(const char* what) {
   return real(what);
 }
 
-void Cursor::raw(void* out, size_t n, const char* what) {
+void Cursor::fail_inside(const char* what) {
   binary_ = true;
-  if (n > data_.size() - pos_) fail(std::string("file ends inside ") + what);
-  std::memcpy(out, data_.data() + pos_, n);
-  pos_ += n;
+  fail(std::string("file ends inside ") + what);
+}
+
+void Cursor::release_passed() {
+  // Keep a step behind: a reader may still look at what it just parsed.
+  if (file_ && pos_ > kReleaseStep) file_->release(pos_ - kReleaseStep);
+  next_release_ = pos_ + kReleaseStep;
 }
 
 void Cursor::skip_bytes(uint64_t n, const char* what) {
   binary_ = true;
   if (n > data_.size() - pos_) fail(std::string("file ends inside ") + what);
   pos_ += static_cast<size_t>(n);
+  if (pos_ >= next_release_) release_passed();
 }
 
 void Cursor::skip_newline() {

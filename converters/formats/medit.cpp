@@ -26,7 +26,7 @@ int skipped_section_width(const std::string& key) {
 }
 
 Mesh read_medit(const std::string& path) {
-  const std::string data = detail::load_file(path);
+  const detail::FileBytes data(path);
   Cursor in(data, path);
   in.set_comment('#');
   Mesh m;

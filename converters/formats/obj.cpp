@@ -15,7 +15,7 @@ using detail::Cursor;
 std::string_view vertex_part(std::string_view t) { return t.substr(0, t.find('/')); }
 
 Mesh read_obj(const std::string& path) {
-  const std::string data = detail::load_file(path);
+  const detail::FileBytes data(path);
   Cursor in(data, path);
   in.set_comment('#');
   Mesh m;

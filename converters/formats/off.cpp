@@ -8,7 +8,7 @@ namespace {
 using detail::Cursor;
 
 Mesh read_off(const std::string& path) {
-  const std::string data = detail::load_file(path);
+  const detail::FileBytes data(path);
   Cursor in(data, path);
   in.set_comment('#');
   const std::string_view header = in.token("the OFF header");

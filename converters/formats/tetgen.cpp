@@ -73,7 +73,7 @@ using detail::Cursor;
 constexpr int kTetgenMid[6] = {5, 3, 0, 1, 4, 2};
 
 void read_ele(const std::string& path, Mesh& m, int first) {
-  const std::string data = detail::load_file(path);
+  const detail::FileBytes data(path);
   Cursor in(data, path);
   in.set_comment('#');
   const uint64_t n = in.count("the number of tetrahedra", data.size());
@@ -125,7 +125,7 @@ int face_vertex(const Cursor& in, std::string_view field, const Mesh& m, int fir
 }
 
 void read_face(const std::string& path, Mesh& m, int first) {
-  const std::string data = detail::load_file(path);
+  const detail::FileBytes data(path);
   Cursor in(data, path);
   in.set_comment('#');
   const uint64_t n = in.count("the number of faces", data.size());
@@ -177,7 +177,7 @@ Mesh read_tetgen(const std::string& path) {
   const std::string node = base + ".node";
   if (!exists(node)) throw InputError(path + ": the TetGen node file " + node + " does not exist");
   Mesh m;
-  const std::string data = detail::load_file(existing(node));
+  const detail::FileBytes data(existing(node));
   Cursor in(data, existing(node));
   in.set_comment('#');
   const int first = detail::read_tetgen_nodes(in, m);

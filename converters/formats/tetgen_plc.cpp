@@ -18,7 +18,7 @@ using detail::Cursor;
 
 Mesh read_plc(const std::string& path) {
   const bool poly = detail::extension_of(path) == ".poly";
-  const std::string data = detail::load_file(path);
+  const detail::FileBytes data(path);
   Cursor in(data, path);
   in.set_comment('#');
   Mesh m;
@@ -34,7 +34,7 @@ Mesh read_plc(const std::string& path) {
       const std::string node = detail::tetgen_base(path) + ".node";
       std::error_code ec;
       if (!std::filesystem::exists(node, ec)) in.fail("no nodes here and no " + node);
-      const std::string nodes = detail::load_file(node);
+      const detail::FileBytes nodes(node);
       Cursor nin(nodes, node);
       nin.set_comment('#');
       first = detail::read_tetgen_nodes(nin, m);

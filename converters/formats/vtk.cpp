@@ -12,6 +12,7 @@ namespace vd::io {
 namespace {
 
 using detail::Cursor;
+using detail::FileBytes;
 
 size_t binary_size(std::string_view type) {
   const std::string t = detail::to_lower(type);
@@ -27,7 +28,7 @@ size_t binary_size(std::string_view type) {
 
 class LegacyReader {
  public:
-  LegacyReader(std::string_view data, const std::string& path) : in_(data, path) {}
+  LegacyReader(const FileBytes& data, const std::string& path) : in_(data, path) {}
   Mesh read();
 
  private:
@@ -264,7 +265,7 @@ Mesh LegacyReader::read() {
 }
 
 Mesh read_vtk(const std::string& path) {
-  const std::string data = detail::load_file(path);
+  const detail::FileBytes data(path);
   return LegacyReader(data, path).read();
 }
 

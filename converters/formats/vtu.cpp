@@ -7,6 +7,9 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <map>
+#include <optional>
+#include <type_traits>
 
 #include "formats.h"
 #include "io_util.h"
@@ -39,46 +42,68 @@ void base64_append(std::string& out, const unsigned char* p, size_t n) {
   }
 }
 
-// Decodes base64, skipping white space and padding; false on a bad character.
-bool base64_decode(std::string_view in, std::string& out) {
+// Decodes base64 a piece at a time, skipping white space. Padding ends a
+// group, so separately encoded header and data (as VTK writes compressed
+// arrays) decode as one stream.
+class Base64Reader {
+ public:
+  explicit Base64Reader(std::string_view in)
+      : begin_(reinterpret_cast<const unsigned char*>(in.data())), p_(begin_), end_(p_ + in.size()) {}
+  // Up to `cap` bytes into `out`; false on a bad character.
+  bool read(char* out, size_t cap, size_t& got);
+  size_t consumed() const { return static_cast<size_t>(p_ - begin_); }
+  // The character a failed read() stopped at.
+  char last() const { return p_ > begin_ ? static_cast<char>(p_[-1]) : 0; }
+
+ private:
+  const unsigned char* begin_;
+  const unsigned char* p_;
+  const unsigned char* end_;
+  uint32_t acc_ = 0;
+  int bits_ = 0;
+};
+
+bool Base64Reader::read(char* out, size_t cap, size_t& got) {
   static const std::array<int8_t, 256> table = [] {
     std::array<int8_t, 256> t;
     t.fill(-1);
     for (int i = 0; i < 64; ++i) t[static_cast<unsigned char>(kB64[i])] = static_cast<int8_t>(i);
-    t['='] = t[' '] = t['\n'] = t['\r'] = t['\t'] = -2;
+    t[' '] = t['\n'] = t['\r'] = t['\t'] = -2;
+    t['='] = -3;
     return t;
   }();
-  out.resize(in.size() / 4 * 3 + 3);
-  char* o = out.data();
-  const unsigned char* p = reinterpret_cast<const unsigned char*>(in.data());
-  const unsigned char* end = p + in.size();
-  uint32_t acc = 0;
-  int bits = 0;
-  // Four characters at a time while they are all data, else one by one.
-  while (p < end) {
-    if (end - p >= 4) {
-      const int a = table[p[0]], b = table[p[1]], c = table[p[2]], d = table[p[3]];
-      if ((a | b | c | d) >= 0 && bits == 0) {
+  char* o = out;
+  char* const o_end = out + cap;
+  while (p_ < end_ && o < o_end) {
+    // Four characters at a time while they are all data, else one by one.
+    if (bits_ == 0 && end_ - p_ >= 4 && o_end - o >= 3) {
+      const int a = table[p_[0]], b = table[p_[1]], c = table[p_[2]], d = table[p_[3]];
+      if ((a | b | c | d) >= 0) {
         const uint32_t v = (uint32_t(a) << 18) | (uint32_t(b) << 12) | (uint32_t(c) << 6) | uint32_t(d);
         o[0] = static_cast<char>(v >> 16);
         o[1] = static_cast<char>((v >> 8) & 0xFF);
         o[2] = static_cast<char>(v & 0xFF);
         o += 3;
-        p += 4;
+        p_ += 4;
         continue;
       }
     }
-    const int v = table[*p++];
+    const int v = table[*p_++];
     if (v == -2) continue;
+    if (v == -3) {
+      bits_ = 0;  // the group's leftover bits are padding
+      acc_ = 0;
+      continue;
+    }
     if (v < 0) return false;
-    acc = (acc << 6) | static_cast<uint32_t>(v);
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      *o++ = static_cast<char>((acc >> bits) & 0xFF);
+    acc_ = ((acc_ << 6) | static_cast<uint32_t>(v)) & 0xFFFFFF;
+    bits_ += 6;
+    if (bits_ >= 8) {
+      bits_ -= 8;
+      *o++ = static_cast<char>((acc_ >> bits_) & 0xFF);
     }
   }
-  out.resize(static_cast<size_t>(o - out.data()));
+  got = static_cast<size_t>(o - out);
   return true;
 }
 
@@ -170,9 +195,77 @@ struct Tag {
   bool closing = false, self_closing = false;
 };
 
+enum class Stored { Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float32, Float64, Unknown };
+
+Stored stored_type(const std::string& type) {
+  static const std::pair<const char*, Stored> names[] = {
+      {"Int8", Stored::Int8},     {"UInt8", Stored::UInt8},     {"Int16", Stored::Int16},
+      {"UInt16", Stored::UInt16}, {"Int32", Stored::Int32},     {"UInt32", Stored::UInt32},
+      {"Int64", Stored::Int64},   {"UInt64", Stored::UInt64},   {"Float32", Stored::Float32},
+      {"Float64", Stored::Float64}};
+  for (const auto& [name, t] : names)
+    if (type == name) return t;
+  return Stored::Unknown;
+}
+
+size_t stored_size(Stored t) {
+  switch (t) {
+    case Stored::Int8: case Stored::UInt8: return 1;
+    case Stored::Int16: case Stored::UInt16: return 2;
+    case Stored::Int32: case Stored::UInt32: case Stored::Float32: return 4;
+    case Stored::Int64: case Stored::UInt64: case Stored::Float64: return 8;
+    default: return 0;
+  }
+}
+
+// One stored value as a double (integers beyond 2^53 lose digits, which no
+// index or tag in a mesh file reaches).
+double load_value(const char* p, Stored t) {
+  auto load = [p](auto v) {
+    std::memcpy(&v, p, sizeof v);
+    return static_cast<double>(v);
+  };
+  switch (t) {
+    case Stored::Int8: return load(int8_t{});
+    case Stored::UInt8: return load(uint8_t{});
+    case Stored::Int16: return load(int16_t{});
+    case Stored::UInt16: return load(uint16_t{});
+    case Stored::Int32: return load(int32_t{});
+    case Stored::UInt32: return load(uint32_t{});
+    case Stored::Int64: return load(int64_t{});
+    case Stored::UInt64: return load(uint64_t{});
+    case Stored::Float32: return load(float{});
+    default: return load(double{});
+  }
+}
+
+uint64_t header_value(const char* p, size_t size) {
+  if (size == 8) {
+    uint64_t v;
+    std::memcpy(&v, p, 8);
+    return v;
+  }
+  uint32_t v;
+  std::memcpy(&v, p, 4);
+  return v;
+}
+
+// Node counts of the VTK cell types with a fixed count; 0 for types whose
+// count varies (poly-vertex, poly-line, polygon, strip, polyhedron...).
+int fixed_nodes(int type) {
+  static const int table[] = {0, 1, 0, 2, 0, 3, 0, 0, 4, 4, 4, 8, 8, 6, 5, 10, 12, 0, 0, 0, 0,
+                              3, 6, 8, 10, 20, 15, 13, 9, 27, 6};
+  return type >= 0 && type < static_cast<int>(sizeof table / sizeof table[0]) ? table[type] : 0;
+}
+
+// Reads the one <Piece> of an UnstructuredGrid straight into a Mesh: arrays
+// are located first, then decoded in the order the mesh needs them (types,
+// offsets, connectivity, cell data) a piece at a time, and the file's pages
+// are let go behind each array. Holding the file, every decoded array and
+// its converted copy peaked at 8.8 times the mesh on 1M tetrahedra.
 class VtuReader {
  public:
-  VtuReader(std::string_view data, const std::string& path) : d_(data), path_(path) {}
+  VtuReader(const detail::FileBytes& file, const std::string& path) : file_(file), d_(file.view()), path_(path) {}
   Mesh read();
 
  private:
@@ -183,11 +276,16 @@ class VtuReader {
   }
   bool next_tag(Tag& t);
   std::string attr(const Tag& t, const char* name, const char* fallback = nullptr) const;
-  // The values of one DataArray, converted to T.
-  template <class T>
-  std::vector<T> values(const Tag& t, uint64_t expected);
-  std::string decoded_bytes(const Tag& t, std::string_view text, size_t elem_size, uint64_t expected);
+  // Calls store(i, value) for the `expected` values of one DataArray, in order.
+  template <class Store>
+  void each_value(const Tag& t, uint64_t expected, Store store);
+  // Calls feed(bytes, n) with the payload of a binary array, piece by piece.
+  template <class Feed>
+  void each_piece(const Tag& t, std::string_view text, uint64_t want, size_t value_size, Feed feed);
+  void read_cells(const Tag& types, const Tag& offsets, const Tag& conn, uint64_t ncells);
+  void read_cell_data(const std::map<std::string, Tag>& arrays, uint64_t ncells);
 
+  const detail::FileBytes& file_;
   std::string_view d_;
   std::string path_;
   size_t pos_ = 0;
@@ -195,11 +293,16 @@ class VtuReader {
   bool compressed_ = false;
   size_t appended_ = std::string_view::npos;  // offset after '_'
   bool appended_base64_ = false;
+  Mesh m_;
+  std::vector<uint8_t> types_;  // per cell; 255 for types beyond 254
 };
 
 bool VtuReader::next_tag(Tag& t) {
   for (;;) {
     const size_t lt = d_.find('<', pos_);
+    // Array text between tags is decoded later: let its pages go now, or
+    // scanning alone would bring the whole file into memory.
+    if (lt - pos_ > (size_t{1} << 20)) file_.drop(pos_, lt == std::string_view::npos ? d_.size() : lt);
     if (lt == std::string_view::npos) return false;
     pos_ = lt + 1;
     if (d_.compare(lt, 4, "<!--") == 0) {
@@ -260,201 +363,285 @@ std::string VtuReader::attr(const Tag& t, const char* name, const char* fallback
   return fallback;
 }
 
-size_t type_size(const std::string& type) {
-  if (type == "Int8" || type == "UInt8") return 1;
-  if (type == "Int16" || type == "UInt16") return 2;
-  if (type == "Int32" || type == "UInt32" || type == "Float32") return 4;
-  if (type == "Int64" || type == "UInt64" || type == "Float64") return 8;
-  return 0;
-}
-
-template <class T>
-T convert(const char* p, const std::string& type) {
-  auto load = [p](auto v) {
-    std::memcpy(&v, p, sizeof v);
-    return static_cast<T>(v);
-  };
-  if (type == "Int8") return load(int8_t{});
-  if (type == "UInt8") return load(uint8_t{});
-  if (type == "Int16") return load(int16_t{});
-  if (type == "UInt16") return load(uint16_t{});
-  if (type == "Int32") return load(int32_t{});
-  if (type == "UInt32") return load(uint32_t{});
-  if (type == "Int64") return load(int64_t{});
-  if (type == "UInt64") {
-    uint64_t v;
-    std::memcpy(&v, p, 8);
-    return static_cast<T>(v > uint64_t{INT64_MAX} ? INT64_MAX : v);
-  }
-  if (type == "Float32") {
-    float v;
-    std::memcpy(&v, p, 4);
-    if constexpr (std::is_integral_v<T>) return std::isfinite(v) && std::abs(v) < 9e18f ? static_cast<T>(v) : T(-1);
-    return static_cast<T>(v);
-  }
-  double v;
-  std::memcpy(&v, p, 8);
-  if constexpr (std::is_integral_v<T>) return std::isfinite(v) && std::abs(v) < 9e18 ? static_cast<T>(v) : T(-1);
-  return static_cast<T>(v);
-}
-
-uint64_t header_value(const char* p, size_t size) {
-  if (size == 8) {
-    uint64_t v;
-    std::memcpy(&v, p, 8);
-    return v;
-  }
-  uint32_t v;
-  std::memcpy(&v, p, 4);
-  return v;
-}
-
-// Binary data of one array: header (+ compressed blocks) already base64-decoded
-// or raw; returns the payload bytes.
-std::string VtuReader::decoded_bytes(const Tag& t, std::string_view text, size_t elem_size, uint64_t expected) {
+template <class Feed>
+void VtuReader::each_piece(const Tag& t, std::string_view text, uint64_t want, size_t value_size, Feed feed) {
+  constexpr size_t kPiece = 3 * 16384;  // bytes decoded at a time
   const size_t hs = header_size_;
-  std::string bytes;
   const std::string format = attr(t, "format");
   const bool base64 = format == "binary" || (format == "appended" && appended_base64_);
-  std::string_view src;
-  std::string decoded;
+  std::string_view src = text;
   if (format == "appended") {
     const uint64_t offset = std::strtoull(attr(t, "offset").c_str(), nullptr, 10);
     if (appended_ == std::string_view::npos || offset > d_.size() - appended_) fail(t.begin, "bad appended data offset");
     src = d_.substr(appended_ + static_cast<size_t>(offset));
-  } else {
-    src = text;
   }
   // Base64 text is measured in characters below: start at the first one
   // (raw appended bytes are taken as they are).
   if (base64)
     while (!src.empty() && std::isspace(static_cast<unsigned char>(src.front()))) src.remove_prefix(1);
+  const size_t src_at = static_cast<size_t>(src.data() - d_.data());
+  auto count_error = [&](uint64_t bytes) {
+    fail(t.content, "array '" + attr(t, "Name", "") + "' has " + std::to_string(bytes / value_size) +
+                        " values, expected " + std::to_string(want / value_size));
+  };
   if (!compressed_) {
-    if (base64) {
-      // The header alone tells how much to decode (appended arrays run on).
-      if (!base64_decode(format == "appended" ? src.substr(0, std::min(src.size(), (hs + 2) / 3 * 4)) : src, decoded))
-        fail(t.content, "bad base64 data");
-      if (format == "appended") {
-        if (decoded.size() < hs) fail(t.begin, "appended data too short");
-        const uint64_t n = header_value(decoded.data(), hs);
-        if (n > d_.size()) fail(t.begin, "array larger than the file");
-        const size_t chars = static_cast<size_t>((hs + n + 2) / 3 * 4);
-        if (!base64_decode(src.substr(0, std::min(src.size(), chars)), decoded)) fail(t.content, "bad base64 data");
+    if (!base64) {
+      if (src.size() < hs) fail(t.content, "binary data shorter than its header");
+      const uint64_t n = header_value(src.data(), hs);
+      if (n > src.size() - hs) fail(t.content, "binary data shorter than its header says");
+      if (n != want) count_error(n);
+      for (uint64_t at = 0; at < n; at += kPiece) {
+        const size_t step = static_cast<size_t>(std::min<uint64_t>(kPiece, n - at));
+        feed(src.data() + hs + at, step);
+        if ((at / kPiece) % 64 == 63) file_.drop(src_at, src_at + hs + at);
       }
-      src = decoded;
+      file_.drop(src_at, src_at + hs + n);
+      return;
     }
-    if (src.size() < hs) fail(t.content, "binary data shorter than its header");
-    const uint64_t n = header_value(src.data(), hs);
-    if (n > src.size() - hs) fail(t.content, "binary data shorter than its header says");
-    bytes.assign(src.data() + hs, static_cast<size_t>(n));
-  } else {
-    // Header: blocks, block size, last block size, compressed sizes.
-    std::string head;
-    std::string_view hsrc = src;
-    if (base64) {
-      if (!base64_decode(src.substr(0, std::min(src.size(), (3 * hs + 2) / 3 * 4)), head)) fail(t.content, "bad base64 data");
-      if (head.size() < 3 * hs) fail(t.content, "compressed header too short");
-      const uint64_t blocks = header_value(head.data(), hs);
-      if (blocks > d_.size()) fail(t.content, "too many compressed blocks");
-      const size_t chars = static_cast<size_t>(((3 + blocks) * hs + 2) / 3 * 4);
-      if (chars > src.size() || !base64_decode(src.substr(0, chars), head)) fail(t.content, "bad compressed header");
-      hsrc = head;
-      src = src.substr(chars);
+    Base64Reader in(src);
+    char head[8];
+    size_t got = 0;
+    if (!in.read(head, hs, got)) fail(t.content, "bad base64 data");
+    if (got < hs) fail(t.content, "binary data shorter than its header");
+    const uint64_t n = header_value(head, hs);
+    if (n != want) {
+      if (n > src.size()) fail(t.content, "binary data shorter than its header says");
+      count_error(n);
     }
-    if (hsrc.size() < 3 * hs) fail(t.content, "compressed header too short");
-    const uint64_t blocks = header_value(hsrc.data(), hs);
-    const uint64_t block_size = header_value(hsrc.data() + hs, hs);
-    const uint64_t last = header_value(hsrc.data() + 2 * hs, hs);
-    if (hsrc.size() / hs < 3 + blocks) fail(t.content, "compressed header too short");
-    uint64_t total_comp = 0;
-    for (uint64_t b = 0; b < blocks; ++b) total_comp += header_value(hsrc.data() + (3 + b) * hs, hs);
-    if (!base64) src = src.substr(static_cast<size_t>((3 + blocks) * hs));
-    std::string comp;
-    if (base64) {
-      if (!base64_decode(src.substr(0, std::min<uint64_t>(src.size(), (total_comp + 2) / 3 * 4 + 8)), comp))
-        fail(t.content, "bad base64 data");
-      src = comp;
+    std::vector<char> piece(kPiece);
+    uint64_t done = 0;
+    while (done < n) {
+      if (!in.read(piece.data(), static_cast<size_t>(std::min<uint64_t>(kPiece, n - done)), got))
+        fail(t.content, in.last() == '<' ? "binary data shorter than its header says" : "bad base64 data");
+      if (got == 0) fail(t.content, "binary data shorter than its header says");
+      feed(piece.data(), got);
+      done += got;
+      if ((done / kPiece) % 64 == 63) file_.drop(src_at, src_at + in.consumed());
     }
-    // The sizes come from the file: check them against the expected array
-    // before allocating anything.
-    const uint64_t want = expected * elem_size;
-    if (block_size > want + 1 || last > block_size || blocks > want / (block_size ? block_size : 1) + 1)
-      fail(t.content, "compressed block sizes do not match the array");
-    const uint64_t total = blocks == 0 ? 0 : (blocks - 1) * block_size + (last ? last : block_size);
-    if (total != want) fail(t.content, "compressed array '" + attr(t, "Name", "") + "' has " + std::to_string(total) +
-                                           " bytes, expected " + std::to_string(want));
-    bytes.resize(static_cast<size_t>(total));
-    size_t at = 0, out_at = 0;
-    for (uint64_t b = 0; b < blocks; ++b) {
-      const uint64_t csize = header_value(hsrc.data() + (3 + b) * hs, hs);
-      const uint64_t usize = b + 1 == blocks && last ? last : block_size;
-      if (csize > src.size() - at) fail(t.content, "compressed block beyond the data");
-      uLongf got = static_cast<uLongf>(usize);
-      if (uncompress(reinterpret_cast<Bytef*>(bytes.data() + out_at), &got,
-                     reinterpret_cast<const Bytef*>(src.data() + at), static_cast<uLong>(csize)) != Z_OK ||
-          got != usize)
-        fail(t.content, "bad zlib data");
-      at += static_cast<size_t>(csize);
-      out_at += static_cast<size_t>(usize);
-    }
+    file_.drop(src_at, src_at + in.consumed());
+    return;
   }
-  if (bytes.size() != expected * elem_size)
-    fail(t.content, "array '" + attr(t, "Name", "") + "' has " + std::to_string(bytes.size() / elem_size) +
-                        " values, expected " + std::to_string(expected));
-  return bytes;
+  // Header: blocks, block size, last block size, compressed sizes; base64
+  // in one stream with the data, or encoded apart (padding ends a group).
+  std::string head, comp;
+  std::string_view hsrc = src;
+  Base64Reader in(src);
+  auto decode = [&](std::string& out, uint64_t n, const char* what) {
+    if (n > src.size()) fail(t.content, std::string(what) + " larger than the file");
+    const size_t old = out.size();
+    out.resize(old + static_cast<size_t>(n));
+    size_t got = 0;
+    if (!in.read(out.data() + old, static_cast<size_t>(n), got)) fail(t.content, "bad base64 data");
+    if (got != n) fail(t.content, std::string(what) + " shorter than its header says");
+  };
+  if (base64) {
+    decode(head, 3 * hs, "compressed header");
+    decode(head, header_value(head.data(), hs) * hs, "compressed header");
+    hsrc = head;
+  }
+  if (hsrc.size() < 3 * hs) fail(t.content, "compressed header too short");
+  const uint64_t blocks = header_value(hsrc.data(), hs);
+  const uint64_t block_size = header_value(hsrc.data() + hs, hs);
+  const uint64_t last = header_value(hsrc.data() + 2 * hs, hs);
+  if (blocks > hsrc.size() || hsrc.size() / hs < 3 + blocks) fail(t.content, "compressed header too short");
+  uint64_t total_comp = 0;
+  for (uint64_t b = 0; b < blocks; ++b) total_comp += header_value(hsrc.data() + (3 + b) * hs, hs);
+  if (base64) {
+    decode(comp, total_comp, "compressed data");
+    src = comp;
+  } else {
+    src = src.substr(static_cast<size_t>((3 + blocks) * hs));
+  }
+  // The sizes come from the file: check them against the expected array
+  // before allocating anything.
+  if (block_size > want + 1 || last > block_size || blocks > want / (block_size ? block_size : 1) + 1)
+    fail(t.content, "compressed block sizes do not match the array");
+  const uint64_t total = blocks == 0 ? 0 : (blocks - 1) * block_size + (last ? last : block_size);
+  if (total != want) count_error(total);
+  std::vector<char> block(static_cast<size_t>(block_size));
+  size_t at = 0;
+  for (uint64_t b = 0; b < blocks; ++b) {
+    const uint64_t csize = header_value(hsrc.data() + (3 + b) * hs, hs);
+    const uint64_t usize = b + 1 == blocks && last ? last : block_size;
+    if (csize > src.size() - at) fail(t.content, "compressed block beyond the data");
+    uLongf got = static_cast<uLongf>(usize);
+    if (uncompress(reinterpret_cast<Bytef*>(block.data()), &got, reinterpret_cast<const Bytef*>(src.data() + at),
+                   static_cast<uLong>(csize)) != Z_OK ||
+        got != usize)
+      fail(t.content, "bad zlib data");
+    feed(block.data(), static_cast<size_t>(usize));
+    at += static_cast<size_t>(csize);
+  }
 }
 
-template <class T>
-std::vector<T> VtuReader::values(const Tag& t, uint64_t expected) {
+template <class Store>
+void VtuReader::each_value(const Tag& t, uint64_t expected, Store store) {
   const std::string type = attr(t, "type");
-  const size_t size = type_size(type);
+  const Stored stored = stored_type(type);
+  const size_t size = stored_size(stored);
   if (size == 0) fail(t.begin, "unsupported data type '" + type.substr(0, 40) + "'");
   const std::string format = attr(t, "format", "ascii");
-  std::vector<T> out;
   std::string_view text;
-  if (format != "appended") {
+  if (format == "binary") {
+    // The header says where the data ends: '<' after it is the closing tag.
+    text = d_.substr(t.content);
+  } else if (format != "appended") {
     const size_t end = d_.find("</DataArray>", t.content);
     if (end == std::string_view::npos) fail(t.begin, "<DataArray> not closed");
     text = d_.substr(t.content, end - t.content);
   }
+  auto count_error = [&](uint64_t found) {
+    fail(t.content, "array '" + attr(t, "Name", "") + "' has " + std::to_string(found) + " values, expected " +
+                        std::to_string(expected));
+  };
   if (format == "ascii") {
     Cursor in(text, path_);
     size_t line = 1;
     for (size_t i = 0; i < t.content; ++i) line += d_[i] == '\n';
-    out.reserve(detail::capped(expected, text.size(), 2));
+    uint64_t i = 0;
     while (!in.at_end()) {
       const std::string_view tok = in.token_in_line();
       double v;
       if (!Cursor::parse_real(tok, v))
         throw InputError(path_ + ":" + std::to_string(line + in.line() - 1) + ": expected a number, found '" +
                          std::string(tok.substr(0, 40)) + "'");
-      if constexpr (std::is_integral_v<T>) out.push_back(std::abs(v) < 9e18 ? static_cast<T>(v) : T(-1));
-      else out.push_back(static_cast<T>(v));
+      if (i == expected) count_error(i + 1);
+      store(i++, v);
     }
-    if (out.size() != expected)
-      fail(t.content, "array '" + attr(t, "Name", "") + "' has " + std::to_string(out.size()) + " values, expected " +
-                          std::to_string(expected));
-    return out;
+    if (i != expected) count_error(i);
+    return;
   }
   if (format != "binary" && format != "appended") fail(t.begin, "unknown format '" + format.substr(0, 40) + "'");
-  const std::string bytes = decoded_bytes(t, text, size, expected);
-  out.resize(expected);
-  // One loop per stored type: the type is looked up once, not per value.
-  auto copy = [&](auto stored) {
-    using S = decltype(stored);
-    for (size_t i = 0; i < expected; ++i) {
-      S v;
-      std::memcpy(&v, bytes.data() + i * sizeof(S), sizeof(S));
-      if constexpr (std::is_same_v<T, S>) out[i] = v;
-      else out[i] = convert<T>(reinterpret_cast<const char*>(&v), type);
+  if (expected > d_.size()) count_error(expected);
+  // A value may straddle two pieces: its first bytes wait in `carry`.
+  char carry[8];
+  size_t carried = 0;
+  uint64_t i = 0;
+  each_piece(t, text, expected * size, size, [&](const char* p, size_t n) {
+    while (carried && carried < sizeof carry && n) {
+      carry[carried++] = *p++;
+      --n;
+      if (carried == size) {
+        store(i++, load_value(carry, stored));
+        carried = 0;
+      }
     }
+    for (; n >= size; p += size, n -= size) store(i++, load_value(p, stored));
+    std::memcpy(carry, p, n);
+    carried = n;
+  });
+}
+
+// Cells: types first (a byte each), then offsets checked against the fixed
+// node counts (only cells of varying size keep theirs), then connectivity
+// straight into the tetrahedra and triangles.
+void VtuReader::read_cells(const Tag& types, const Tag& offsets, const Tag& conn, uint64_t ncells) {
+  types_.assign(static_cast<size_t>(ncells), 0);
+  each_value(types, ncells, [&](uint64_t i, double v) {
+    types_[i] = v >= 0 && v < 255 ? static_cast<uint8_t>(v) : uint8_t{255};
+  });
+  std::map<uint64_t, int64_t> varying;  // cell -> node count, for cells of varying size
+  int64_t previous = 0;
+  each_value(offsets, ncells, [&](uint64_t i, double v) {
+    const int64_t end = std::abs(v) < 9e18 ? static_cast<int64_t>(v) : -1;
+    const int64_t count = end - previous;
+    const int fixed = fixed_nodes(types_[i]);
+    if (count < 0 || end > static_cast<int64_t>(d_.size()) || (fixed && count != fixed))
+      fail(offsets.content, "cell " + std::to_string(i) + " of type " + std::to_string(types_[i]) +
+                                " has offsets for " + std::to_string(count) + " nodes" +
+                                (fixed ? ", not " + std::to_string(fixed) : std::string()));
+    if (!fixed) varying[i] = count;
+    previous = end;
+  });
+  size_t tets = 0, tet10 = 0, tris = 0, tri6 = 0;
+  for (uint8_t t : types_) {
+    tets += t == detail::kVtkTet || t == detail::kVtkQuadraticTet;
+    tet10 += t == detail::kVtkQuadraticTet;
+    tris += t == detail::kVtkTriangle || t == detail::kVtkQuadraticTriangle;
+    tri6 += t == detail::kVtkQuadraticTriangle;
+  }
+  // Mixed first- and second-order cells cannot share the mesh's arrays.
+  if ((tet10 && tet10 != tets) || (tri6 && tri6 != tris))
+    fail(types.content, "first- and second-order cells of one kind are mixed");
+  m_.tets.resize(tets);
+  m_.tet_mid.resize(tet10);
+  m_.triangles.resize(tris);
+  m_.triangle_mid.resize(tri6);
+  const int np = static_cast<int>(m_.points.size());
+  // The cell the next connectivity value belongs to, and where in it.
+  uint64_t cell = 0;
+  int64_t k = 0, j = 0;
+  size_t tet = 0, tri = 0;
+  auto size_of = [&](uint64_t c) {
+    const int fixed = fixed_nodes(types_[c]);
+    return fixed ? int64_t{fixed} : varying[c];
   };
-  if (type == "Float64") copy(double{});
-  else if (type == "Int64") copy(int64_t{});
-  else if (type == "Int32") copy(int32_t{});
-  else if (type == "UInt8") copy(uint8_t{});
-  else for (size_t i = 0; i < expected; ++i) out[i] = convert<T>(bytes.data() + i * size, type);
-  return out;
+  auto start_cell = [&] {
+    while (cell < ncells && (k = size_of(cell)) == 0) ++cell;
+    j = 0;
+  };
+  start_cell();
+  each_value(conn, static_cast<uint64_t>(previous), [&](uint64_t, double v) {
+    if (!(v >= 0 && v < np))
+      fail(conn.content, "a cell refers to point " + std::to_string(static_cast<long long>(std::abs(v) < 9e18 ? v : -1)) +
+                             ", which does not exist (" + std::to_string(np) + " points)");
+    const int n = static_cast<int>(v);
+    const int type = types_[cell];
+    if (type == detail::kVtkTet || type == detail::kVtkQuadraticTet) {
+      if (j < 4) m_.tets[tet].v[static_cast<size_t>(j)] = n;
+      else m_.tet_mid[tet][static_cast<size_t>(j - 4)] = n;
+    } else if (type == detail::kVtkTriangle || type == detail::kVtkQuadraticTriangle) {
+      if (j < 3) m_.triangles[tri].v[static_cast<size_t>(j)] = n;
+      else m_.triangle_mid[tri][static_cast<size_t>(j - 3)] = n;
+    }
+    if (++j == k) {
+      tet += type == detail::kVtkTet || type == detail::kVtkQuadraticTet;
+      tri += type == detail::kVtkTriangle || type == detail::kVtkQuadraticTriangle;
+      ++cell;
+      start_cell();
+    }
+  });
+}
+
+// The cell data vdmesh uses: region and face (else a tag array other
+// programs write), front and back; tetrahedra take the region, triangles
+// the rest.
+void VtuReader::read_cell_data(const std::map<std::string, Tag>& arrays, uint64_t ncells) {
+  auto find = [&](std::initializer_list<const char*> names) -> const Tag* {
+    for (const char* n : names) {
+      auto it = arrays.find(n);
+      if (it != arrays.end()) return &it->second;
+    }
+    return nullptr;
+  };
+  const std::initializer_list<const char*> tags = {"gmsh:physical", "CellEntityIds", "medit:ref", "cell_tags"};
+  const Tag* region = find({"region"});
+  const Tag* face = find({"face"});
+  if (!region) region = find(tags);
+  if (!face) face = find(tags);
+  auto as_int = [](double v) {
+    return v >= -2147483648.0 && v <= 2147483647.0 ? static_cast<int>(v) : kUnknownRegion;
+  };
+  // `set` takes a Tetrahedron or a Triangle: the cells it applies to.
+  auto apply = [&](const Tag* array, auto set) {
+    if (!array) return;
+    constexpr bool to_tets = std::is_invocable_v<decltype(set), Tetrahedron&, int>;
+    size_t tet = 0, tri = 0;
+    each_value(*array, ncells, [&](uint64_t i, double v) {
+      const int type = types_[i];
+      if (type == detail::kVtkTet || type == detail::kVtkQuadraticTet) {
+        if constexpr (to_tets) set(m_.tets[tet], as_int(v));
+        ++tet;
+      } else if (type == detail::kVtkTriangle || type == detail::kVtkQuadraticTriangle) {
+        if constexpr (!to_tets) set(m_.triangles[tri], as_int(v));
+        ++tri;
+      }
+    });
+  };
+  apply(region, [](Tetrahedron& t, int v) { t.region = v; });
+  apply(face, [](Triangle& t, int v) { t.face = v < 0 ? kNoFace : v; });
+  apply(find({"front"}), [](Triangle& t, int v) { t.front = v; });
+  apply(find({"back"}), [](Triangle& t, int v) { t.back = v; });
 }
 
 Mesh VtuReader::read() {
@@ -481,14 +668,12 @@ Mesh VtuReader::read() {
     }
   }
   if (!is_vtu) fail(0, "not a VTK XML file (no <VTKFile>)");
+  // Second pass: where each array is.
   pos_ = 0;
   uint64_t npoints = 0, ncells = 0;
   bool have_piece = false;
-  std::vector<Vec3> points;
-  detail::VtkCells cells;
-  std::vector<int64_t> offsets;
-  bool have_types = false, have_offsets = false, have_conn = false, have_points = false;
-  Tag conn_tag;
+  std::optional<Tag> points, types, offsets, conn;
+  std::map<std::string, Tag> cell_data;
   std::string section;  // Points, Cells, CellData, PointData
   while (next_tag(t)) {
     if (appended_ != std::string_view::npos && t.begin >= appended_) break;
@@ -507,51 +692,42 @@ Mesh VtuReader::read() {
       if (!have_piece) fail(t.begin, "<DataArray> outside a <Piece>");
       const std::string name = attr(t, "Name", "");
       if (section == "Points") {
-        const std::string nc = attr(t, "NumberOfComponents", "1");
-        if (nc != "3") fail(t.begin, "points must have 3 components");
-        const std::vector<double> xyz = values<double>(t, 3 * npoints);
-        points.reserve(npoints);
-        for (uint64_t i = 0; i < npoints; ++i) {
-          const Vec3 p{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
-          if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-            fail(t.begin, "point " + std::to_string(i) + " has a coordinate that is not a finite number");
-          points.push_back(p);
-        }
-        have_points = true;
+        if (attr(t, "NumberOfComponents", "1") != "3") fail(t.begin, "points must have 3 components");
+        points = t;
       } else if (section == "Cells" && name == "types") {
-        for (int64_t v : values<int64_t>(t, ncells)) cells.types.push_back(static_cast<int>(v));
-        have_types = true;
+        types = t;
       } else if (section == "Cells" && name == "offsets") {
-        offsets = values<int64_t>(t, ncells);
-        have_offsets = true;
+        offsets = t;
       } else if (section == "Cells" && name == "connectivity") {
-        conn_tag = t;  // its length is the last offset, which may come later
-        have_conn = true;
+        conn = t;
       } else if (section == "CellData" && attr(t, "NumberOfComponents", "1") == "1") {
-        cells.data[name] = values<double>(t, ncells);
+        cell_data[name] = t;
       }
     }
   }
   if (!have_piece) fail(0, "no <Piece>");
-  if (npoints && !have_points) fail(0, "no points");
-  if (ncells && (!have_types || !have_offsets || !have_conn)) fail(0, "cells need types, offsets and connectivity");
-  if (have_conn) {
-    const int64_t n = offsets.empty() ? 0 : offsets.back();
-    if (n < 0 || static_cast<uint64_t>(n) > d_.size()) fail(conn_tag.begin, "bad cell offsets");
-    cells.conn = values<int64_t>(conn_tag, static_cast<uint64_t>(n));
-    for (int64_t v : cells.conn)
-      if (v < 0 || static_cast<uint64_t>(v) >= npoints)
-        fail(conn_tag.content, "a cell refers to point " + std::to_string(v) + ", which does not exist (" +
-                                   std::to_string(npoints) + " points)");
+  if (npoints && !points) fail(0, "no points");
+  if (ncells && (!types || !offsets || !conn)) fail(0, "cells need types, offsets and connectivity");
+  if (points) {
+    m_.points.resize(static_cast<size_t>(npoints));
+    each_value(*points, 3 * npoints, [&](uint64_t i, double v) {
+      if (!std::isfinite(v))
+        fail(points->begin, "point " + std::to_string(i / 3) + " has a coordinate that is not a finite number");
+      m_.points[i / 3][static_cast<int>(i % 3)] = v;
+    });
   }
-  cells.offsets.assign(1, 0);
-  cells.offsets.insert(cells.offsets.end(), offsets.begin(), offsets.end());
-  return detail::mesh_from_vtk(std::move(points), cells, path_);
+  if (ncells) {
+    read_cells(*types, *offsets, *conn, ncells);
+    read_cell_data(cell_data, ncells);
+  }
+  detail::require_valid(m_, path_);
+  detail::sides_from_tets(m_);
+  return std::move(m_);
 }
 
 Mesh read_vtu(const std::string& path) {
-  const std::string data = detail::load_file(path);
-  return VtuReader(data, path).read();
+  const detail::FileBytes file(path);
+  return VtuReader(file, path).read();
 }
 
 }  // namespace
