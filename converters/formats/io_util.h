@@ -134,7 +134,7 @@ class Cursor {
   [[noreturn]] void fail(const std::string& what) const;
 
  private:
-  static constexpr size_t kReleaseStep = size_t{4} << 20;
+  static constexpr size_t kReleaseStep = size_t{1} << 20;
   [[noreturn]] void fail_inside(const char* what);
   void release_passed();
   void skip_blanks_in_line();

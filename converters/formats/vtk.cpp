@@ -3,6 +3,7 @@
 // reads it and the 5.1 OFFSETS/CONNECTIVITY layout. Cell data: "region",
 // "face", "front", "back" (int).
 #include <cmath>
+#include <map>
 
 #include "formats.h"
 #include "io_util.h"
@@ -14,34 +15,79 @@ namespace {
 using detail::Cursor;
 using detail::FileBytes;
 
-size_t binary_size(std::string_view type) {
+// A binary array's value type, looked up once per array.
+enum class Binary { Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float32, Float64, Unknown };
+
+Binary binary_type(std::string_view type) {
   const std::string t = detail::to_lower(type);
-  if (t == "bit") return 0;
-  if (t == "char" || t == "unsigned_char") return 1;
-  if (t == "short" || t == "unsigned_short") return 2;
-  if (t == "int" || t == "unsigned_int" || t == "float" || t == "vtktypeint32" || t == "vtktypeuint32") return 4;
-  if (t == "long" || t == "unsigned_long" || t == "double" || t == "vtktypeint64" || t == "vtktypeuint64" ||
-      t == "vtkidtype")
-    return 8;
-  return 0;
+  if (t == "char") return Binary::Int8;
+  if (t == "unsigned_char") return Binary::UInt8;
+  if (t == "short") return Binary::Int16;
+  if (t == "unsigned_short") return Binary::UInt16;
+  if (t == "int" || t == "vtktypeint32") return Binary::Int32;
+  if (t == "unsigned_int" || t == "vtktypeuint32") return Binary::UInt32;
+  if (t == "long" || t == "vtktypeint64" || t == "vtkidtype") return Binary::Int64;
+  if (t == "unsigned_long" || t == "vtktypeuint64") return Binary::UInt64;
+  if (t == "float") return Binary::Float32;
+  if (t == "double") return Binary::Float64;
+  return Binary::Unknown;
 }
 
+size_t binary_size(Binary t) {
+  switch (t) {
+    case Binary::Int8: case Binary::UInt8: return 1;
+    case Binary::Int16: case Binary::UInt16: return 2;
+    case Binary::Int32: case Binary::UInt32: case Binary::Float32: return 4;
+    case Binary::Unknown: return 0;
+    default: return 8;
+  }
+}
+
+// Reads the file in one pass straight into the mesh: the connectivity waits
+// (4 bytes a node) until CELL_TYPES says which cells are tetrahedra and
+// triangles, and cell data goes into them as it is read. Holding every array
+// as int64 and double before assembling peaked at 7 times the mesh.
 class LegacyReader {
  public:
   LegacyReader(const FileBytes& data, const std::string& path) : in_(data, path) {}
   Mesh read();
 
  private:
-  // `count` values of `type`, as doubles (or skipped when out is null).
-  void values(uint64_t count, std::string_view type, std::vector<double>* out);
-  void ints(uint64_t count, std::string_view type, std::vector<int64_t>& out);
+  // Calls store(i, value) for `count` values of `type`.
+  template <class Store>
+  void values(uint64_t count, std::string_view type, Store store);
+  void skip_values(uint64_t count, std::string_view type) {
+    values(count, type, [](uint64_t, double) {});
+  }
+  int64_t cell_index(Binary type);
+  void read_points();
+  void read_cells();
+  void read_cell_types();
+  void build_elements();
+  // What a cell data array sets.
+  struct Roles {
+    bool region = false, face = false, front = false, back = false;
+    bool any() const { return region || face || front || back; }
+  };
+  Roles roles_of(const std::string& name);
+  void put(const Roles& r, size_t cell, double value, size_t& tet, size_t& tri);
+  // A cell data array: its values go to the tetrahedra or triangles.
+  void cell_array(const std::string& name, uint64_t n, std::string_view type);
   void attributes(uint64_t n, bool cell_data);
   void expect_word(std::string_view w);
 
   Cursor in_;
   bool binary_ = false;
-  detail::VtkCells cells_;
-  std::vector<Vec3> points_;
+  Mesh m_;
+  std::vector<int32_t> conn_;
+  std::vector<uint8_t> sizes_;             // nodes per cell; 255: look in large_
+  std::map<uint64_t, int64_t> large_;      // cells of 255 nodes or more
+  std::vector<uint8_t> types_;             // per cell; 255 for types beyond 254
+  bool have_cells_ = false, have_types_ = false, built_ = false;
+  // Cell data read before CELL_TYPES, applied once the elements exist.
+  std::vector<std::pair<Roles, std::vector<double>>> pending_;
+  // Which array set the region / face so far: a lower rank wins.
+  int region_rank_ = 99, face_rank_ = 99;
 };
 
 void LegacyReader::expect_word(std::string_view w) {
@@ -49,8 +95,8 @@ void LegacyReader::expect_word(std::string_view w) {
   if (!detail::iequals(t, w)) in_.fail("expected " + std::string(w) + ", found '" + std::string(t.substr(0, 40)) + "'");
 }
 
-void LegacyReader::values(uint64_t count, std::string_view type, std::vector<double>* out) {
-  if (out) out->reserve(detail::capped(count, in_.remaining(), binary_ ? 1 : 2));
+template <class Store>
+void LegacyReader::values(uint64_t count, std::string_view type, Store store) {
   if (!binary_) {
     for (uint64_t i = 0; i < count; ++i) {
       const std::string_view t = in_.token("a data value");
@@ -60,44 +106,225 @@ void LegacyReader::values(uint64_t count, std::string_view type, std::vector<dou
         if (detail::iequals(t, "nan") || detail::iequals(t, "-nan")) v = NAN;
         else in_.fail("expected a number, found '" + std::string(t.substr(0, 40)) + "'");
       }
-      if (out) out->push_back(v);
+      store(i, v);
     }
     return;
   }
-  const size_t size = binary_size(type);
+  const Binary bt = binary_type(type);
+  const size_t size = binary_size(bt);
   if (size == 0) in_.fail("unsupported binary data type '" + std::string(type.substr(0, 40)) + "'");
   in_.skip_newline();
   if (count > in_.remaining() / size) in_.fail("file ends inside a data array of " + std::to_string(count) + " values");
-  const std::string t = detail::to_lower(type);
-  for (uint64_t i = 0; i < count && out; ++i) {
+  for (uint64_t i = 0; i < count; ++i) {
     double v;
-    if (t == "float") v = in_.get_be<float>("a value");
-    else if (t == "double") v = in_.get_be<double>("a value");
-    else if (t == "char") v = in_.get<int8_t>("a value");
-    else if (t == "unsigned_char") v = in_.get<uint8_t>("a value");
-    else if (t == "short") v = in_.get_be<int16_t>("a value");
-    else if (t == "unsigned_short") v = in_.get_be<uint16_t>("a value");
-    else if (size == 4 && t.find("unsigned") == std::string::npos && t != "vtktypeuint32") v = in_.get_be<int32_t>("a value");
-    else if (size == 4) v = in_.get_be<uint32_t>("a value");
-    else if (t == "unsigned_long" || t == "vtktypeuint64") v = static_cast<double>(in_.get_be<uint64_t>("a value"));
-    else v = static_cast<double>(in_.get_be<int64_t>("a value"));
-    out->push_back(v);
+    switch (bt) {
+      case Binary::Int8: v = in_.get<int8_t>("a value"); break;
+      case Binary::UInt8: v = in_.get<uint8_t>("a value"); break;
+      case Binary::Int16: v = in_.get_be<int16_t>("a value"); break;
+      case Binary::UInt16: v = in_.get_be<uint16_t>("a value"); break;
+      case Binary::Int32: v = in_.get_be<int32_t>("a value"); break;
+      case Binary::UInt32: v = in_.get_be<uint32_t>("a value"); break;
+      case Binary::Int64: v = static_cast<double>(in_.get_be<int64_t>("a value")); break;
+      case Binary::UInt64: v = static_cast<double>(in_.get_be<uint64_t>("a value")); break;
+      case Binary::Float32: v = in_.get_be<float>("a value"); break;
+      default: v = in_.get_be<double>("a value"); break;
+    }
+    store(i, v);
   }
-  if (!out) in_.skip_bytes(count * size, "a data array");
 }
 
-void LegacyReader::ints(uint64_t count, std::string_view type, std::vector<int64_t>& out) {
-  out.reserve(detail::capped(count, in_.remaining(), binary_ ? 4 : 2));
-  if (!binary_) {
-    for (uint64_t i = 0; i < count; ++i) out.push_back(in_.integer("a cell index"));
+int64_t LegacyReader::cell_index(Binary type) {
+  if (!binary_) return in_.integer("a cell index");
+  return type == Binary::Int32 ? in_.get_be<int32_t>("a cell index") : in_.get_be<int64_t>("a cell index");
+}
+
+void LegacyReader::read_points() {
+  if (!m_.points.empty()) in_.fail("a second POINTS section");
+  const uint64_t n = in_.count("the number of points", in_.remaining());
+  const std::string type(in_.token("the point type"));
+  m_.points.resize(static_cast<size_t>(n));
+  values(3 * n, type, [&](uint64_t i, double v) {
+    if (!std::isfinite(v)) in_.fail("point " + std::to_string(i / 3) + " has a coordinate that is not a finite number");
+    m_.points[i / 3][static_cast<int>(i % 3)] = v;
+  });
+}
+
+void LegacyReader::read_cells() {
+  if (have_cells_) in_.fail("a second CELLS section");
+  const uint64_t a = in_.count("the number of cells", in_.remaining());
+  const uint64_t b = in_.count("the cell list size", in_.remaining());
+  const int64_t np = static_cast<int64_t>(m_.points.size());
+  // Checked here, while the line is known (points come first in VTK).
+  auto node = [&](Binary type) {
+    const int64_t v = cell_index(type);
+    if (v < 0 || v >= np)
+      in_.fail("a cell refers to point " + std::to_string(v) + ", which does not exist (" + std::to_string(np) +
+               " points)");
+    return static_cast<int32_t>(v);
+  };
+  auto set_size = [&](uint64_t i, int64_t k) {
+    sizes_[i] = static_cast<uint8_t>(k < 255 ? k : 255);
+    if (k >= 255) large_[i] = k;
+  };
+  sizes_.assign(static_cast<size_t>(a), 0);
+  // Peek at the next token; at_end() first so seeking back crosses no line.
+  if (in_.at_end()) in_.fail("unexpected end of file in CELLS");
+  const size_t mark = in_.pos();
+  const std::string_view next = in_.token("the cells");
+  if (detail::iequals(next, "OFFSETS")) {
+    // Version 5: a offsets (the first is 0), then b connectivity entries.
+    const std::string otype(in_.token("the offset type"));
+    const Binary ot = binary_type(otype);
+    if (binary_ && ot != Binary::Int32 && ot != Binary::Int64) in_.fail("cell offsets must be 4 or 8 byte integers");
+    if (binary_) in_.skip_newline();
+    if (a == 0) in_.fail("offsets must start with 0");
+    if (binary_ && a > in_.remaining() / 4) in_.fail("file ends inside the cells");
+    int64_t previous = cell_index(ot);
+    if (previous != 0) in_.fail("offsets must start with 0");
+    sizes_.resize(static_cast<size_t>(a - 1));
+    for (uint64_t i = 0; i + 1 < a; ++i) {
+      const int64_t end = cell_index(ot);
+      if (end < previous || static_cast<uint64_t>(end) > b) in_.fail("cell " + std::to_string(i) + " has bad offsets");
+      set_size(i, end - previous);
+      previous = end;
+    }
+    if (static_cast<uint64_t>(previous) != b) in_.fail("the offsets end at " + std::to_string(previous) +
+                                                       ", the connectivity has " + std::to_string(b) + " entries");
+    expect_word("CONNECTIVITY");
+    const std::string ctype(in_.token("the connectivity type"));
+    const Binary ct = binary_type(ctype);
+    if (binary_ && ct != Binary::Int32 && ct != Binary::Int64) in_.fail("cell indices must be 4 or 8 byte integers");
+    if (binary_) in_.skip_newline();
+    if (binary_ && b > in_.remaining() / 4) in_.fail("file ends inside the cells");
+    conn_.reserve(static_cast<size_t>(b));
+    for (uint64_t j = 0; j < b; ++j) conn_.push_back(node(ct));
+  } else {
+    in_.seek(mark);
+    if (binary_) in_.skip_newline();
+    if (binary_ && b > in_.remaining() / 4) in_.fail("file ends inside the cells");
+    conn_.reserve(detail::capped(b >= a ? b - a : 0, in_.remaining(), binary_ ? 4 : 2));
+    uint64_t read = 0;
+    for (uint64_t i = 0; i < a; ++i) {
+      if (read >= b) in_.fail("the cell list is shorter than its " + std::to_string(a) + " cells");
+      const int64_t k = cell_index(Binary::Int32);
+      ++read;
+      if (k < 0 || static_cast<uint64_t>(k) > b - read) in_.fail("cell " + std::to_string(i) + " has a bad size");
+      set_size(i, k);
+      for (int64_t j = 0; j < k; ++j) conn_.push_back(node(Binary::Int32));
+      read += static_cast<uint64_t>(k);
+    }
+    if (read != b) in_.fail("the cell list size does not match its cells");
+  }
+  have_cells_ = true;
+}
+
+void LegacyReader::read_cell_types() {
+  if (have_types_) in_.fail("a second CELL_TYPES section");
+  const uint64_t n = in_.count("the number of cell types", in_.remaining());
+  if (binary_) in_.skip_newline();
+  if (binary_ && n > in_.remaining() / 4) in_.fail("file ends inside the cell types");
+  types_.resize(static_cast<size_t>(std::min<uint64_t>(n, in_.remaining())));
+  for (uint64_t i = 0; i < n; ++i) {
+    const int64_t t = cell_index(Binary::Int32);
+    types_[i] = static_cast<uint8_t>(t >= 0 && t < 255 ? t : 255);
+  }
+  have_types_ = true;
+}
+
+// The tetrahedra and triangles from the connectivity, once both cells and
+// types are known; other cells are skipped.
+void LegacyReader::build_elements() {
+  if (built_ || !have_cells_ || !have_types_) return;
+  if (types_.size() != sizes_.size())
+    in_.fail("CELL_TYPES has " + std::to_string(types_.size()) + " entries for " + std::to_string(sizes_.size()) +
+             " cells");
+  size_t tets = 0, tets10 = 0, tris = 0, tris6 = 0;
+  for (uint8_t t : types_) {
+    tets += t == detail::kVtkTet || t == detail::kVtkQuadraticTet;
+    tets10 += t == detail::kVtkQuadraticTet;
+    tris += t == detail::kVtkTriangle || t == detail::kVtkQuadraticTriangle;
+    tris6 += t == detail::kVtkQuadraticTriangle;
+  }
+  if ((tets10 && tets10 != tets) || (tris6 && tris6 != tris)) in_.fail("first- and second-order cells of one kind are mixed");
+  m_.tets.reserve(tets);
+  m_.tet_mid.reserve(tets10);
+  m_.triangles.reserve(tris);
+  m_.triangle_mid.reserve(tris6);
+  size_t at = 0;
+  for (size_t i = 0; i < types_.size(); ++i) {
+    const int64_t k = sizes_[i] == 255 ? large_[i] : sizes_[i];
+    const int type = types_[i];
+    const int want = detail::vtk_element_nodes(type);
+    if (want && k != want)
+      in_.fail("cell " + std::to_string(i) + " of type " + std::to_string(type) + " has " + std::to_string(k) +
+               " nodes, not " + std::to_string(want));
+    const int32_t* v = conn_.data() + at;
+    if (want >= 4 && want != 6) {
+      Tetrahedron t;
+      t.v = {v[0], v[1], v[2], v[3]};
+      m_.tets.push_back(t);
+      if (want == 10) m_.tet_mid.push_back({v[4], v[5], v[6], v[7], v[8], v[9]});
+    } else if (want) {
+      Triangle t;
+      t.v = {v[0], v[1], v[2]};
+      m_.triangles.push_back(t);
+      if (want == 6) m_.triangle_mid.push_back({v[3], v[4], v[5]});
+    }
+    at += static_cast<size_t>(k);
+  }
+  conn_ = {};
+  sizes_ = {};
+  large_.clear();
+  built_ = true;
+  for (const auto& [roles, data] : pending_) {
+    size_t tet = 0, tri = 0;
+    for (size_t i = 0; i < data.size(); ++i) put(roles, i, data[i], tet, tri);
+  }
+  pending_.clear();
+}
+
+LegacyReader::Roles LegacyReader::roles_of(const std::string& name) {
+  // "region" and "face" are vdmesh's own; a tag array of another program
+  // stands in for both when they are missing.
+  int tag_rank = 99;
+  for (size_t r = 0; r < std::size(detail::kVtkTagArrays); ++r)
+    if (name == detail::kVtkTagArrays[r]) tag_rank = 1 + static_cast<int>(r);
+  const int region = name == "region" ? 0 : tag_rank, face = name == "face" ? 0 : tag_rank;
+  Roles r;
+  if (region < region_rank_) r.region = true, region_rank_ = region;
+  if (face < face_rank_) r.face = true, face_rank_ = face;
+  r.front = name == "front";
+  r.back = name == "back";
+  return r;
+}
+
+void LegacyReader::put(const Roles& r, size_t cell, double value, size_t& tet, size_t& tri) {
+  const int v = value >= -2147483648.0 && value <= 2147483647.0 ? static_cast<int>(value) : kUnknownRegion;
+  const int type = types_[cell];
+  if (type == detail::kVtkTet || type == detail::kVtkQuadraticTet) {
+    if (r.region) m_.tets[tet].region = v;
+    ++tet;
+  } else if (type == detail::kVtkTriangle || type == detail::kVtkQuadraticTriangle) {
+    Triangle& t = m_.triangles[tri];
+    if (r.face) t.face = v < 0 ? kNoFace : v;
+    if (r.front) t.front = v;
+    if (r.back) t.back = v;
+    ++tri;
+  }
+}
+
+void LegacyReader::cell_array(const std::string& name, uint64_t n, std::string_view type) {
+  const uint64_t cells = have_types_ ? types_.size() : sizes_.size();
+  const Roles roles = (have_cells_ || have_types_) && n == cells ? roles_of(name) : Roles{};
+  if (!roles.any()) return skip_values(n, type);
+  if (built_) {
+    size_t tet = 0, tri = 0;
+    values(n, type, [&](uint64_t i, double v) { put(roles, static_cast<size_t>(i), v, tet, tri); });
     return;
   }
-  const size_t size = binary_size(type);
-  if (size != 4 && size != 8) in_.fail("cell indices must be 4 or 8 byte integers");
-  in_.skip_newline();
-  if (count > in_.remaining() / size) in_.fail("file ends inside the cells");
-  for (uint64_t i = 0; i < count; ++i)
-    out.push_back(size == 4 ? in_.get_be<int32_t>("a cell index") : in_.get_be<int64_t>("a cell index"));
+  std::vector<double> data(static_cast<size_t>(n));
+  values(n, type, [&](uint64_t i, double v) { data[i] = v; });
+  pending_.emplace_back(roles, std::move(data));
 }
 
 void LegacyReader::attributes(uint64_t n, bool cell_data) {
@@ -106,8 +333,6 @@ void LegacyReader::attributes(uint64_t n, bool cell_data) {
     if (in_.at_end()) return;
     const size_t mark = in_.pos();
     const std::string keyword = detail::to_lower(in_.token("a data keyword"));
-    std::vector<double> arr;
-    std::vector<double>* keep = nullptr;
     if (keyword == "scalars") {
       const std::string name(in_.token("a scalars name"));
       const std::string type(in_.token("a scalars type"));
@@ -117,9 +342,8 @@ void LegacyReader::attributes(uint64_t n, bool cell_data) {
       std::string_view look = in_.token("LOOKUP_TABLE");
       if (!detail::iequals(look, "LOOKUP_TABLE")) in_.fail("expected LOOKUP_TABLE");
       in_.token("a lookup table name");
-      keep = cell_data && ncomp == 1 ? &cells_.data[name] : nullptr;
-      if (keep) keep->clear();
-      values(n * ncomp, type, keep);
+      if (cell_data && ncomp == 1) cell_array(name, n, type);
+      else skip_values(n * ncomp, type);
       continue;
     }
     if (keyword == "field") {
@@ -131,23 +355,22 @@ void LegacyReader::attributes(uint64_t n, bool cell_data) {
         const uint64_t tuples = in_.count("the number of tuples");
         const std::string type(in_.token("an array type"));
         if (ncomp == 0 || tuples > in_.remaining()) in_.fail("bad field array size");
-        keep = cell_data && ncomp == 1 && tuples == n ? &cells_.data[name] : nullptr;
-        if (keep) keep->clear();
-        values(ncomp * tuples, type, keep);
+        if (cell_data && ncomp == 1 && tuples == n) cell_array(name, n, type);
+        else skip_values(ncomp * tuples, type);
       }
       continue;
     }
     if (keyword == "vectors" || keyword == "normals" || keyword == "tensors") {
       in_.token("a name");
       const std::string type(in_.token("a type"));
-      values(n * (keyword == "tensors" ? 9 : 3), type, nullptr);
+      skip_values(n * (keyword == "tensors" ? 9 : 3), type);
       continue;
     }
     if (keyword == "texture_coordinates") {
       in_.token("a name");
       const uint64_t dim = in_.count("the dimension", 3);
       const std::string type(in_.token("a type"));
-      values(n * dim, type, nullptr);
+      skip_values(n * dim, type);
       continue;
     }
     if (keyword == "lookup_table") {
@@ -157,7 +380,7 @@ void LegacyReader::attributes(uint64_t n, bool cell_data) {
         in_.skip_newline();
         in_.skip_bytes(size * 4, "a lookup table");
       } else {
-        values(size * 4, "float", nullptr);
+        skip_values(size * 4, "float");
       }
       continue;
     }
@@ -186,63 +409,15 @@ Mesh LegacyReader::read() {
   const std::string_view dataset = in_.token("the dataset type");
   if (!detail::iequals(dataset, "UNSTRUCTURED_GRID"))
     in_.fail("dataset " + std::string(dataset.substr(0, 40)) + " is not supported (UNSTRUCTURED_GRID is)");
-  bool have_cells = false, have_types = false;
   while (!in_.at_end()) {
     const std::string keyword = detail::to_lower(in_.token("a section keyword"));
     if (keyword == "points") {
-      const uint64_t n = in_.count("the number of points", in_.remaining());
-      const std::string type(in_.token("the point type"));
-      std::vector<double> xyz;
-      values(3 * n, type, &xyz);
-      points_.reserve(n);
-      for (uint64_t i = 0; i < n; ++i) {
-        const Vec3 p{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-          in_.fail("point " + std::to_string(i) + " has a coordinate that is not a finite number");
-        points_.push_back(p);
-      }
+      read_points();
     } else if (keyword == "cells") {
-      const uint64_t a = in_.count("the number of cells", in_.remaining());
-      const uint64_t b = in_.count("the cell list size", in_.remaining());
-      // Peek at the next token; at_end() first so seeking back crosses no line.
-      if (in_.at_end()) in_.fail("unexpected end of file in CELLS");
-      const size_t mark = in_.pos();
-      const std::string_view next = in_.token("the cells");
-      if (detail::iequals(next, "OFFSETS")) {
-        // Version 5: a offsets, then b connectivity entries.
-        const std::string otype(in_.token("the offset type"));
-        ints(a, otype, cells_.offsets);
-        expect_word("CONNECTIVITY");
-        const std::string ctype(in_.token("the connectivity type"));
-        ints(b, ctype, cells_.conn);
-        if (cells_.offsets.empty() || cells_.offsets.front() != 0) in_.fail("offsets must start with 0");
-      } else {
-        in_.seek(mark);
-        std::vector<int64_t> list;
-        ints(b, "int", list);
-        cells_.offsets.assign(1, 0);
-        size_t at = 0;
-        for (uint64_t i = 0; i < a; ++i) {
-          if (at >= list.size()) in_.fail("the cell list is shorter than its " + std::to_string(a) + " cells");
-          const int64_t k = list[at++];
-          if (k < 0 || static_cast<uint64_t>(k) > list.size() - at) in_.fail("cell " + std::to_string(i) + " has a bad size");
-          for (int64_t j = 0; j < k; ++j) cells_.conn.push_back(list[at++]);
-          cells_.offsets.push_back(static_cast<int64_t>(cells_.conn.size()));
-        }
-        if (at != list.size()) in_.fail("the cell list size does not match its cells");
-      }
-      have_cells = true;
-      // Checked here, while the line is known (points come first in VTK).
-      for (int64_t v : cells_.conn)
-          if (v < 0 || static_cast<uint64_t>(v) >= points_.size())
-            in_.fail("a cell refers to point " + std::to_string(v) + ", which does not exist (" +
-                     std::to_string(points_.size()) + " points)");
+      read_cells();
     } else if (keyword == "cell_types") {
-      const uint64_t n = in_.count("the number of cell types", in_.remaining());
-      std::vector<int64_t> t;
-      ints(n, "int", t);
-      for (int64_t v : t) cells_.types.push_back(static_cast<int>(v));
-      have_types = true;
+      read_cell_types();
+      build_elements();
     } else if (keyword == "cell_data") {
       attributes(in_.count("the number of cells"), true);
     } else if (keyword == "point_data") {
@@ -254,14 +429,12 @@ Mesh LegacyReader::read() {
       in_.fail("unexpected keyword '" + keyword.substr(0, 40) + "'");
     }
   }
-  if (!have_cells || !have_types) {
-    if (!points_.empty() || have_cells || have_types) in_.fail("CELLS or CELL_TYPES missing");
-  }
-  if (cells_.offsets.empty()) cells_.offsets.push_back(0);
-  if (cells_.types.size() + 1 != cells_.offsets.size())
-    in_.fail("CELL_TYPES has " + std::to_string(cells_.types.size()) + " entries for " +
-             std::to_string(cells_.offsets.size() - 1) + " cells");
-  return detail::mesh_from_vtk(std::move(points_), cells_, in_.name());
+  if (have_cells_ != have_types_ || (!have_cells_ && !m_.points.empty())) in_.fail("CELLS or CELL_TYPES missing");
+  if (have_cells_ && !built_) build_elements();
+  if (!pending_.empty()) in_.fail("CELL_DATA without the cells");
+  detail::require_valid(m_, in_.name());
+  detail::sides_from_tets(m_);
+  return std::move(m_);
 }
 
 Mesh read_vtk(const std::string& path) {

@@ -1,6 +1,6 @@
 // What the legacy .vtk and XML .vtu formats share: cell types, the cell data
-// arrays vdmesh writes (region, face, front, back) and the assembly of a Mesh
-// from VTK cells.
+// arrays vdmesh writes (region, face, front, back) and those of other
+// programs it reads.
 #pragma once
 
 #include <cstdint>
@@ -14,12 +14,15 @@ namespace vd::io::detail {
 
 constexpr int kVtkTriangle = 5, kVtkTet = 10, kVtkQuadraticTriangle = 22, kVtkQuadraticTet = 24;
 
-struct VtkCells {
-  std::vector<int64_t> offsets;  // size cells + 1; cell i is conn[offsets[i] .. offsets[i+1])
-  std::vector<int64_t> conn;
-  std::vector<int> types;
-  std::map<std::string, std::vector<double>> data;  // cell data arrays (first component)
-};
+// Nodes of the cell types vdmesh keeps (tetrahedra and triangles, first and
+// second order); 0 for every other type.
+inline int vtk_element_nodes(int type) {
+  return type == kVtkTet ? 4 : type == kVtkQuadraticTet ? 10 : type == kVtkTriangle ? 3 : type == kVtkQuadraticTriangle ? 6 : 0;
+}
+
+// Cell data arrays other programs write their tags in, in order of
+// preference; "region" and "face" win over them.
+constexpr const char* kVtkTagArrays[] = {"gmsh:physical", "CellEntityIds", "medit:ref", "cell_tags"};
 
 // The cells of `m` as the writers emit them, tetrahedra then triangles, read
 // straight from the mesh: building the arrays first tripled a writer's peak
@@ -63,9 +66,5 @@ class VtkCellView {
   size_t tets_;
   int tet_nodes_, tri_nodes_;
 };
-
-// Builds the mesh; errors name `where` (no line: the arrays are checked
-// after parsing). Unknown cell types are skipped, bad sizes rejected.
-Mesh mesh_from_vtk(std::vector<Vec3> points, const VtkCells& cells, const std::string& where);
 
 }  // namespace vd::io::detail

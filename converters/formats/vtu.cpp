@@ -25,20 +25,26 @@ using detail::Cursor;
 
 const char kB64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
+// Appends the base64 of n bytes, written in place (appending four
+// characters at a time was a fifth of a binary VTU write).
 void base64_append(std::string& out, const unsigned char* p, size_t n) {
-  out.reserve(out.size() + (n + 2) / 3 * 4);
+  const size_t at = out.size();
+  out.resize(at + (n + 2) / 3 * 4);
+  char* o = out.data() + at;
   size_t i = 0;
-  for (; i + 3 <= n; i += 3) {
+  for (; i + 3 <= n; i += 3, o += 4) {
     const uint32_t v = (uint32_t{p[i]} << 16) | (uint32_t{p[i + 1]} << 8) | p[i + 2];
-    const char q[4] = {kB64[v >> 18], kB64[(v >> 12) & 63], kB64[(v >> 6) & 63], kB64[v & 63]};
-    out.append(q, 4);
+    o[0] = kB64[v >> 18];
+    o[1] = kB64[(v >> 12) & 63];
+    o[2] = kB64[(v >> 6) & 63];
+    o[3] = kB64[v & 63];
   }
   if (i < n) {
     const uint32_t v = (uint32_t{p[i]} << 16) | (i + 1 < n ? uint32_t{p[i + 1]} << 8 : 0);
-    out += kB64[v >> 18];
-    out += kB64[(v >> 12) & 63];
-    out += i + 1 < n ? kB64[(v >> 6) & 63] : '=';
-    out += '=';
+    o[0] = kB64[v >> 18];
+    o[1] = kB64[(v >> 12) & 63];
+    o[2] = i + 1 < n ? kB64[(v >> 6) & 63] : '=';
+    o[3] = '=';
   }
 }
 
@@ -130,15 +136,16 @@ void write_vtu(const Mesh& m, const std::string& path, const WriteOptions& optio
       // base64 of (byte count, values), encoded a piece of whole 3-byte
       // groups at a time so that the array never exists whole in memory.
       constexpr size_t kPiece = 3 * 16384;
-      std::vector<unsigned char> piece;
-      piece.reserve(kPiece + 16);
+      std::vector<unsigned char> piece(kPiece + 16);
+      size_t fill = 0;
       auto put = [&](const void* p, size_t size) {
-        const auto* b = static_cast<const unsigned char*>(p);
-        piece.insert(piece.end(), b, b + size);
-        if (piece.size() < kPiece) return;
-        const size_t whole = piece.size() / 3 * 3;
+        std::memcpy(piece.data() + fill, p, size);
+        fill += size;
+        if (fill < kPiece) return;
+        const size_t whole = fill / 3 * 3;
         base64_append(out.str(), piece.data(), whole);
-        piece.erase(piece.begin(), piece.begin() + static_cast<std::ptrdiff_t>(whole));
+        std::memmove(piece.data(), piece.data() + whole, fill - whole);
+        fill -= whole;
         out.spill_if_full();
       };
       const uint64_t bytes = n * sizeof(T);
@@ -148,7 +155,7 @@ void write_vtu(const Mesh& m, const std::string& path, const WriteOptions& optio
         const T v = value(i);
         put(&v, sizeof v);
       }
-      base64_append(out.str(), piece.data(), piece.size());
+      base64_append(out.str(), piece.data(), fill);
       out << '\n';
     } else {
       for (size_t i = 0; i < n; ++i) {
@@ -614,11 +621,13 @@ void VtuReader::read_cell_data(const std::map<std::string, Tag>& arrays, uint64_
     }
     return nullptr;
   };
-  const std::initializer_list<const char*> tags = {"gmsh:physical", "CellEntityIds", "medit:ref", "cell_tags"};
+  const Tag* tags = nullptr;
+  for (const char* name : detail::kVtkTagArrays)
+    if (!tags) tags = find({name});
   const Tag* region = find({"region"});
   const Tag* face = find({"face"});
-  if (!region) region = find(tags);
-  if (!face) face = find(tags);
+  if (!region) region = tags;
+  if (!face) face = tags;
   auto as_int = [](double v) {
     return v >= -2147483648.0 && v <= 2147483647.0 ? static_cast<int>(v) : kUnknownRegion;
   };
