@@ -176,16 +176,15 @@ class InpReader {
   Cursor in_;
   size_t data_line_ = 0;
   Mesh m_;
-  std::unordered_map<int64_t, int> node_index_;
-  struct Tet {
-    int64_t id;
-    Tetrahedron t;
-    TetMidNodes mid;
-  };
-  std::vector<Tet> tets_;
-  std::unordered_map<int64_t, size_t> tet_of_id_;
-  std::vector<std::string> tet_set_;  // the block's ELSET per tetrahedron
-  std::vector<std::string> tet_region_set_;  // a Region<k> set naming it
+  detail::IdIndex node_index_;
+  // Tetrahedra go straight into the mesh; until the end their region field
+  // holds their ELSET (an index into set_names_, -1 for none). Per-element
+  // records with two set names each were 11 times the mesh on 1M tetrahedra.
+  detail::TagList tet_ids_;
+  detail::IdIndex tet_index_;
+  std::vector<std::string> set_names_;
+  std::map<std::string, int> set_index_;
+  int set_of(const std::string& name);
   std::map<std::string, int> shell_face_;   // ELSET of shell elements -> face id
   struct Shell {
     int64_t id;
@@ -195,7 +194,7 @@ class InpReader {
   };
   std::vector<Shell> shells_;
   std::map<std::string, std::vector<int64_t>> elsets_;
-  bool quad_tets_ = false, quad_shells_ = false;
+  bool quad_shells_ = false;
   std::vector<std::pair<std::string, std::vector<std::pair<int64_t, int>>>> surfaces_;
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> surface_sets_;
 };
@@ -265,8 +264,15 @@ std::vector<std::string_view> InpReader::fields(size_t want) {
 int InpReader::node(std::string_view field) {
   int64_t id;
   if (!Cursor::parse_int(field, id)) fail("expected a node number, found '" + std::string(field.substr(0, 40)) + "'");
-  auto it = node_index_.find(id);
-  if (it == node_index_.end()) fail("node " + std::to_string(id) + " does not exist");
+  const int index = node_index_.find(id);
+  if (index < 0) fail("node " + std::to_string(id) + " does not exist");
+  return index;
+}
+
+int InpReader::set_of(const std::string& name) {
+  if (name.empty()) return -1;
+  const auto [it, added] = set_index_.emplace(name, static_cast<int>(set_names_.size()));
+  if (added) set_names_.push_back(name);
   return it->second;
 }
 
@@ -289,7 +295,7 @@ void InpReader::nodes() {
                          std::string(f[static_cast<size_t>(k + 1)].substr(0, 40)) + "'");
       p[k] = v;
     }
-    if (!node_index_.emplace(id, static_cast<int>(m_.points.size())).second)
+    if (!node_index_.add(id, static_cast<int>(m_.points.size())))
       throw InputError(in_.name() + ":" + std::to_string(line) + ": node " + std::to_string(id) + " appears twice");
     m_.points.push_back(p);
   }
@@ -310,6 +316,7 @@ void InpReader::elements(const Keyword& k) {
   if (nodes == 0) return skip_data();
   const auto set_it = k.options.find("ELSET");
   const std::string set = set_it == k.options.end() ? "" : set_it->second;
+  const int set_index = tet ? set_of(set) : -1;
   while (at_data_line()) {
     const auto f = fields(static_cast<size_t>(nodes) + 1);
     if (f.size() != static_cast<size_t>(nodes) + 1)
@@ -320,13 +327,15 @@ void InpReader::elements(const Keyword& k) {
     int v[10];
     for (int j = 0; j < nodes; ++j) v[j] = node(f[static_cast<size_t>(j) + 1]);
     if (tet) {
-      if (!tet_of_id_.emplace(id, tets_.size()).second) fail("element " + std::to_string(id) + " appears twice");
-      Tet t{id, {}, {}};
-      t.t.v = {v[0], v[1], v[2], v[3]};
-      if (nodes == 10) t.mid = {v[4], v[5], v[6], v[7], v[8], v[9]}, quad_tets_ = true;
-      tets_.push_back(t);
-      tet_set_.push_back(set);
-      tet_region_set_.push_back(detail::id_from_name(set, "Region") >= 0 ? set : "");
+      if (id < 0) fail("element number " + std::to_string(id) + " is negative");
+      if (!tet_index_.add(id, static_cast<int>(m_.tets.size()))) fail("element " + std::to_string(id) + " appears twice");
+      if ((nodes == 10) != !m_.tet_mid.empty() && !m_.tets.empty()) fail("C3D4 and C3D10 elements are mixed");
+      Tetrahedron t;
+      t.v = {v[0], v[1], v[2], v[3]};
+      t.region = set_index;
+      m_.tets.push_back(t);
+      if (nodes == 10) m_.tet_mid.push_back({v[4], v[5], v[6], v[7], v[8], v[9]});
+      tet_ids_.push_back(static_cast<uint64_t>(id));
     } else {
       Shell s{id, {}, {}, set};
       s.t.v = {v[0], v[1], v[2]};
@@ -395,37 +404,40 @@ Mesh InpReader::read() {
       throw InputError(in_.name() + ":" + std::to_string(line) + ": *INCLUDE is not supported");
     else skip_data();
   }
-  // Tetrahedra in element-number order, regions from set names.
-  std::vector<size_t> order(tets_.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return tets_[a].id < tets_[b].id; });
+  // Tetrahedra in element-number order, regions from set names: a set
+  // Region<k> listing a tetrahedron wins over its block's ELSET.
   for (const auto& [set, ids] : elsets_)
-    if (detail::id_from_name(set, "Region") >= 0)
+    if (detail::id_from_name(set, "Region") >= 0) {
+      const int index = set_of(set);
       for (int64_t id : ids) {
-        auto it = tet_of_id_.find(id);
-        if (it != tet_of_id_.end()) tet_region_set_[it->second] = set;
+        const int t = tet_index_.find(id);
+        if (t >= 0) m_.tets[static_cast<size_t>(t)].region = index;
       }
-  std::map<std::string, int> region_of_set;
-  int next_region = 1;
-  auto note = [&](const std::string& s) {
-    const int k = detail::id_from_name(s, "Region");
-    if (k >= 0) region_of_set[s] = k, next_region = std::max(next_region, k + 1);
-  };
-  for (const auto& s : tet_region_set_) note(s);
-  for (const auto& s : tet_set_) note(s);
-  std::vector<size_t> position(tets_.size());
-  for (size_t i : order) {
-    position[i] = m_.tets.size();
-    const std::string& s = !tet_region_set_[i].empty() ? tet_region_set_[i] : tet_set_[i];
-    Tetrahedron t = tets_[i].t;
-    if (!s.empty() && !region_of_set.count(s)) {
-      region_of_set[s] = next_region;
-      m_.region_names[next_region++] = s;
     }
-    t.region = s.empty() ? kUnknownRegion : region_of_set[s];
-    if (s == "RegionUnknown") t.region = kUnknownRegion;
-    m_.tets.push_back(t);
-    if (quad_tets_) m_.tet_mid.push_back(tets_[i].mid);
+  const bool mids = !m_.tet_mid.empty();
+  detail::sort_in_place(
+      m_.tets.size(), [&](size_t i) { return tet_ids_[i]; },
+      [&](size_t i, size_t j) {
+        tet_ids_.swap_items(i, j);
+        std::swap(m_.tets[i], m_.tets[j]);
+        if (mids) std::swap(m_.tet_mid[i], m_.tet_mid[j]);
+      });
+  for (size_t i = 0; i < m_.tets.size(); ++i) tet_index_.set(static_cast<int64_t>(tet_ids_[i]), static_cast<int>(i));
+  tet_ids_ = {};
+  std::vector<int> region_of_set(set_names_.size(), 0);  // 0: not numbered yet
+  int next_region = 1;
+  for (size_t k = 0; k < set_names_.size(); ++k) {
+    const int r = detail::id_from_name(set_names_[k], "Region");
+    if (r >= 0) region_of_set[k] = r, next_region = std::max(next_region, r + 1);
+  }
+  for (Tetrahedron& t : m_.tets) {
+    if (t.region < 0) continue;  // no ELSET: unknown
+    const size_t k = static_cast<size_t>(t.region);
+    if (region_of_set[k] == 0 && detail::id_from_name(set_names_[k], "Region") < 0) {
+      region_of_set[k] = next_region;
+      m_.region_names[next_region++] = set_names_[k];
+    }
+    t.region = set_names_[k] == "RegionUnknown" ? kUnknownRegion : region_of_set[k];
   }
   // Face ids from names "Face<k>", others numbered after them.
   std::map<std::string, int> face_of_name;
@@ -449,9 +461,9 @@ Mesh InpReader::read() {
   for (const auto& [name, entries] : surface_sets_) {
     const int face = face_id(name);
     auto add = [&](int64_t eid, int f) {
-      auto it = tet_of_id_.find(eid);
-      if (it == tet_of_id_.end()) return false;
-      const Tetrahedron& t = m_.tets[position[it->second]];
+      const int at = tet_index_.find(eid);
+      if (at < 0) return false;
+      const Tetrahedron& t = m_.tets[static_cast<size_t>(at)];
       const int* c = kFaces[f];
       // Abaqus faces point into a positive tetrahedron: turn them outward.
       const bool positive = detail::tet_det(m_, t.v) >= 0;
@@ -460,8 +472,8 @@ Mesh InpReader::read() {
       tri.v = {t.v[a], t.v[b], t.v[d]};
       tri.face = face;
       m_.triangles.push_back(tri);
-      if (quad_tets_) {
-        const TetMidNodes& mid = m_.tet_mid[position[it->second]];
+      if (mids) {
+        const TetMidNodes& mid = m_.tet_mid[static_cast<size_t>(at)];
         auto edge = [&](int x, int y) {
           static const int e[4][4] = {{-1, 0, 2, 3}, {0, -1, 1, 4}, {2, 1, -1, 5}, {3, 4, 5, -1}};
           return mid[static_cast<size_t>(e[x][y])];

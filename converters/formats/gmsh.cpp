@@ -96,7 +96,8 @@ void write22(const Mesh& m, Out& out, bool binary) {
     const Vec3& p = m.points[i];
     if (binary) {
       out.raw(static_cast<int32_t>(i + 1));
-      out.raw(p.x), out.raw(p.y), out.raw(p.z);
+      const double xyz[3] = {p.x, p.y, p.z};
+      out.raw_n(xyz, 3);
     } else {
       out << i + 1 << ' ' << p.x << ' ' << p.y << ' ' << p.z << '\n';
     }
@@ -108,9 +109,9 @@ void write22(const Mesh& m, Out& out, bool binary) {
   auto element = [&](int type, int physical, int entity, int k) {
     ++tag;
     if (binary) {
-      out.raw(static_cast<int32_t>(tag));
-      out.raw(static_cast<int32_t>(physical)), out.raw(static_cast<int32_t>(entity));
-      for (int j = 0; j < k; ++j) out.raw(static_cast<int32_t>(n[j] + 1));
+      int32_t v[13] = {static_cast<int32_t>(tag), physical, entity};
+      for (int j = 0; j < k; ++j) v[3 + j] = n[j] + 1;
+      out.raw_n(v, static_cast<size_t>(3 + k));
     } else {
       out << tag << ' ' << type << " 2 " << physical << ' ' << entity;
       for (int j = 0; j < k; ++j) out << ' ' << n[j] + 1;
@@ -172,9 +173,9 @@ void write41(const Mesh& m, Out& out, bool binary) {
   write_physical_names(out, m, t);
 
   // Entities and their elements, in tag order.
-  std::map<int, std::vector<size_t>> surf_elems, vol_elems;
-  for (size_t i = 0; i < m.triangles.size(); ++i) surf_elems[t.tri_tag[i]].push_back(i);
-  for (size_t i = 0; i < m.tets.size(); ++i) vol_elems[t.tet_tag[i]].push_back(i);
+  std::map<int, std::vector<int>> surf_elems, vol_elems;  // element indices, 4 bytes each
+  for (size_t i = 0; i < m.triangles.size(); ++i) surf_elems[t.tri_tag[i]].push_back(static_cast<int>(i));
+  for (size_t i = 0; i < m.tets.size(); ++i) vol_elems[t.tet_tag[i]].push_back(static_cast<int>(i));
   for (int r : t.regions) vol_elems[r];  // regions beside triangles only
   std::map<int, Box> surf_box, vol_box;
   std::map<int, std::set<int>> bounding;  // volume -> signed surface tags
@@ -238,7 +239,8 @@ void write41(const Mesh& m, Out& out, bool binary) {
     w.end_line();
     if (binary) {
       for (size_t i = 0; i < np; ++i) out.raw(static_cast<uint64_t>(i + 1));
-      for (const Vec3& p : m.points) out.raw(p.x), out.raw(p.y), out.raw(p.z);
+      static_assert(sizeof(Vec3) == 3 * sizeof(double), "points are written as they lie");
+      out.raw_n(m.points.data(), np);
     } else {
       for (size_t i = 0; i < np; ++i) out << i + 1 << '\n';
       for (const Vec3& p : m.points) out << p.x << ' ' << p.y << ' ' << p.z << '\n';
@@ -254,7 +256,7 @@ void write41(const Mesh& m, Out& out, bool binary) {
   w.size(blocks), w.size(ne), w.size(ne ? 1 : 0), w.size(ne);
   w.end_line();
   int n[10];
-  auto block = [&](int dim, int tag, int type, const std::vector<size_t>& elems, size_t tag_offset,
+  auto block = [&](int dim, int tag, int type, const std::vector<int>& elems, size_t tag_offset,
                    int (*nodes)(const Mesh&, size_t, int*)) {
     if (elems.empty()) return;
     w.integer(dim), w.integer(tag), w.integer(type), w.size(elems.size());
@@ -262,8 +264,9 @@ void write41(const Mesh& m, Out& out, bool binary) {
     for (size_t i : elems) {
       const int k = nodes(m, i, n);
       if (binary) {
-        out.raw(static_cast<uint64_t>(i + tag_offset + 1));
-        for (int j = 0; j < k; ++j) out.raw(static_cast<uint64_t>(n[j] + 1));
+        uint64_t v[11] = {static_cast<uint64_t>(i + tag_offset + 1)};
+        for (int j = 0; j < k; ++j) v[1 + j] = static_cast<uint64_t>(n[j] + 1);
+        out.raw_n(v, static_cast<size_t>(1 + k));
       } else {
         out << i + tag_offset + 1;
         for (int j = 0; j < k; ++j) out << ' ' << n[j] + 1;

@@ -21,32 +21,6 @@ int msh_nodes_per_element(int type) {
 
 namespace {
 
-// Node tag -> point index: a vector for tags up to about twice the count, a
-// hash map beyond (sparse tags), so no allocation follows a tag's size.
-class NodeIndex {
- public:
-  void init(uint64_t declared, size_t file_bytes) {
-    dense_.assign(capped(declared, file_bytes, 4) * 2 + 1024, -1);
-  }
-  bool add(uint64_t tag, int index) {
-    if (tag < dense_.size()) {
-      if (dense_[tag] >= 0) return false;
-      dense_[tag] = index;
-      return true;
-    }
-    return sparse_.emplace(tag, index).second;
-  }
-  int find(uint64_t tag) const {
-    if (tag < dense_.size()) return dense_[tag];
-    auto it = sparse_.find(tag);
-    return it == sparse_.end() ? -1 : it->second;
-  }
-
- private:
-  std::vector<int> dense_;
-  std::unordered_map<uint64_t, int> sparse_;
-};
-
 struct Entity {
   std::vector<int> physicals;
   std::vector<int> bounding;  // signed surface tags of a volume
@@ -56,32 +30,6 @@ struct Element {
   uint64_t tag;
   int entity;
   int physical;  // 2.2 only; 0 when none
-};
-
-// Tetrahedron tags in file order, 4 bytes each while they fit: records of
-// tag, entity and physical were 16 MB next to the 20 MB of a 1M-tetrahedron
-// mesh.
-class TagList {
- public:
-  void reserve(size_t n) { narrow_.reserve(n); }
-  void push_back(uint64_t t) {
-    if (wide_.empty() && t <= UINT32_MAX) return narrow_.push_back(static_cast<uint32_t>(t));
-    if (wide_.empty()) {
-      wide_.assign(narrow_.begin(), narrow_.end());
-      narrow_ = {};
-    }
-    wide_.push_back(t);
-  }
-  size_t size() const { return wide_.empty() ? narrow_.size() : wide_.size(); }
-  uint64_t operator[](size_t i) const { return wide_.empty() ? narrow_[i] : wide_[i]; }
-  void swap_items(size_t i, size_t j) {
-    if (wide_.empty()) std::swap(narrow_[i], narrow_[j]);
-    else std::swap(wide_[i], wide_[j]);
-  }
-
- private:
-  std::vector<uint32_t> narrow_;
-  std::vector<uint64_t> wide_;
 };
 
 class MshReader {
@@ -110,7 +58,7 @@ class MshReader {
   Mesh m_;
   double version_ = 0;
   bool binary_ = false;
-  NodeIndex nodes_;
+  IdIndex nodes_;
   std::map<int, Entity> surfaces_, volumes_;
   bool have_entities_ = false;
   std::vector<Element> tri_info_;
@@ -209,13 +157,13 @@ void MshReader::read_entities() {
 }
 
 void MshReader::add_node(uint64_t tag, Vec3 p) {
-  if (!nodes_.add(tag, static_cast<int>(m_.points.size()))) in_.fail("node " + std::to_string(tag) + " appears twice");
+  if (tag > uint64_t{INT64_MAX} || !nodes_.add(static_cast<int64_t>(tag), static_cast<int>(m_.points.size()))) in_.fail("node " + std::to_string(tag) + " appears twice");
   m_.points.push_back(p);
 }
 
 void MshReader::read_nodes22() {
   const uint64_t n = in_.count("the number of nodes");
-  nodes_.init(n, in_.remaining());
+  nodes_.expect(n, in_.remaining());
   m_.points.reserve(capped(n, in_.remaining(), binary_ ? 28 : 8));
   if (binary_) in_.skip_line();
   for (uint64_t i = 0; i < n; ++i) {
@@ -235,7 +183,7 @@ void MshReader::read_nodes41() {
   const uint64_t n = size_value("the number of nodes");
   size_value("the smallest node tag");
   size_value("the largest node tag");
-  nodes_.init(n, in_.remaining());
+  nodes_.expect(n, in_.remaining());
   m_.points.reserve(capped(n, in_.remaining(), binary_ ? 32 : 8));
   std::vector<uint64_t> tags;
   for (uint64_t b = 0; b < blocks; ++b) {
@@ -269,7 +217,7 @@ void MshReader::add_element(int type, uint64_t tag, const uint64_t* nodes, int e
   const int k = msh_nodes_per_element(type);
   int idx[10];
   for (int j = 0; j < k; ++j) {
-    idx[j] = nodes_.find(nodes[j]);
+    idx[j] = nodes[j] > uint64_t{INT64_MAX} ? -1 : nodes_.find(static_cast<int64_t>(nodes[j]));
     if (idx[j] < 0) in_.fail("element " + std::to_string(tag) + " refers to node " + std::to_string(nodes[j]) +
                              ", which does not exist");
   }
@@ -369,68 +317,24 @@ void MshReader::read_elements41() {
   expect_end("$Elements");
 }
 
-// Puts elements in tag order (stable, so untagged duplicates keep file order).
-template <class T, class M>
-void sort_by_tag(std::vector<Element>& info, std::vector<T>& elems, std::vector<M>& mids) {
-  bool sorted = true;
-  for (size_t i = 1; i < info.size() && sorted; ++i) sorted = info[i - 1].tag <= info[i].tag;
-  if (sorted) return;
-  std::vector<size_t> order(info.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return info[a].tag < info[b].tag; });
-  auto permute = [&](auto& v) {
-    if (v.size() != order.size()) return;
-    std::remove_reference_t<decltype(v)> out;
-    out.reserve(v.size());
-    for (size_t i : order) out.push_back(v[i]);
-    v.swap(out);
-  };
-  permute(info);
-  permute(elems);
-  permute(mids);
-}
-
-// The same for the tetrahedra. Tags that are a permutation of a range (what
-// Gmsh and vdmesh write) are sorted in place by following cycles: a sorted
-// copy of 1M tetrahedra was a quarter of the reader's peak.
-void sort_tets_by_tag(TagList& tags, std::vector<Tetrahedron>& tets, std::vector<TetMidNodes>& mids) {
-  const size_t n = tags.size();
-  bool sorted = true;
-  uint64_t lo = n ? tags[0] : 0, hi = lo;
-  for (size_t i = 1; i < n; ++i) {
-    sorted = sorted && tags[i - 1] <= tags[i];
-    lo = std::min(lo, tags[i]);
-    hi = std::max(hi, tags[i]);
-  }
-  if (sorted) return;
-  const bool with_mids = mids.size() == n;
-  bool dense = hi - lo + 1 == n;
-  if (dense) {
-    std::vector<bool> seen(n, false);
-    for (size_t i = 0; i < n && dense; ++i) {
-      const size_t at = static_cast<size_t>(tags[i] - lo);
-      dense = !seen[at];
-      seen[at] = true;
-    }
-  }
-  if (dense) {
-    for (size_t i = 0; i < n; ++i)
-      while (tags[i] - lo != i) {
-        const size_t j = static_cast<size_t>(tags[i] - lo);
-        tags.swap_items(i, j);
-        std::swap(tets[i], tets[j]);
-        if (with_mids) std::swap(mids[i], mids[j]);
-      }
-    return;
-  }
-  std::vector<Element> info(n);
-  for (size_t i = 0; i < n; ++i) info[i] = {tags[i], 0, 0};
-  sort_by_tag(info, tets, mids);
-}
-
 void MshReader::finish() {
-  sort_by_tag(tri_info_, m_.triangles, m_.triangle_mid);
-  sort_tets_by_tag(tet_tags_, m_.tets, m_.tet_mid);
+  // Elements in tag order (stable, so untagged duplicates keep file order).
+  const bool tri_mids = m_.triangle_mid.size() == m_.triangles.size();
+  sort_in_place(
+      tri_info_.size(), [&](size_t i) { return tri_info_[i].tag; },
+      [&](size_t i, size_t j) {
+        std::swap(tri_info_[i], tri_info_[j]);
+        std::swap(m_.triangles[i], m_.triangles[j]);
+        if (tri_mids) std::swap(m_.triangle_mid[i], m_.triangle_mid[j]);
+      });
+  const bool tet_mids = m_.tet_mid.size() == m_.tets.size();
+  sort_in_place(
+      tet_tags_.size(), [&](size_t i) { return tet_tags_[i]; },
+      [&](size_t i, size_t j) {
+        tet_tags_.swap_items(i, j);
+        std::swap(m_.tets[i], m_.tets[j]);
+        if (tet_mids) std::swap(m_.tet_mid[i], m_.tet_mid[j]);
+      });
   tet_tags_ = {};
   // An element's tag: its physical group, else its geometrical entity.
   auto physical_of = [&](int entity, const std::map<int, Entity>& entities) {

@@ -4,11 +4,13 @@
 // several formats need (welding, region sides from tetrahedra, checks).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "mesh/error.h"
@@ -182,6 +184,12 @@ class Out {
     buf_.append(reinterpret_cast<const char*>(&v), sizeof v);
     spill_if_full();
   }
+  // `count` values in one append (a binary element is one call, not five).
+  template <class T>
+  void raw_n(const T* v, size_t count) {
+    buf_.append(reinterpret_cast<const char*>(v), count * sizeof(T));
+    spill_if_full();
+  }
   template <class T>
   void raw_be(T v) {
     char b[sizeof(T)];
@@ -211,6 +219,112 @@ class Out {
   std::string buf_;
   std::unique_ptr<Sink> sink_;
 };
+
+// Element or node number -> index: a vector while the numbers stay within
+// about twice the count (what every writer produces), a hash map beyond, so
+// no allocation follows a number's size.
+class IdIndex {
+ public:
+  // Sizes the vector for `expected` numbers (capped by what the file holds).
+  void expect(uint64_t expected, size_t file_bytes) { dense_.assign(capped(expected, file_bytes, 4) * 2 + 1024, -1); }
+  // False when `id` is there already.
+  bool add(int64_t id, int index) {
+    const uint64_t u = static_cast<uint64_t>(id);
+    if (id >= 0 && u >= dense_.size() && u < 2 * (count_ + 512))
+      dense_.resize(std::max<size_t>(static_cast<size_t>(u) + 1, std::min<size_t>(2 * dense_.size(), 2 * (count_ + 512))), -1);
+    ++count_;
+    if (id >= 0 && u < dense_.size()) {
+      if (dense_[u] >= 0) return false;
+      dense_[u] = index;
+      return true;
+    }
+    return sparse_.emplace(id, index).second;
+  }
+  // Moves `id` (which is there) to `index`.
+  void set(int64_t id, int index) {
+    const uint64_t u = static_cast<uint64_t>(id);
+    if (id >= 0 && u < dense_.size()) dense_[u] = index;
+    else sparse_[id] = index;
+  }
+  // -1 when `id` is not there.
+  int find(int64_t id) const {
+    const uint64_t u = static_cast<uint64_t>(id);
+    if (id >= 0 && u < dense_.size()) return dense_[u];
+    auto it = sparse_.find(id);
+    return it == sparse_.end() ? -1 : it->second;
+  }
+
+ private:
+  std::vector<int> dense_;
+  std::unordered_map<int64_t, int> sparse_;
+  size_t count_ = 0;
+};
+
+// Element numbers in file order, 4 bytes each while they fit.
+class TagList {
+ public:
+  void reserve(size_t n) { narrow_.reserve(n); }
+  void push_back(uint64_t t) {
+    if (wide_.empty() && t <= UINT32_MAX) return narrow_.push_back(static_cast<uint32_t>(t));
+    if (wide_.empty()) {
+      wide_.assign(narrow_.begin(), narrow_.end());
+      narrow_ = {};
+    }
+    wide_.push_back(t);
+  }
+  size_t size() const { return wide_.empty() ? narrow_.size() : wide_.size(); }
+  uint64_t operator[](size_t i) const { return wide_.empty() ? narrow_[i] : wide_[i]; }
+  void swap_items(size_t i, size_t j) {
+    if (wide_.empty()) std::swap(narrow_[i], narrow_[j]);
+    else std::swap(wide_[i], wide_[j]);
+  }
+
+ private:
+  std::vector<uint32_t> narrow_;
+  std::vector<uint64_t> wide_;
+};
+
+// Puts items 0..n-1 in the order of key(i), stable, moving them only with
+// swap(i, j), which must swap everything that belongs to an item (its key
+// too). Keys that are a permutation of a range are placed by following
+// cycles; other keys through a sorted index. No item is copied: a sorted
+// copy of 1M tetrahedra was a quarter of a reader's peak.
+template <class Key, class Swap>
+void sort_in_place(size_t n, Key key, Swap swap) {
+  bool sorted = true;
+  uint64_t lo = n ? key(0) : 0, hi = lo;
+  for (size_t i = 1; i < n; ++i) {
+    const uint64_t k = key(i);
+    sorted = sorted && key(i - 1) <= k;
+    lo = std::min(lo, k);
+    hi = std::max(hi, k);
+  }
+  if (sorted) return;
+  bool dense = hi - lo + 1 == n;
+  if (dense) {
+    std::vector<bool> seen(n, false);
+    for (size_t i = 0; i < n && dense; ++i) {
+      const size_t at = static_cast<size_t>(key(i) - lo);
+      dense = !seen[at];
+      seen[at] = true;
+    }
+  }
+  if (dense) {
+    for (size_t i = 0; i < n; ++i)
+      while (key(i) - lo != i) swap(i, static_cast<size_t>(key(i) - lo));
+    return;
+  }
+  std::vector<size_t> order(n), target(n);
+  for (size_t i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
+  for (size_t k = 0; k < n; ++k) target[order[k]] = k;
+  for (size_t i = 0; i < n; ++i)
+    while (target[i] != i) {
+      const size_t j = target[i];
+      swap(i, j);
+      std::swap(target[i], target[j]);
+    }
+}
 
 // Merges points with identical coordinates (+0 == -0) and renumbers triangles.
 void weld_points(Mesh& m);

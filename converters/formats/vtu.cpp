@@ -282,6 +282,17 @@ class VtuReader {
     throw InputError(path_ + ":" + std::to_string(line) + ": " + what);
   }
   bool next_tag(Tag& t);
+  // d_.find(what, from), a few MiB at a time, letting the pages it passed go.
+  size_t find_letting_go(std::string_view what, size_t from) const {
+    constexpr size_t kWindow = size_t{4} << 20;
+    for (size_t at = from; at < d_.size(); at += kWindow) {
+      const size_t end = std::min(d_.size(), at + kWindow + what.size() - 1);
+      const size_t hit = d_.substr(0, end).find(what, at);
+      if (hit != std::string_view::npos) return hit;
+      file_.drop(at, at + kWindow);
+    }
+    return std::string_view::npos;
+  }
   std::string attr(const Tag& t, const char* name, const char* fallback = nullptr) const;
   // Calls store(i, value) for the `expected` values of one DataArray, in order.
   template <class Store>
@@ -493,7 +504,7 @@ void VtuReader::each_value(const Tag& t, uint64_t expected, Store store) {
     // The header says where the data ends: '<' after it is the closing tag.
     text = d_.substr(t.content);
   } else if (format != "appended") {
-    const size_t end = d_.find("</DataArray>", t.content);
+    const size_t end = find_letting_go("</DataArray>", t.content);
     if (end == std::string_view::npos) fail(t.begin, "<DataArray> not closed");
     text = d_.substr(t.content, end - t.content);
   }
@@ -503,15 +514,26 @@ void VtuReader::each_value(const Tag& t, uint64_t expected, Store store) {
   };
   if (format == "ascii") {
     Cursor in(text, path_);
-    size_t line = 1;
-    for (size_t i = 0; i < t.content; ++i) line += d_[i] == '\n';
     uint64_t i = 0;
+    // The text is parsed where it lies in the file: let its pages go behind.
+    const size_t at = static_cast<size_t>(text.data() - d_.data());
+    file_.drop(at, at + text.size());
+    size_t next_drop = size_t{1} << 20;
     while (!in.at_end()) {
+      if (in.pos() >= next_drop) {
+        file_.drop(at, at + in.pos());
+        next_drop = in.pos() + (size_t{1} << 20);
+      }
       const std::string_view tok = in.token_in_line();
       double v;
-      if (!Cursor::parse_real(tok, v))
+      if (!Cursor::parse_real(tok, v)) {
+        // Counted only now: counting lines up to every array faulted the
+        // whole file back in.
+        size_t line = 1;
+        for (size_t k = 0; k < t.content; ++k) line += d_[k] == '\n';
         throw InputError(path_ + ":" + std::to_string(line + in.line() - 1) + ": expected a number, found '" +
                          std::string(tok.substr(0, 40)) + "'");
+      }
       if (i == expected) count_error(i + 1);
       store(i++, v);
     }
