@@ -78,21 +78,34 @@ bool Base64Reader::read(char* out, size_t cap, size_t& got) {
     t['='] = -3;
     return t;
   }();
+  // Each character's six bits already in place for its position in a
+  // group of four; bit 31 marks anything else, which takes the slow path.
+  struct Shifted {
+    uint32_t at[4][256];
+  };
+  static const Shifted shifted = [] {
+    Shifted t;
+    for (int k = 0; k < 4; ++k)
+      for (int c = 0; c < 256; ++c)
+        t.at[k][c] = table[static_cast<size_t>(c)] >= 0 ? uint32_t(table[static_cast<size_t>(c)]) << (18 - 6 * k)
+                                                        : 0x80000000u;
+    return t;
+  }();
   char* o = out;
   char* const o_end = out + cap;
   while (p_ < end_ && o < o_end) {
     // Four characters at a time while they are all data, else one by one.
-    if (bits_ == 0 && end_ - p_ >= 4 && o_end - o >= 3) {
-      const int a = table[p_[0]], b = table[p_[1]], c = table[p_[2]], d = table[p_[3]];
-      if ((a | b | c | d) >= 0) {
-        const uint32_t v = (uint32_t(a) << 18) | (uint32_t(b) << 12) | (uint32_t(c) << 6) | uint32_t(d);
+    if (bits_ == 0) {
+      while (end_ - p_ >= 4 && o_end - o >= 3) {
+        const uint32_t v = shifted.at[0][p_[0]] | shifted.at[1][p_[1]] | shifted.at[2][p_[2]] | shifted.at[3][p_[3]];
+        if (v & 0x80000000u) break;
         o[0] = static_cast<char>(v >> 16);
         o[1] = static_cast<char>((v >> 8) & 0xFF);
         o[2] = static_cast<char>(v & 0xFF);
         o += 3;
         p_ += 4;
-        continue;
       }
+      if (p_ >= end_ || o >= o_end) break;
     }
     const int v = table[*p_++];
     if (v == -2) continue;
@@ -676,9 +689,15 @@ void VtuReader::read_cell_data(const std::map<std::string, Tag>& arrays, uint64_
 }
 
 Mesh VtuReader::read() {
-  // First pass: the file header and where appended data starts.
+  // One pass over the tags: the header, where each array is, and where
+  // appended data starts; the arrays are decoded after it.
   Tag t;
   bool is_vtu = false;
+  uint64_t npoints = 0, ncells = 0;
+  bool have_piece = false;
+  std::optional<Tag> points, types, offsets, conn;
+  std::map<std::string, Tag> cell_data;
+  std::string section;  // Points, Cells, CellData, PointData
   while (next_tag(t)) {
     if (t.name == "VTKFile" && !t.closing) {
       is_vtu = true;
@@ -696,19 +715,9 @@ Mesh VtuReader::read() {
       if (underscore == std::string_view::npos) fail(t.begin, "appended data has no '_' marker");
       appended_ = underscore + 1;
       break;  // raw bytes follow: no more tags to scan
-    }
-  }
-  if (!is_vtu) fail(0, "not a VTK XML file (no <VTKFile>)");
-  // Second pass: where each array is.
-  pos_ = 0;
-  uint64_t npoints = 0, ncells = 0;
-  bool have_piece = false;
-  std::optional<Tag> points, types, offsets, conn;
-  std::map<std::string, Tag> cell_data;
-  std::string section;  // Points, Cells, CellData, PointData
-  while (next_tag(t)) {
-    if (appended_ != std::string_view::npos && t.begin >= appended_) break;
-    if (t.name == "Piece" && !t.closing) {
+    } else if (!is_vtu) {
+      continue;
+    } else if (t.name == "Piece" && !t.closing) {
       if (have_piece) fail(t.begin, "only one <Piece> is supported");
       have_piece = true;
       int64_t v;
@@ -736,6 +745,7 @@ Mesh VtuReader::read() {
       }
     }
   }
+  if (!is_vtu) fail(0, "not a VTK XML file (no <VTKFile>)");
   if (!have_piece) fail(0, "no <Piece>");
   if (npoints && !points) fail(0, "no points");
   if (ncells && (!types || !offsets || !conn)) fail(0, "cells need types, offsets and connectivity");
