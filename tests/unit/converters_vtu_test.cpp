@@ -3,12 +3,14 @@
 // (ParaView's default). Built here byte by byte.
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "converters/registry.h"
+#include "mesh/error.h"
 #include "test_support.h"
 
 namespace vd {
@@ -120,6 +122,98 @@ TEST(ConvertersVtu, ReadsRawAppendedData) {
   std::ofstream(path, std::ios::binary) << xml;
   const Mesh m = io::read_mesh(path);
   expect_tet(m);
+}
+
+// VTK's own uncompressed binary: the header and the data base64-encoded
+// apart (the header's padding sits between them). A polygon (its size only
+// in the offsets) and a quad come first and are skipped; their nodes still
+// count in the connectivity. A Float32 region array is converted.
+TEST(ConvertersVtu, ReadsSeparatelyEncodedHeadersAndSkipsOtherCells) {
+  const double p[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.25, 0.5, 1.5, 2, 2, 2};
+  // polygon (0 1 4), quad (2 1 4 3), tetrahedron (0 1 2 3), triangle (0 2 1)
+  const int64_t c[14] = {0, 1, 4, 2, 1, 4, 3, 0, 1, 2, 3, 0, 2, 1};
+  const int64_t offsets[4] = {3, 7, 11, 14};
+  const uint8_t types[4] = {7, 9, 10, 5};
+  const float region[4] = {8, 9, 5, 3};
+  auto arr = [&](const char* type, const char* name, int comps, const std::string& raw) {
+    const uint32_t n = uint32_t(raw.size());
+    return array_tag(type, name, comps,
+                     "format=\"binary\">\n  " + base64(bytes_of(&n, 4)) + base64(raw) + "\n</DataArray>\n");
+  };
+  const std::string xml =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "<UnstructuredGrid>\n<Piece NumberOfPoints=\"5\" NumberOfCells=\"4\">\n<Points>\n" +
+      arr("Float64", "Points", 3, bytes_of(p, sizeof p)) + "</Points>\n<Cells>\n" +
+      arr("Int64", "connectivity", 1, bytes_of(c, sizeof c)) + arr("Int64", "offsets", 1, bytes_of(offsets, sizeof offsets)) +
+      arr("UInt8", "types", 1, bytes_of(types, sizeof types)) + "</Cells>\n<CellData>\n" +
+      arr("Float32", "CellEntityIds", 1, bytes_of(region, sizeof region)) +
+      "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  const std::string path = test::temp_path("separate.vtu");
+  std::ofstream(path, std::ios::binary) << xml;
+  const Mesh m = io::read_mesh(path);
+  ASSERT_EQ(m.points.size(), 5u);
+  EXPECT_EQ(m.points[4].z, 2.0);
+  ASSERT_EQ(m.tets.size(), 1u);
+  EXPECT_EQ(m.tets[0].v, (std::array<int, 4>{0, 1, 2, 3}));
+  EXPECT_EQ(m.tets[0].region, 5);
+  ASSERT_EQ(m.triangles.size(), 1u);
+  EXPECT_EQ(m.triangles[0].v, (std::array<int, 3>{0, 2, 1}));
+  EXPECT_EQ(m.triangles[0].face, 3);
+  EXPECT_EQ(m.triangles[0].back, 5);
+}
+
+// A fixed-size cell whose offsets give it another size names the cell.
+TEST(ConvertersVtu, OffsetsThatContradictATypeAreRefused) {
+  const std::string xml =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\">\n<UnstructuredGrid>\n"
+      "<Piece NumberOfPoints=\"4\" NumberOfCells=\"1\">\n<Points><DataArray type=\"Float64\" "
+      "NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray></Points>\n<Cells>\n"
+      "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 2</DataArray>\n"
+      "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">3</DataArray>\n"
+      "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">10</DataArray>\n"
+      "</Cells></Piece></UnstructuredGrid></VTKFile>\n";
+  const std::string path = test::temp_path("contradicting.vtu");
+  std::ofstream(path, std::ios::binary) << xml;
+  try {
+    io::read_mesh(path);
+    FAIL() << "read a tetrahedron with 3 nodes";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":8: cell 0 of type 10 has offsets for 3 nodes, not 4"), std::string::npos)
+        << e.what();
+  }
+}
+
+// Legacy VTK 5.1 (OFFSETS / CONNECTIVITY), binary: a polygon skipped, cell
+// data given twice, "region" after "gmsh:physical": vdmesh's own name wins
+// whatever the order.
+TEST(ConvertersVtu, LegacyOffsetsLayoutAndTagPriority) {
+  auto be = [](auto v) {
+    std::string b = bytes_of(&v, sizeof v);
+    std::reverse(b.begin(), b.end());
+    return b;
+  };
+  std::string f = "# vtk DataFile Version 5.1\nx\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 5 double\n";
+  for (double v : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.25, 0.5, 1.5, 2.0, 2.0, 2.0}) f += be(v);
+  f += "\nCELLS 4 10\nOFFSETS vtktypeint64\n";
+  for (int64_t v : {0, 3, 7, 10}) f += be(v);
+  f += "\nCONNECTIVITY vtktypeint64\n";
+  for (int64_t v : {0, 1, 4, 0, 1, 2, 3, 0, 2, 1}) f += be(v);
+  f += "\nCELL_TYPES 3\n";
+  for (int32_t v : {7, 10, 5}) f += be(v);
+  f += "\nCELL_DATA 3\nSCALARS gmsh:physical int 1\nLOOKUP_TABLE default\n";
+  for (int32_t v : {1, 2, 7}) f += be(v);
+  f += "\nSCALARS region int 1\nLOOKUP_TABLE default\n";
+  for (int32_t v : {-1, 6, 0}) f += be(v);
+  f += "\n";
+  const std::string path = test::temp_path("offsets51.vtk");
+  std::ofstream(path, std::ios::binary) << f;
+  const Mesh m = io::read_mesh(path);
+  ASSERT_EQ(m.tets.size(), 1u);
+  EXPECT_EQ(m.tets[0].v, (std::array<int, 4>{0, 1, 2, 3}));
+  EXPECT_EQ(m.tets[0].region, 6);  // "region", not gmsh:physical's 2
+  ASSERT_EQ(m.triangles.size(), 1u);
+  EXPECT_EQ(m.triangles[0].face, 7);  // no "face" array: the tags give it
+  EXPECT_EQ(m.triangles[0].back, 6);
 }
 
 }  // namespace
