@@ -136,6 +136,11 @@ const Snippet kSnippets[] = {
      "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n*SURFACE, NAME=A\n"
      "1, S7\n"},
     {"data_outside.inp", 1, "1, 2, 3\n"},
+    {"duplicate_element.inp", 8,
+     "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n1, 1, 2, 4, 3\n"},
+    {"mixed_order.inp", 9,
+     "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n"
+     "*ELEMENT, TYPE=C3D10\n2, 1, 2, 3, 4, 1, 2, 3, 4, 1, 2\n"},
 };
 
 TEST(ConvertersBadInput, EverySnippetNamesFileAndLine) {
