@@ -120,10 +120,12 @@ struct Settings {
 };
 
 void progress(const Settings& s, const std::string& what) {
+  throw_if_stopped();
   if (!s.quiet) std::fprintf(stderr, "vdmesh compare: %s\n", what.c_str());
 }
 
 void check_run(CheckedRun& r, const InputSurface& surface, const Settings& s, const std::string& name) {
+  throw_if_stopped();
   if (!r.run.meshed) return;
   r.checks = check_mesh(surface, r.run.mesh);
   r.checked = true;
@@ -216,6 +218,7 @@ int compare_command(const std::vector<std::string>& raw) {
   if (!do_boundary && !do_quality) throw UsageError("--runs takes boundary, quality or both");
   s.input = std::filesystem::absolute(pos[0]).string();
 
+  stop_children_on_signals();
   // Unreadable input: nothing to compare (exit 3 through main).
   Comparison cmp;
   int patches = 0;
@@ -340,6 +343,7 @@ int compare_command(const std::vector<std::string>& raw) {
     cmp.runs.push_back(std::move(r));
   }
 
+  throw_if_stopped();
   std::fputs(comparison_table(cmp).c_str(), stdout);
   if (!json_path.empty()) write_text(json_path, comparison_json(cmp));
   if (!svg_path.empty())

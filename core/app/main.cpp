@@ -1,11 +1,13 @@
 // vdmesh: the command-line tool. Exit codes: 0 done; 1 internal error;
-// 2 usage; 3 bad input; 4 some facets could not be recovered.
+// 2 usage; 3 bad input; 4 some facets could not be recovered; 128 + N
+// stopped by signal N (compare, which has children and a work folder).
 #include <cstdio>
 #include <exception>
 #include <string>
 #include <vector>
 
 #include "app/commands.h"
+#include "compare/child_process.h"
 #include "mesh/error.h"
 
 namespace {
@@ -44,6 +46,10 @@ int main(int argc, char** argv) {
   } catch (const vd::RecoveryError& e) {
     std::fprintf(stderr, "vdmesh %s: %s\n", command.c_str(), e.what());
     return 4;
+  } catch (const vd::compare::Stopped& e) {
+    // A Ctrl-C or kill: the children are gone and the work folder with them.
+    std::fprintf(stderr, "vdmesh %s: %s\n", command.c_str(), e.what());
+    return 128 + e.signal();
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "vdmesh %s: out of memory\n", command.c_str());
     return 1;

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <condition_variable>
@@ -34,8 +35,41 @@ std::string ChildResult::status() const {
   return s.str();
 }
 
+namespace {
+
+// Written by the signal handler: a lock-free atomic and a sig_atomic_t are
+// what a handler may touch.
+std::atomic<pid_t> running_child{0};
+volatile sig_atomic_t stop_signal = 0;
+static_assert(std::atomic<pid_t>::is_always_lock_free, "the signal handler reads the child's pid");
+
+void on_stop_signal(int sig) {
+  stop_signal = sig;
+  const pid_t child = running_child.load();
+  if (child > 0) kill(-child, SIGKILL);
+}
+
+}  // namespace
+
+void stop_children_on_signals() {
+  struct sigaction sa;
+  std::memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+}
+
+Stopped::Stopped(int signal)
+    : std::runtime_error("stopped by signal " + std::to_string(signal) + " (" + strsignal(signal) + ")"),
+      signal_(signal) {}
+
+void throw_if_stopped() {
+  if (stop_signal != 0) throw Stopped(stop_signal);
+}
+
 ChildResult run_child(const std::vector<std::string>& argv, const std::string& log_path, double timeout_seconds) {
   ChildResult r;
+  throw_if_stopped();
   if (argv.empty()) {
     r.error = "no program";
     return r;
@@ -67,6 +101,9 @@ ChildResult run_child(const std::vector<std::string>& argv, const std::string& l
     return r;
   }
   r.started = true;
+  running_child = pid;
+  // A signal between the spawn and the line above found no child to kill.
+  if (stop_signal != 0) kill(-pid, SIGKILL);
 
   // A watchdog kills the group at the time limit. The child is waited for
   // without being reaped first (WNOWAIT), so its pid and group cannot be
@@ -99,6 +136,7 @@ ChildResult run_child(const std::vector<std::string>& argv, const std::string& l
   std::memset(&ru, 0, sizeof ru);
   while (wait4(pid, &status, 0, &ru) < 0 && errno == EINTR) {
   }
+  running_child = 0;
   r.cpu_seconds = ru.ru_utime.tv_sec + ru.ru_utime.tv_usec * 1e-6 + ru.ru_stime.tv_sec + ru.ru_stime.tv_usec * 1e-6;
   r.peak_rss_mib = ru.ru_maxrss / 1024.0;  // KiB on Linux
   if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);

@@ -4,6 +4,7 @@
 // failing third-party mesher cannot take `vdmesh compare` down.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,24 @@ std::string tail_of_file(const std::string& path, int max_lines = 6);
 
 // "status: the last lines | of the log" for a failed run.
 std::string failure_text(const ChildResult& r, const std::string& log_path, int max_lines = 4);
+
+// SIGINT, SIGTERM and SIGHUP from now on kill the running child's process
+// group at once and are remembered; the caller stops at its next
+// throw_if_stopped() and unwinds, so its temporary files go too. Without
+// this a Ctrl-C left TetGen running in its own group and the work folder
+// behind.
+void stop_children_on_signals();
+
+// Thrown by throw_if_stopped() once one of those signals came.
+class Stopped : public std::runtime_error {
+ public:
+  explicit Stopped(int signal);
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+void throw_if_stopped();
 
 // This program's own executable (/proc/self/exe), to run a part of it in a
 // child process.

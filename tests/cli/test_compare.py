@@ -5,14 +5,16 @@ TetGen failing (self-intersecting input, a crash, a timeout) still gives
 vdmesh's side."""
 import json
 import os
+import signal
 import stat
+import subprocess
 import time
 import xml.etree.ElementTree as ET
 
 import meshio
 import numpy as np
 
-from cli_support import check, data, finish, run, tmpdir
+from cli_support import BIN, check, data, finish, run, tmpdir
 from surface_shapes import icosphere, write_off
 from tet_angles import dihedral_angles
 
@@ -252,6 +254,44 @@ if report:
     check(not t["meshed"] and "timed out" in t["status"] and seconds < 60,
           "hang: TetGen stopped at the time limit (%s, compare took %.1f s)" % (t["status"], seconds))
     check(report["runs"][0]["vdmesh"]["passed_checks"], "hang: vdmesh's side reported")
+
+# Stopped by SIGTERM or Ctrl-C while TetGen runs: the TetGen process (in
+# its own process group) is killed, the temporary work folder is removed,
+# and the exit code is 128 + the signal. The fake TetGen records its pid
+# before it sleeps.
+for sig in (signal.SIGTERM, signal.SIGINT):
+    tmp = os.path.join(out, "stop-tmp-%d" % sig)
+    os.makedirs(tmp)
+    pidfile = os.path.join(out, "stop-%d.pid" % sig)
+    slow = fake_tetgen("slow-tetgen-%d" % sig, "echo $$ > '%s'; exec sleep 120" % pidfile)
+    env = dict(os.environ, TMPDIR=tmp)
+    p = subprocess.Popen([BIN, "compare", pyr, "--tetgen", slow, "--runs", "boundary", "--quiet"], env=env,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    t0 = time.time()
+    while not os.path.exists(pidfile) and time.time() - t0 < 300 and p.poll() is None:
+        time.sleep(0.1)
+    started = os.path.exists(pidfile)
+    time.sleep(0.3)  # the pid is written before exec: let sleep take its place
+    during = os.listdir(tmp)
+    p.send_signal(sig)
+    try:
+        _, err = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        _, err = p.communicate()
+    tetgen_pid = int(open(pidfile).read()) if started else 0
+    alive = False
+    if tetgen_pid:
+        try:
+            os.kill(tetgen_pid, 0)
+            alive = True
+        except ProcessLookupError:
+            pass
+    check(started and len(during) == 1, "signal %d: TetGen running, one work folder in TMPDIR (%s)" % (sig, during))
+    check(p.returncode == 128 + sig and "stopped by signal" in err,
+          "signal %d: exit %d and says so (%d: %s)" % (sig, 128 + sig, p.returncode, err.strip()[-200:]))
+    check(not alive, "signal %d: TetGen (pid %d) killed with compare" % (sig, tetgen_pid))
+    check(os.listdir(tmp) == [], "signal %d: work folder removed (%s)" % (sig, os.listdir(tmp)))
 
 missing = os.path.join(out, "no-such-tetgen")
 report, stdout, _, _ = compare("missing", pyr, "--tetgen", missing, "--runs", "boundary")
