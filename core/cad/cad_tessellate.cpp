@@ -14,7 +14,10 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Vertex.hxx>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <map>
 
 #include "cad/cad_impl.h"
 #include "mesh/error.h"
@@ -142,6 +145,47 @@ class Welder {
   std::vector<std::vector<int>> edge_nodes_;  // per edge, its inner nodes in parameter order
 };
 
+// A face that collapses to a curve somewhere (a sliver face of zero area at
+// a wing's tip, say) comes back from OpenCASCADE as pairs of triangles on the
+// same three nodes, one facing each way. Each pair covers nothing and uses
+// each of its edges once in each direction, so removing both keeps the
+// surface closed; kept, they were refused as degenerate or duplicate facets.
+// Only pairs within one face: two faces on the same nodes are a real
+// (unfused) interface and stay for validation to report.
+void drop_folded_pairs(CadSurface& s, TessellationStats& stats) {
+  std::map<std::array<int, 3>, std::vector<size_t>> by_nodes;
+  for (size_t i = 0; i < s.mesh.triangles.size(); ++i) {
+    std::array<int, 3> k = s.mesh.triangles[i].v;
+    std::sort(k.begin(), k.end());
+    by_nodes[k].push_back(i);
+  }
+  std::vector<char> drop(s.mesh.triangles.size(), 0);
+  auto reversed = [](const Triangle& a, const Triangle& b) {
+    for (int r = 0; r < 3; ++r)
+      if (a.v[0] == b.v[r] && a.v[1] == b.v[(r + 2) % 3] && a.v[2] == b.v[(r + 1) % 3]) return true;
+    return false;
+  };
+  for (const auto& [nodes, facets] : by_nodes) {
+    if (facets.size() != 2) continue;
+    const size_t a = facets[0], b = facets[1];
+    if (s.facet_face[a] != s.facet_face[b] || !reversed(s.mesh.triangles[a], s.mesh.triangles[b])) continue;
+    drop[a] = drop[b] = 1;
+    ++stats.dropped_folded;
+  }
+  if (!stats.dropped_folded) return;
+  size_t kept = 0;
+  for (size_t i = 0; i < drop.size(); ++i) {
+    if (drop[i]) continue;
+    s.mesh.triangles[kept] = s.mesh.triangles[i];
+    s.facet_face[kept] = s.facet_face[i];
+    s.uv[kept] = s.uv[i];
+    ++kept;
+  }
+  s.mesh.triangles.resize(kept);
+  s.facet_face.resize(kept);
+  s.uv.resize(kept);
+}
+
 }  // namespace
 
 CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double angle_rad, TessellationStats& stats) {
@@ -184,6 +228,7 @@ CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double
       out.uv.push_back(uv);
     }
   }
+  drop_folded_pairs(out, stats);
   for (size_t s = 0; s < cad.solids.size(); ++s)
     out.mesh.region_names[cad.solid_number[s]] = "Solid" + std::to_string(cad.solid_number[s]);
   for (size_t f = 0; f < cad.faces.size(); ++f)
