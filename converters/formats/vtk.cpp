@@ -16,7 +16,7 @@ using detail::Cursor;
 using detail::FileBytes;
 
 // A binary array's value type, looked up once per array.
-enum class Binary { Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float32, Float64, Unknown };
+using Binary = detail::ValueType;
 
 Binary binary_type(std::string_view type) {
   const std::string t = detail::to_lower(type);
@@ -31,16 +31,6 @@ Binary binary_type(std::string_view type) {
   if (t == "float") return Binary::Float32;
   if (t == "double") return Binary::Float64;
   return Binary::Unknown;
-}
-
-size_t binary_size(Binary t) {
-  switch (t) {
-    case Binary::Int8: case Binary::UInt8: return 1;
-    case Binary::Int16: case Binary::UInt16: return 2;
-    case Binary::Int32: case Binary::UInt32: case Binary::Float32: return 4;
-    case Binary::Unknown: return 0;
-    default: return 8;
-  }
 }
 
 // Reads the file in one pass straight into the mesh: the connectivity waits
@@ -111,7 +101,7 @@ void LegacyReader::values(uint64_t count, std::string_view type, Store store) {
     return;
   }
   const Binary bt = binary_type(type);
-  const size_t size = binary_size(bt);
+  const size_t size = detail::value_size(bt);
   if (size == 0) in_.fail("unsupported binary data type '" + std::string(type.substr(0, 40)) + "'");
   in_.skip_newline();
   if (count > in_.remaining() / size) in_.fail("file ends inside a data array of " + std::to_string(count) + " values");

@@ -3,6 +3,7 @@
 // programs it reads.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -13,6 +14,20 @@
 namespace vd::io::detail {
 
 constexpr int kVtkTriangle = 5, kVtkTet = 10, kVtkQuadraticTriangle = 22, kVtkQuadraticTet = 24;
+
+// A stored number's type; the two formats name them their own way.
+enum class ValueType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float32, Float64, Unknown };
+
+// Bytes per value; 0 for Unknown.
+inline size_t value_size(ValueType t) {
+  switch (t) {
+    case ValueType::Int8: case ValueType::UInt8: return 1;
+    case ValueType::Int16: case ValueType::UInt16: return 2;
+    case ValueType::Int32: case ValueType::UInt32: case ValueType::Float32: return 4;
+    case ValueType::Unknown: return 0;
+    default: return 8;
+  }
+}
 
 // Nodes of the cell types vdmesh keeps (tetrahedra and triangles, first and
 // second order); 0 for every other type.
