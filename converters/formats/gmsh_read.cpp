@@ -157,7 +157,9 @@ void MshReader::read_entities() {
 }
 
 void MshReader::add_node(uint64_t tag, Vec3 p) {
-  if (tag > uint64_t{INT64_MAX} || !nodes_.add(static_cast<int64_t>(tag), static_cast<int>(m_.points.size()))) in_.fail("node " + std::to_string(tag) + " appears twice");
+  if (tag > uint64_t{INT64_MAX}) in_.fail("node tag " + std::to_string(tag) + " is too large");
+  if (!nodes_.add(static_cast<int64_t>(tag), static_cast<int>(m_.points.size())))
+    in_.fail("node " + std::to_string(tag) + " appears twice");
   m_.points.push_back(p);
 }
 

@@ -54,13 +54,7 @@ class LegacyReader {
   void read_cells();
   void read_cell_types();
   void build_elements();
-  // What a cell data array sets.
-  struct Roles {
-    bool region = false, face = false, front = false, back = false;
-    bool any() const { return region || face || front || back; }
-  };
-  Roles roles_of(const std::string& name);
-  void put(const Roles& r, size_t cell, double value, size_t& tet, size_t& tri);
+  detail::VtkCellRoles roles_of(const std::string& name);
   // A cell data array: its values go to the tetrahedra or triangles.
   void cell_array(const std::string& name, uint64_t n, std::string_view type);
   void attributes(uint64_t n, bool cell_data);
@@ -75,7 +69,7 @@ class LegacyReader {
   std::vector<uint8_t> types_;             // per cell; 255 for types beyond 254
   bool have_cells_ = false, have_types_ = false, built_ = false;
   // Cell data read before CELL_TYPES, applied once the elements exist.
-  std::vector<std::pair<Roles, std::vector<double>>> pending_;
+  std::vector<std::pair<detail::VtkCellRoles, std::vector<double>>> pending_;
   // Which array set the region / face so far: a lower rank wins.
   int region_rank_ = 99, face_rank_ = 99;
 };
@@ -228,18 +222,12 @@ void LegacyReader::build_elements() {
   if (types_.size() != sizes_.size())
     in_.fail("CELL_TYPES has " + std::to_string(types_.size()) + " entries for " + std::to_string(sizes_.size()) +
              " cells");
-  size_t tets = 0, tets10 = 0, tris = 0, tris6 = 0;
-  for (uint8_t t : types_) {
-    tets += t == detail::kVtkTet || t == detail::kVtkQuadraticTet;
-    tets10 += t == detail::kVtkQuadraticTet;
-    tris += t == detail::kVtkTriangle || t == detail::kVtkQuadraticTriangle;
-    tris6 += t == detail::kVtkQuadraticTriangle;
-  }
-  if ((tets10 && tets10 != tets) || (tris6 && tris6 != tris)) in_.fail("first- and second-order cells of one kind are mixed");
-  m_.tets.reserve(tets);
-  m_.tet_mid.reserve(tets10);
-  m_.triangles.reserve(tris);
-  m_.triangle_mid.reserve(tris6);
+  const detail::VtkElementCounts counts(types_);
+  if (counts.mixed_order()) in_.fail("first- and second-order cells of one kind are mixed");
+  m_.tets.reserve(counts.tets);
+  m_.tet_mid.reserve(counts.tets10);
+  m_.triangles.reserve(counts.tris);
+  m_.triangle_mid.reserve(counts.tris6);
   size_t at = 0;
   for (size_t i = 0; i < types_.size(); ++i) {
     const int64_t k = sizes_[i] == 255 ? large_[i] : sizes_[i];
@@ -249,12 +237,12 @@ void LegacyReader::build_elements() {
       in_.fail("cell " + std::to_string(i) + " of type " + std::to_string(type) + " has " + std::to_string(k) +
                " nodes, not " + std::to_string(want));
     const int32_t* v = conn_.data() + at;
-    if (want >= 4 && want != 6) {
+    if (detail::vtk_is_tet(type)) {
       Tetrahedron t;
       t.v = {v[0], v[1], v[2], v[3]};
       m_.tets.push_back(t);
       if (want == 10) m_.tet_mid.push_back({v[4], v[5], v[6], v[7], v[8], v[9]});
-    } else if (want) {
+    } else if (detail::vtk_is_triangle(type)) {
       Triangle t;
       t.v = {v[0], v[1], v[2]};
       m_.triangles.push_back(t);
@@ -267,20 +255,20 @@ void LegacyReader::build_elements() {
   large_.clear();
   built_ = true;
   for (const auto& [roles, data] : pending_) {
-    size_t tet = 0, tri = 0;
-    for (size_t i = 0; i < data.size(); ++i) put(roles, i, data[i], tet, tri);
+    detail::VtkCellDataSink sink(m_, roles);
+    for (size_t i = 0; i < data.size(); ++i) sink.put(types_[i], data[i]);
   }
   pending_.clear();
 }
 
-LegacyReader::Roles LegacyReader::roles_of(const std::string& name) {
+detail::VtkCellRoles LegacyReader::roles_of(const std::string& name) {
   // "region" and "face" are vdmesh's own; a tag array of another program
   // stands in for both when they are missing.
   int tag_rank = 99;
   for (size_t r = 0; r < std::size(detail::kVtkTagArrays); ++r)
     if (name == detail::kVtkTagArrays[r]) tag_rank = 1 + static_cast<int>(r);
   const int region = name == "region" ? 0 : tag_rank, face = name == "face" ? 0 : tag_rank;
-  Roles r;
+  detail::VtkCellRoles r;
   if (region < region_rank_) r.region = true, region_rank_ = region;
   if (face < face_rank_) r.face = true, face_rank_ = face;
   r.front = name == "front";
@@ -288,28 +276,14 @@ LegacyReader::Roles LegacyReader::roles_of(const std::string& name) {
   return r;
 }
 
-void LegacyReader::put(const Roles& r, size_t cell, double value, size_t& tet, size_t& tri) {
-  const int v = value >= -2147483648.0 && value <= 2147483647.0 ? static_cast<int>(value) : kUnknownRegion;
-  const int type = types_[cell];
-  if (type == detail::kVtkTet || type == detail::kVtkQuadraticTet) {
-    if (r.region) m_.tets[tet].region = v;
-    ++tet;
-  } else if (type == detail::kVtkTriangle || type == detail::kVtkQuadraticTriangle) {
-    Triangle& t = m_.triangles[tri];
-    if (r.face) t.face = v < 0 ? kNoFace : v;
-    if (r.front) t.front = v;
-    if (r.back) t.back = v;
-    ++tri;
-  }
-}
-
 void LegacyReader::cell_array(const std::string& name, uint64_t n, std::string_view type) {
   const uint64_t cells = have_types_ ? types_.size() : sizes_.size();
-  const Roles roles = (have_cells_ || have_types_) && n == cells ? roles_of(name) : Roles{};
+  const detail::VtkCellRoles roles =
+      (have_cells_ || have_types_) && n == cells ? roles_of(name) : detail::VtkCellRoles{};
   if (!roles.any()) return skip_values(n, type);
   if (built_) {
-    size_t tet = 0, tri = 0;
-    values(n, type, [&](uint64_t i, double v) { put(roles, static_cast<size_t>(i), v, tet, tri); });
+    detail::VtkCellDataSink sink(m_, roles);
+    values(n, type, [&](uint64_t i, double v) { sink.put(types_[i], v); });
     return;
   }
   std::vector<double> data(static_cast<size_t>(n));

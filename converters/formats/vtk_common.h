@@ -35,9 +35,58 @@ inline int vtk_element_nodes(int type) {
   return type == kVtkTet ? 4 : type == kVtkQuadraticTet ? 10 : type == kVtkTriangle ? 3 : type == kVtkQuadraticTriangle ? 6 : 0;
 }
 
+inline bool vtk_is_tet(int type) { return type == kVtkTet || type == kVtkQuadraticTet; }
+inline bool vtk_is_triangle(int type) { return type == kVtkTriangle || type == kVtkQuadraticTriangle; }
+
+// The tetrahedra and triangles among cell types, first and second order.
+struct VtkElementCounts {
+  size_t tets = 0, tets10 = 0, tris = 0, tris6 = 0;
+  explicit VtkElementCounts(const std::vector<uint8_t>& types) {
+    for (uint8_t t : types) {
+      tets += vtk_is_tet(t);
+      tets10 += t == kVtkQuadraticTet;
+      tris += vtk_is_triangle(t);
+      tris6 += t == kVtkQuadraticTriangle;
+    }
+  }
+  // First- and second-order cells of one kind cannot share the mesh's arrays.
+  bool mixed_order() const { return (tets10 && tets10 != tets) || (tris6 && tris6 != tris); }
+};
+
 // Cell data arrays other programs write their tags in, in order of
 // preference; "region" and "face" win over them.
 constexpr const char* kVtkTagArrays[] = {"gmsh:physical", "CellEntityIds", "medit:ref", "cell_tags"};
+
+// What one cell data array sets: a tetrahedron's region, a triangle's face,
+// front or back.
+struct VtkCellRoles {
+  bool region = false, face = false, front = false, back = false;
+  bool any() const { return region || face || front || back; }
+};
+
+// Takes one cell data array's values in cell order and puts each into the
+// tetrahedron or triangle that cell became (other cells are skipped).
+class VtkCellDataSink {
+ public:
+  VtkCellDataSink(Mesh& m, VtkCellRoles roles) : m_(m), r_(roles) {}
+  void put(int type, double value) {
+    const int v = value >= -2147483648.0 && value <= 2147483647.0 ? static_cast<int>(value) : kUnknownRegion;
+    if (vtk_is_tet(type)) {
+      if (r_.region) m_.tets[tet_].region = v;
+      ++tet_;
+    } else if (vtk_is_triangle(type)) {
+      Triangle& t = m_.triangles[tri_++];
+      if (r_.face) t.face = v < 0 ? kNoFace : v;
+      if (r_.front) t.front = v;
+      if (r_.back) t.back = v;
+    }
+  }
+
+ private:
+  Mesh& m_;
+  VtkCellRoles r_;
+  size_t tet_ = 0, tri_ = 0;
+};
 
 // The cells of `m` as the writers emit them, tetrahedra then triangles, read
 // straight from the mesh: building the arrays first tripled a writer's peak

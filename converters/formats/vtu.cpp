@@ -587,20 +587,12 @@ void VtuReader::read_cells(const Tag& types, const Tag& offsets, const Tag& conn
     if (!fixed) varying[i] = count;
     previous = end;
   });
-  size_t tets = 0, tet10 = 0, tris = 0, tri6 = 0;
-  for (uint8_t t : types_) {
-    tets += t == detail::kVtkTet || t == detail::kVtkQuadraticTet;
-    tet10 += t == detail::kVtkQuadraticTet;
-    tris += t == detail::kVtkTriangle || t == detail::kVtkQuadraticTriangle;
-    tri6 += t == detail::kVtkQuadraticTriangle;
-  }
-  // Mixed first- and second-order cells cannot share the mesh's arrays.
-  if ((tet10 && tet10 != tets) || (tri6 && tri6 != tris))
-    fail(types.content, "first- and second-order cells of one kind are mixed");
-  m_.tets.resize(tets);
-  m_.tet_mid.resize(tet10);
-  m_.triangles.resize(tris);
-  m_.triangle_mid.resize(tri6);
+  const detail::VtkElementCounts counts(types_);
+  if (counts.mixed_order()) fail(types.content, "first- and second-order cells of one kind are mixed");
+  m_.tets.resize(counts.tets);
+  m_.tet_mid.resize(counts.tets10);
+  m_.triangles.resize(counts.tris);
+  m_.triangle_mid.resize(counts.tris6);
   const int np = static_cast<int>(m_.points.size());
   // The cell the next connectivity value belongs to, and where in it.
   uint64_t cell = 0;
@@ -621,16 +613,16 @@ void VtuReader::read_cells(const Tag& types, const Tag& offsets, const Tag& conn
                              ", which does not exist (" + std::to_string(np) + " points)");
     const int n = static_cast<int>(v);
     const int type = types_[cell];
-    if (type == detail::kVtkTet || type == detail::kVtkQuadraticTet) {
+    if (detail::vtk_is_tet(type)) {
       if (j < 4) m_.tets[tet].v[static_cast<size_t>(j)] = n;
       else m_.tet_mid[tet][static_cast<size_t>(j - 4)] = n;
-    } else if (type == detail::kVtkTriangle || type == detail::kVtkQuadraticTriangle) {
+    } else if (detail::vtk_is_triangle(type)) {
       if (j < 3) m_.triangles[tri].v[static_cast<size_t>(j)] = n;
       else m_.triangle_mid[tri][static_cast<size_t>(j - 3)] = n;
     }
     if (++j == k) {
-      tet += type == detail::kVtkTet || type == detail::kVtkQuadraticTet;
-      tri += type == detail::kVtkTriangle || type == detail::kVtkQuadraticTriangle;
+      tet += detail::vtk_is_tet(type);
+      tri += detail::vtk_is_triangle(type);
       ++cell;
       start_cell();
     }
@@ -655,29 +647,16 @@ void VtuReader::read_cell_data(const std::map<std::string, Tag>& arrays, uint64_
   const Tag* face = find({"face"});
   if (!region) region = tags;
   if (!face) face = tags;
-  auto as_int = [](double v) {
-    return v >= -2147483648.0 && v <= 2147483647.0 ? static_cast<int>(v) : kUnknownRegion;
-  };
-  // `set` takes a Tetrahedron or a Triangle: the cells it applies to.
-  auto apply = [&](const Tag* array, auto set) {
-    if (!array) return;
-    constexpr bool to_tets = std::is_invocable_v<decltype(set), Tetrahedron&, int>;
-    size_t tet = 0, tri = 0;
-    each_value(*array, ncells, [&](uint64_t i, double v) {
-      const int type = types_[i];
-      if (type == detail::kVtkTet || type == detail::kVtkQuadraticTet) {
-        if constexpr (to_tets) set(m_.tets[tet], as_int(v));
-        ++tet;
-      } else if (type == detail::kVtkTriangle || type == detail::kVtkQuadraticTriangle) {
-        if constexpr (!to_tets) set(m_.triangles[tri], as_int(v));
-        ++tri;
-      }
-    });
-  };
-  apply(region, [](Tetrahedron& t, int v) { t.region = v; });
-  apply(face, [](Triangle& t, int v) { t.face = v < 0 ? kNoFace : v; });
-  apply(find({"front"}), [](Triangle& t, int v) { t.front = v; });
-  apply(find({"back"}), [](Triangle& t, int v) { t.back = v; });
+  // One pass per array, whatever it sets (a tag array may set region and face).
+  std::map<const Tag*, detail::VtkCellRoles> roles;
+  if (region) roles[region].region = true;
+  if (face) roles[face].face = true;
+  if (const Tag* front = find({"front"})) roles[front].front = true;
+  if (const Tag* back = find({"back"})) roles[back].back = true;
+  for (const auto& [array, r] : roles) {
+    detail::VtkCellDataSink sink(m_, r);
+    each_value(*array, ncells, [&](uint64_t i, double v) { sink.put(types_[i], v); });
+  }
 }
 
 Mesh VtuReader::read() {
