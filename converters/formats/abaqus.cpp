@@ -329,7 +329,7 @@ void InpReader::elements(const Keyword& k) {
     if (tet) {
       if (id < 0) fail("element number " + std::to_string(id) + " is negative");
       if (!tet_index_.add(id, static_cast<int>(m_.tets.size()))) fail("element " + std::to_string(id) + " appears twice");
-      if ((nodes == 10) != !m_.tet_mid.empty() && !m_.tets.empty()) fail("C3D4 and C3D10 elements are mixed");
+      if (!m_.tets.empty() && (nodes == 10) != !m_.tet_mid.empty()) fail("C3D4 and C3D10 elements are mixed");
       Tetrahedron t;
       t.v = {v[0], v[1], v[2], v[3]};
       t.region = set_index;
@@ -415,13 +415,7 @@ Mesh InpReader::read() {
       }
     }
   const bool mids = !m_.tet_mid.empty();
-  detail::sort_in_place(
-      m_.tets.size(), [&](size_t i) { return tet_ids_[i]; },
-      [&](size_t i, size_t j) {
-        tet_ids_.swap_items(i, j);
-        std::swap(m_.tets[i], m_.tets[j]);
-        if (mids) std::swap(m_.tet_mid[i], m_.tet_mid[j]);
-      });
+  detail::sort_tets_by_number(tet_ids_, m_.tets, m_.tet_mid);
   for (size_t i = 0; i < m_.tets.size(); ++i) tet_index_.set(static_cast<int64_t>(tet_ids_[i]), static_cast<int>(i));
   tet_ids_ = {};
   std::vector<int> region_of_set(set_names_.size(), 0);  // 0: not numbered yet

@@ -329,14 +329,7 @@ void MshReader::finish() {
         std::swap(m_.triangles[i], m_.triangles[j]);
         if (tri_mids) std::swap(m_.triangle_mid[i], m_.triangle_mid[j]);
       });
-  const bool tet_mids = m_.tet_mid.size() == m_.tets.size();
-  sort_in_place(
-      tet_tags_.size(), [&](size_t i) { return tet_tags_[i]; },
-      [&](size_t i, size_t j) {
-        tet_tags_.swap_items(i, j);
-        std::swap(m_.tets[i], m_.tets[j]);
-        if (tet_mids) std::swap(m_.tet_mid[i], m_.tet_mid[j]);
-      });
+  sort_tets_by_number(tet_tags_, m_.tets, m_.tet_mid);
   tet_tags_ = {};
   // An element's tag: its physical group, else its geometrical entity.
   auto physical_of = [&](int entity, const std::map<int, Entity>& entities) {

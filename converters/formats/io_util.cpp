@@ -487,6 +487,17 @@ void sides_from_tets(Mesh& m) {
   }
 }
 
+void sort_tets_by_number(TagList& numbers, std::vector<Tetrahedron>& tets, std::vector<TetMidNodes>& mids) {
+  const bool with_mids = mids.size() == tets.size();
+  sort_in_place(
+      tets.size(), [&](size_t i) { return numbers[i]; },
+      [&](size_t i, size_t j) {
+        numbers.swap_items(i, j);
+        std::swap(tets[i], tets[j]);
+        if (with_mids) std::swap(mids[i], mids[j]);
+      });
+}
+
 std::vector<int> region_ids(const Mesh& m) {
   std::set<int> s;
   for (const Tetrahedron& t : m.tets) s.insert(t.region);

@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <map>
 
 #include "cad/cad_impl.h"
 #include "mesh/error.h"
@@ -153,24 +152,28 @@ class Welder {
 // Only pairs within one face: two faces on the same nodes are a real
 // (unfused) interface and stay for validation to report.
 void drop_folded_pairs(CadSurface& s, TessellationStats& stats) {
-  std::map<std::array<int, 3>, std::vector<size_t>> by_nodes;
-  for (size_t i = 0; i < s.mesh.triangles.size(); ++i) {
-    std::array<int, 3> k = s.mesh.triangles[i].v;
-    std::sort(k.begin(), k.end());
-    by_nodes[k].push_back(i);
+  std::vector<std::pair<std::array<int, 3>, size_t>> by_nodes(s.mesh.triangles.size());
+  for (size_t i = 0; i < by_nodes.size(); ++i) {
+    by_nodes[i] = {s.mesh.triangles[i].v, i};
+    std::sort(by_nodes[i].first.begin(), by_nodes[i].first.end());
   }
+  std::sort(by_nodes.begin(), by_nodes.end());
   std::vector<char> drop(s.mesh.triangles.size(), 0);
   auto reversed = [](const Triangle& a, const Triangle& b) {
     for (int r = 0; r < 3; ++r)
       if (a.v[0] == b.v[r] && a.v[1] == b.v[(r + 2) % 3] && a.v[2] == b.v[(r + 1) % 3]) return true;
     return false;
   };
-  for (const auto& [nodes, facets] : by_nodes) {
-    if (facets.size() != 2) continue;
-    const size_t a = facets[0], b = facets[1];
-    if (s.facet_face[a] != s.facet_face[b] || !reversed(s.mesh.triangles[a], s.mesh.triangles[b])) continue;
-    drop[a] = drop[b] = 1;
-    ++stats.dropped_folded;
+  for (size_t g = 0; g < by_nodes.size();) {
+    size_t end = g + 1;
+    while (end < by_nodes.size() && by_nodes[end].first == by_nodes[g].first) ++end;
+    // Exactly two facets on these nodes, of one face, facing away from each other.
+    const size_t a = by_nodes[g].second, b = end - g == 2 ? by_nodes[g + 1].second : a;
+    if (a != b && s.facet_face[a] == s.facet_face[b] && reversed(s.mesh.triangles[a], s.mesh.triangles[b])) {
+      drop[a] = drop[b] = 1;
+      ++stats.dropped_folded;
+    }
+    g = end;
   }
   if (!stats.dropped_folded) return;
   size_t kept = 0;
