@@ -86,6 +86,10 @@ inline std::uint64_t edge_key(int a, int b) {
 // cad_tessellate.cpp: OpenCASCADE's mesher, welded through the shared edge
 // discretisation, tagged and oriented.
 CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double angle_rad, TessellationStats& stats);
+// cad_collapse.cpp: edges shorter than `max_length` collapsed where the
+// geometry allows (inner nodes onto a neighbour, edge nodes along their CAD
+// edge); the removed vertices are dropped. Returns the number collapsed.
+int collapse_short_edges(CadSurface& s, double max_length);
 // cad_refine.cpp: edge splits to the size on the CAD geometry, then flips.
 void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats);
 

@@ -27,6 +27,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   cad.refine_splits = stats.refine_splits;
   cad.refine_flips = stats.refine_flips;
   cad.border_splits = stats.border_splits;
+  cad.collapsed_edges = stats.collapsed_edges;
   cad.surface_facets = static_cast<int>(surface.triangles.size());
   const std::vector<std::pair<std::string, double>> cad_seconds = {
       {"read CAD", model.seconds_read},

@@ -49,6 +49,8 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   stats.deflection = deflection;
   try {
     CadSurface s = tessellate_faces(*impl_, deflection, options.angle_deg * M_PI / 180.0, stats);
+    // Far below the chord height: the move is lost in the tessellation's own error.
+    stats.collapsed_edges = collapse_short_edges(s, std::min(0.1 * deflection, 0.01 * stats.size));
     if (options.refine) refine_to_size(*impl_, s, stats.size, options.flips, stats);
     if (stats_out) *stats_out = stats;
     return std::move(s.mesh);

@@ -60,7 +60,7 @@ struct CadInputReport {
   double size = 0;                 // edge length of the tessellation and the interior
   bool size_chosen = false;        // from the part's dimensions (no --size)
   double deflection = 0;           // chord height of the face tessellation
-  int occ_triangles = 0, refine_splits = 0, refine_flips = 0, border_splits = 0, surface_facets = 0;
+  int occ_triangles = 0, refine_splits = 0, refine_flips = 0, border_splits = 0, collapsed_edges = 0, surface_facets = 0;
   std::vector<ReferenceMeasure> volumes, areas;
 };
 

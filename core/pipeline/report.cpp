@@ -106,7 +106,7 @@ std::string report_json(const MeshReport& r) {
       << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << exact(c.deflection)
       << ", \"occ_triangles\": " << c.occ_triangles
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
-      << ", \"border_splits\": " << c.border_splits
+      << ", \"border_splits\": " << c.border_splits << ", \"collapsed_edges\": " << c.collapsed_edges
       << ", \"surface_facets\": " << c.surface_facets << ",\n    \"volumes\": " << measures(c.volumes)
       << ",\n    \"areas\": " << measures(c.areas) << "},\n";
   }
@@ -133,6 +133,7 @@ std::string report_table(const MeshReport& r) {
     row("size", num(c.size) + (c.size_chosen ? " (chosen: bounding box diagonal / 25)" : " (given)") +
                     ", chord height " + num(c.deflection));
     row("tessellation", std::to_string(c.occ_triangles) + " OpenCASCADE triangles, " +
+                            std::to_string(c.collapsed_edges) + " short edges collapsed, " +
                             std::to_string(c.refine_splits) + " splits, " + std::to_string(c.refine_flips) +
                             " flips, " + std::to_string(c.border_splits) + " border slivers split -> " + std::to_string(c.surface_facets) + " facets");
     double worst = 0;

@@ -179,7 +179,8 @@ if code == 0:
 # Real files from the shared data.
 for rel, solids, interfaces in (("cad-assembly/gmsh_wing_fuselage.step", 2, 1),
                                 ("cad-assembly/occt_MODERN_Exhaust_1.brep", 3, 2),
-                                ("cad-part/gmsh_part.step", 1, 0)):
+                                ("cad-part/gmsh_part.step", 1, 0),
+                                ("cad-part/kicad_CP_Radial_D10.0mm.step", 1, 0)):
     path = data(rel)
     if not path:
         continue
@@ -189,6 +190,28 @@ for rel, solids, interfaces in (("cad-assembly/gmsh_wing_fuselage.step", 2, 1),
         check(rep["cad"]["solids"] == solids and rep["cad"]["interface_faces"] == interfaces,
               "%s: %d solids, %d interfaces (%d, %d)" % (rel, solids, interfaces, rep["cad"]["solids"], rep["cad"]["interface_faces"]))
         check_mesh(target, rep, rel)
+
+# OpenCASCADE puts 31 inner nodes of the capacitor's fillets 4e-6 to 2.5e-5
+# from border nodes (median edge 0.5); recovery failed at them (exit 4) until
+# edges under a tenth of the chord height were collapsed. The surface it
+# starts from has no such edge left.
+cap = data("cad-part/kicad_CP_Radial_D10.0mm.step")
+if cap:
+    surface = os.path.join(out, "cap.off")
+    code, _, err = run("convert", cap, surface)
+    check(code == 0, "capacitor: surface written (exit %d: %s)" % (code, err.strip()[:200]))
+    if code == 0:
+        import meshio
+        s = meshio.read(surface)
+        tri = s.cells_dict["triangle"]
+        edges = np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1), axis=0)
+        length = np.linalg.norm(s.points[edges[:, 0]] - s.points[edges[:, 1]], axis=1)
+        check(length.min() > 1e-3 * np.median(length),
+              "capacitor: shortest surface edge %.3g, median %.3g (was 3.6e-6 before the collapse)"
+              % (length.min(), np.median(length)))
+    code, rep, _, err = mesh(cap, "--quiet", "--no-interior")
+    check(code == 0 and rep["cad"]["collapsed_edges"] >= 31,
+          "capacitor: %s short edges collapsed (exit %d)" % (rep["cad"]["collapsed_edges"] if rep else "?", code))
 
 # A face of zero area (the nose of gmsh_simple_plane.brep) comes back from
 # OpenCASCADE as pairs of triangles on the same collinear nodes, facing away

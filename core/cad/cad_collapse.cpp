@@ -1,0 +1,267 @@
+// OpenCASCADE's mesher sometimes puts a node a hair away from another one:
+// on kicad_CP_Radial_D10.0mm.step 31 inner nodes of two fillet faces sit
+// 4e-6 to 2.5e-5 from border nodes (the median edge is 0.5), and their
+// triangles have angles of 0.0004 degrees. No split ever makes such a facet
+// Delaunay: every mid-point lands next to the same pair of points, and
+// recovery stopped with 117,592 facets missing, all of them at those nodes.
+// Collapsing edges far below the chord height moves the surface by less than
+// the tessellation's own error, so it is done before anything else.
+//
+// A vertex is removed only onto a neighbour it can move to without leaving
+// its geometry: a face's inner node onto any neighbour in that face, a node
+// inside a CAD edge onto its neighbour along the same edge. CAD vertices,
+// poles and apexes stay.
+#include <algorithm>
+#include <cmath>
+
+#include "cad/cad_impl.h"
+
+namespace vd::cad {
+namespace {
+
+enum class Kind { inner = 0, on_edge = 1, fixed = 2 };
+
+double orient2d(const gp_Pnt2d& a, const gp_Pnt2d& b, const gp_Pnt2d& c) {
+  return (b.X() - a.X()) * (c.Y() - a.Y()) - (b.Y() - a.Y()) * (c.X() - a.X());
+}
+
+int corner_of(const Triangle& t, int v) {
+  for (int i = 0; i < 3; ++i)
+    if (t.v[i] == v) return i;
+  return -1;
+}
+
+class Collapser {
+ public:
+  explicit Collapser(CadSurface& s) : s_(s) {
+    const Mesh& m = s.mesh;
+    const size_t n = m.points.size();
+    facets_of_.resize(n);
+    for (size_t f = 0; f < m.triangles.size(); ++f)
+      for (int v : m.triangles[f].v) facets_of_[v].push_back(static_cast<int>(f));
+    dead_.assign(m.triangles.size(), 0);
+    removed_.assign(n, 0);
+    classify();
+  }
+
+  // Collapses edges shorter than `max_length`, shortest first, in passes
+  // until none is left that may go. Returns the number collapsed.
+  int run(double max_length) {
+    int total = 0;
+    for (int pass = 0; pass < 8; ++pass) {
+      int done = 0;
+      for (const auto& [length, key] : short_edges(max_length)) {
+        const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+        if (removed_[a] || removed_[b]) continue;
+        const bool a_first = kind_[a] <= kind_[b];
+        if (collapse(a_first ? a : b, a_first ? b : a) || collapse(a_first ? b : a, a_first ? a : b)) ++done;
+      }
+      total += done;
+      if (done == 0) break;
+    }
+    if (total) compact();
+    return total;
+  }
+
+ private:
+  void classify() {
+    const Mesh& m = s_.mesh;
+    const size_t n = m.points.size();
+    kind_.assign(n, Kind::inner);
+    cad_edge_.assign(n, -1);
+    std::vector<int> spans(n, 0);
+    for (const auto& [key, span] : s_.edge_spans)
+      for (const int v : {static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu)}) {
+        ++spans[v];
+        if (cad_edge_[v] < 0) cad_edge_[v] = span.edge;
+        else if (cad_edge_[v] != span.edge) kind_[v] = Kind::fixed;  // where CAD edges meet
+      }
+    for (size_t v = 0; v < n; ++v) {
+      if (kind_[v] == Kind::fixed) continue;
+      if (s_.singular.count(static_cast<int>(v))) kind_[v] = Kind::fixed;
+      else if (spans[v] == 2) kind_[v] = Kind::on_edge;
+      else if (spans[v] != 0) kind_[v] = Kind::fixed;  // an edge's end
+      else {
+        // No CAD edge through it, yet facets of two faces: a border without
+        // parameters. Leave it.
+        for (int f : facets_of_[v])
+          if (s_.facet_face[f] != s_.facet_face[facets_of_[v][0]]) kind_[v] = Kind::fixed;
+      }
+    }
+  }
+
+  std::vector<std::pair<double, std::uint64_t>> short_edges(double max_length) const {
+    const Mesh& m = s_.mesh;
+    std::vector<std::pair<double, std::uint64_t>> out;
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+      if (dead_[f]) continue;
+      for (int i = 0; i < 3; ++i) {
+        const int a = m.triangles[f].v[i], b = m.triangles[f].v[(i + 1) % 3];
+        const double l = norm(m.points[a] - m.points[b]);
+        if (l < max_length) out.emplace_back(l, edge_key(a, b));
+      }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  std::vector<int> neighbours(int v) const {
+    std::vector<int> out;
+    for (int f : facets_of_[v])
+      for (int x : s_.mesh.triangles[f].v)
+        if (x != v) out.push_back(x);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  // The parameter of vertex v on span `e` between v and another vertex.
+  static double t_at(const CadEdgeSpan& e, int v, int other) { return v < other ? e.t_lo : e.t_hi; }
+
+  // Moves u onto w; false (nothing changed) when u may not go there or the
+  // result would fold or turn a facet.
+  bool collapse(int u, int w) {
+    if (kind_[u] == Kind::fixed) return false;
+    Mesh& m = s_.mesh;
+    std::vector<int> shared, others;
+    for (int f : facets_of_[u]) (corner_of(m.triangles[f], w) >= 0 ? shared : others).push_back(f);
+    if (shared.empty()) return false;
+
+    // Along a CAD edge only, and only where the edge's parameter runs on
+    // through u (a closed curve's start and end meet at its one vertex).
+    CadEdgeSpan span_uw, span_xu;
+    int x = -1;
+    if (kind_[u] == Kind::on_edge) {
+      const auto it = s_.edge_spans.find(edge_key(u, w));
+      if (it == s_.edge_spans.end() || it->second.edge != cad_edge_[u]) return false;
+      span_uw = it->second;
+      for (int y : neighbours(u)) {
+        if (y == w) continue;
+        const auto jt = s_.edge_spans.find(edge_key(u, y));
+        if (jt != s_.edge_spans.end()) x = y, span_xu = jt->second;
+      }
+      if (x < 0 || t_at(span_xu, u, x) != t_at(span_uw, u, w)) return false;
+    }
+
+    // Link condition: u and w have no common neighbour but the third
+    // corners of their shared facets, or the surface would pinch.
+    std::vector<int> apexes;
+    for (int f : shared)
+      for (int y : m.triangles[f].v)
+        if (y != u && y != w) apexes.push_back(y);
+    std::sort(apexes.begin(), apexes.end());
+    apexes.erase(std::unique(apexes.begin(), apexes.end()), apexes.end());
+    const std::vector<int> nu = neighbours(u), nw = neighbours(w);
+    std::vector<int> common;
+    std::set_intersection(nu.begin(), nu.end(), nw.begin(), nw.end(), std::back_inserter(common));
+    if (common != apexes) return false;
+
+    // Every remaining facet keeps its orientation, in space (turning by at
+    // most 30 degrees) and in its face's (u, v).
+    const double cos_turn = std::cos(30.0 * M_PI / 180.0);
+    std::vector<gp_Pnt2d> uv_w(others.size());
+    for (size_t k = 0; k < others.size(); ++k) {
+      const int f = others[k];
+      const Triangle& t = m.triangles[f];
+      const int c = corner_of(t, u);
+      std::array<int, 3> v = t.v;
+      const Vec3 before = cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
+      v[c] = w;
+      const Vec3 after = cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
+      const double nb = norm(before), na = norm(after);
+      if (!(na > 0) || !(nb > 0) || dot(before, after) < cos_turn * na * nb) return false;
+      // w's (u, v) in this face: from a shared facet of the same face, the
+      // one nearest u's (u, v) here (the same side of a seam).
+      bool found = false;
+      double best = 0;
+      for (int g : shared) {
+        if (s_.facet_face[g] != s_.facet_face[f]) continue;
+        const gp_Pnt2d cand = s_.uv[g][corner_of(m.triangles[g], w)];
+        const double d = cand.SquareDistance(s_.uv[f][c]);
+        if (!found || d < best) found = true, best = d, uv_w[k] = cand;
+      }
+      if (!found) return false;
+      auto uv = s_.uv[f];
+      const double o_before = orient2d(uv[0], uv[1], uv[2]);
+      uv[c] = uv_w[k];
+      if (!(o_before * orient2d(uv[0], uv[1], uv[2]) > 0)) return false;
+    }
+
+    for (int f : shared) {
+      dead_[f] = 1;
+      for (int y : m.triangles[f].v) {
+        auto& list = facets_of_[y];
+        list.erase(std::remove(list.begin(), list.end(), f), list.end());
+      }
+    }
+    for (size_t k = 0; k < others.size(); ++k) {
+      const int f = others[k];
+      const int c = corner_of(m.triangles[f], u);
+      m.triangles[f].v[c] = w;
+      s_.uv[f][c] = uv_w[k];
+      facets_of_[w].push_back(f);
+    }
+    facets_of_[u].clear();
+    removed_[u] = 1;
+    if (x >= 0) {
+      const double t_x = t_at(span_xu, x, u), t_w = t_at(span_uw, w, u);
+      s_.edge_spans.erase(edge_key(u, w));
+      s_.edge_spans.erase(edge_key(u, x));
+      s_.edge_spans[edge_key(x, w)] = x < w ? CadEdgeSpan{span_uw.edge, t_x, t_w} : CadEdgeSpan{span_uw.edge, t_w, t_x};
+    }
+    return true;
+  }
+
+  // Drops the dead facets and the removed vertices, renumbering the rest.
+  void compact() {
+    Mesh& m = s_.mesh;
+    std::vector<int> id(m.points.size(), -1);
+    int next = 0;
+    for (size_t v = 0; v < m.points.size(); ++v)
+      if (!removed_[v]) {
+        id[v] = next;
+        m.points[next] = m.points[v];
+        if (!m.point_size.empty()) m.point_size[next] = m.point_size[v];
+        ++next;
+      }
+    m.points.resize(next);
+    if (!m.point_size.empty()) m.point_size.resize(next);
+    size_t kept = 0;
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+      if (dead_[f]) continue;
+      Triangle t = m.triangles[f];
+      for (int& v : t.v) v = id[v];
+      m.triangles[kept] = t;
+      s_.uv[kept] = s_.uv[f];
+      s_.facet_face[kept] = s_.facet_face[f];
+      ++kept;
+    }
+    m.triangles.resize(kept);
+    s_.uv.resize(kept);
+    s_.facet_face.resize(kept);
+    std::unordered_map<std::uint64_t, CadEdgeSpan> spans;
+    spans.reserve(s_.edge_spans.size());
+    for (const auto& [key, span] : s_.edge_spans) {
+      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+      // Renumbering keeps the order of ids, so t_lo stays with the lower one.
+      spans[edge_key(id[a], id[b])] = span;
+    }
+    s_.edge_spans = std::move(spans);
+    std::unordered_set<int> singular;
+    for (int v : s_.singular) singular.insert(id[v]);
+    s_.singular = std::move(singular);
+  }
+
+  CadSurface& s_;
+  std::vector<std::vector<int>> facets_of_;
+  std::vector<char> dead_, removed_;
+  std::vector<Kind> kind_;
+  std::vector<int> cad_edge_;  // the CAD edge of an on_edge vertex
+};
+
+}  // namespace
+
+int collapse_short_edges(CadSurface& s, double max_length) { return Collapser(s).run(max_length); }
+
+}  // namespace vd::cad
