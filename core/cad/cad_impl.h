@@ -12,6 +12,8 @@
 #include <TopLoc_Location.hxx>
 #include <gp_Pnt.hxx>
 #include <gp_Pnt2d.hxx>
+#include <Message_ProgressIndicator.hxx>
+#include <Message_ProgressRange.hxx>
 
 #include <array>
 #include <cstdint>
@@ -22,6 +24,7 @@
 #include <vector>
 
 #include "cad/cad_model.h"
+#include "mesh/cancel.h"
 
 namespace vd::cad {
 
@@ -38,6 +41,32 @@ struct CadModel::Impl {
   double diagonal = 0;
 
   int index_of_face_number(int number) const;
+};
+
+// OpenCASCADE's long algorithms (STEP and IGES transfer, sewing, the general
+// fuse, BRepMesh) ask their progress indicator whether to stop. This one
+// answers from vdmesh's cancel flag, so that a fuse of a minute stops when
+// the Python caller presses Ctrl-C. The algorithms return early, with their
+// own errors set; the caller calls check() before looking at them.
+class OccCancel {
+ public:
+  explicit OccCancel(const std::atomic<bool>* cancel) : cancel_(cancel), indicator_(new Indicator(cancel)) {}
+  // A fresh range for one algorithm (the indicator is restarted).
+  Message_ProgressRange range() { return indicator_->Start(); }
+  void check() const { throw_if_cancelled(cancel_); }
+
+ private:
+  class Indicator : public Message_ProgressIndicator {
+   public:
+    explicit Indicator(const std::atomic<bool>* cancel) : cancel_(cancel) {}
+    Standard_Boolean UserBreak() override { return cancel_requested(cancel_); }
+    void Show(const Message_ProgressScope&, const Standard_Boolean) override {}
+
+   private:
+    const std::atomic<bool>* cancel_;
+  };
+  const std::atomic<bool>* cancel_;
+  Handle(Indicator) indicator_;
 };
 
 inline Vec3 to_vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
@@ -85,12 +114,14 @@ inline std::uint64_t edge_key(int a, int b) {
 
 // cad_tessellate.cpp: OpenCASCADE's mesher, welded through the shared edge
 // discretisation, tagged and oriented.
-CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double angle_rad, TessellationStats& stats);
+CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double angle_rad, TessellationStats& stats,
+                            const std::atomic<bool>* cancel = nullptr);
 // cad_collapse.cpp: edges shorter than `max_length` collapsed where the
 // geometry allows (inner nodes onto a neighbour, edge nodes along their CAD
 // edge); the removed vertices are dropped. Returns the number collapsed.
 int collapse_short_edges(CadSurface& s, double max_length);
 // cad_refine.cpp: edge splits to the size on the CAD geometry, then flips.
-void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats);
+void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats,
+                    const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace vd::cad

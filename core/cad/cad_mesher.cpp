@@ -6,6 +6,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   if (options.mesh.progress) options.mesh.progress("tessellate CAD faces");
   TessellationOptions topt = options.tessellation;
   topt.size = options.mesh.size.uniform;
+  topt.cancel = options.mesh.cancel;
   TessellationStats stats;
   const Mesh surface = model.tessellate(topt, &stats);
 

@@ -9,6 +9,7 @@
 // input sub-shape it came from (README, "CAD input").
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@ struct TessellationOptions {
   double angle_deg = 20;        // angular deflection of OpenCASCADE's mesher
   bool refine = true;           // split edges longer than `size`, new vertices on the CAD geometry
   bool flips = true;            // improve triangle shape by flips inside each face
+  const std::atomic<bool>* cancel = nullptr;  // raised: stop with CancelledError (mesh/cancel.h)
 };
 
 struct TessellationStats {
@@ -48,9 +50,12 @@ class CadModel {
   // Reads a .step/.stp, .iges/.igs or .brep/.brp file (case-insensitive) and
   // fuses touching solids. Throws InputError naming the file and, for open
   // shells or shapes without solids, the shape.
-  static CadModel read(const std::string& path);
+  // A raised `cancel` flag stops the transfer, sewing and fuse within a
+  // fraction of a second (CancelledError); parsing the file does not look.
+  static CadModel read(const std::string& path, const std::atomic<bool>* cancel = nullptr);
   // A BREP in memory (the Python module and FreeCAD hand shapes over this way).
-  static CadModel from_brep_string(const std::string& brep, const std::string& name = "<brep>");
+  static CadModel from_brep_string(const std::string& brep, const std::string& name = "<brep>",
+                                   const std::atomic<bool>* cancel = nullptr);
   static bool is_cad_file(const std::string& path);
 
   CadModel(CadModel&&) noexcept;

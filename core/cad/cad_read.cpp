@@ -44,7 +44,7 @@ std::string lower_extension(const std::string& path) {
 }
 
 
-TopoDS_Shape read_file(const std::string& path, std::string& units) {
+TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& cancel) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
   if (std::filesystem::file_size(path, ec) == 0) throw InputError(path + ": empty file");
@@ -54,19 +54,25 @@ TopoDS_Shape read_file(const std::string& path, std::string& units) {
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
       throw InputError(path + ": not a readable STEP file (OpenCASCADE's STEP reader failed)");
-    if (reader.TransferRoots() == 0) throw InputError(path + ": the STEP file has no shape to transfer");
+    const int roots = reader.TransferRoots(cancel.range());
+    cancel.check();
+    if (roots == 0) throw InputError(path + ": the STEP file has no shape to transfer");
     shape = reader.OneShape();
     units = "mm";  // OpenCASCADE converts STEP lengths to millimetres
   } else if (ext == ".iges" || ext == ".igs") {
     IGESControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
       throw InputError(path + ": not a readable IGES file (OpenCASCADE's IGES reader failed)");
-    if (reader.TransferRoots() == 0) throw InputError(path + ": the IGES file has no shape to transfer");
+    const int roots = reader.TransferRoots(cancel.range());
+    cancel.check();
+    if (roots == 0) throw InputError(path + ": the IGES file has no shape to transfer");
     shape = reader.OneShape();
     units = "mm";
   } else if (ext == ".brep" || ext == ".brp") {
     BRep_Builder builder;
-    if (!BRepTools::Read(shape, path.c_str(), builder))
+    const bool read = BRepTools::Read(shape, path.c_str(), builder, cancel.range());
+    cancel.check();
+    if (!read)
       throw InputError(path + ": not a readable BREP file (OpenCASCADE's BREP reader failed)");
     units = "as given (BREP has no units)";
   } else {
@@ -92,13 +98,14 @@ int free_edges(const TopoDS_Shape& solid) {
 }
 
 // Surfaces only (IGES often): sew them; closed shells become solids.
-TopoDS_Shape solids_from_faces(const TopoDS_Shape& shape, const std::string& path, int nfaces) {
+TopoDS_Shape solids_from_faces(const TopoDS_Shape& shape, const std::string& path, int nfaces, OccCancel& cancel) {
   Bnd_Box box;
   BRepBndLib::Add(shape, box);
   const double diag = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
   BRepBuilderAPI_Sewing sewing(1e-6 * diag);
   for (TopExp_Explorer f(shape, TopAbs_FACE); f.More(); f.Next()) sewing.Add(f.Current());
-  sewing.Perform();
+  sewing.Perform(cancel.range());
+  cancel.check();
   const TopoDS_Shape sewn = sewing.SewedShape();
   TopoDS_Compound solids;
   BRep_Builder builder;
@@ -176,7 +183,7 @@ void number_subshapes(const TopoDS_Shape& input, const TopoDS_Shape& result, Top
 }
 
 std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::string& name, std::string units,
-                                            double& seconds_fuse) {
+                                            double& seconds_fuse, OccCancel& cancel) {
   auto impl = std::make_unique<CadModel::Impl>();
   impl->name = name;
   impl->units = std::move(units);
@@ -186,7 +193,7 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
     TopTools_IndexedMapOfShape faces;
     TopExp::MapShapes(input, TopAbs_FACE, faces);
     if (faces.Extent() == 0) throw InputError(name + ": the shape has no faces and no solids");
-    input = solids_from_faces(input, name, faces.Extent());
+    input = solids_from_faces(input, name, faces.Extent(), cancel);
     TopExp::MapShapes(input, TopAbs_SOLID, solids);
   }
   for (int i = 1; i <= solids.Extent(); ++i) {
@@ -207,7 +214,8 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
     fuse->SetArguments(arguments);
     fuse->SetRunParallel(false);
     fuse->SetNonDestructive(true);
-    fuse->Build();
+    fuse->Build(cancel.range());
+    cancel.check();  // before the errors: a stopped fuse reports one
     if (fuse->HasErrors() || !fuse->IsDone()) {
       std::ostringstream report;
       fuse->DumpErrors(report);
@@ -244,14 +252,15 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
 
 }  // namespace
 
-CadModel CadModel::read(const std::string& path) {
+CadModel CadModel::read(const std::string& path, const std::atomic<bool>* cancel_flag) {
   const auto t0 = Clock::now();
+  OccCancel cancel(cancel_flag);
   try {
     std::string units;
-    TopoDS_Shape shape = read_file(path, units);
+    TopoDS_Shape shape = read_file(path, units, cancel);
     const double seconds_read = std::chrono::duration<double>(Clock::now() - t0).count();
     double seconds_fuse = 0;
-    CadModel model(build_model(shape, path, units, seconds_fuse));
+    CadModel model(build_model(shape, path, units, seconds_fuse, cancel));
     model.seconds_read = seconds_read;
     model.seconds_fuse = seconds_fuse;
     return model;
@@ -260,15 +269,18 @@ CadModel CadModel::read(const std::string& path) {
   }
 }
 
-CadModel CadModel::from_brep_string(const std::string& brep, const std::string& name) {
+CadModel CadModel::from_brep_string(const std::string& brep, const std::string& name,
+                                    const std::atomic<bool>* cancel_flag) {
+  OccCancel cancel(cancel_flag);
   try {
     std::istringstream in(brep);
     BRep_Builder builder;
     TopoDS_Shape shape;
-    BRepTools::Read(shape, in, builder);
+    BRepTools::Read(shape, in, builder, cancel.range());
+    cancel.check();
     if (shape.IsNull()) throw InputError(name + ": not a BREP shape");
     double seconds_fuse = 0;
-    CadModel model(build_model(shape, name, "as given (BREP has no units)", seconds_fuse));
+    CadModel model(build_model(shape, name, "as given (BREP has no units)", seconds_fuse, cancel));
     model.seconds_fuse = seconds_fuse;
     return model;
   } catch (const Standard_Failure& e) {

@@ -105,8 +105,9 @@ class Refiner {
   // diagonals of OpenCASCADE's needle strips over and over put vertices at
   // 1/2, 1/4, ... 1/32 of the strip's width (a cylinder at size 0.5 got
   // edges of 0.016 and 12 times the facets it needs).
-  void split_long_edges(double size, bool flips) {
+  void split_long_edges(double size, bool flips, const std::atomic<bool>* cancel) {
     for (int pass = 0; pass < 64; ++pass) {
+      throw_if_cancelled(cancel);
       if (flips) flip_towards_delaunay(kFlipRidgeDeg);
       const EdgeFacets map(s_.mesh);
       std::vector<std::pair<double, std::uint64_t>> long_edges;
@@ -379,12 +380,13 @@ class Refiner {
 
 }  // namespace
 
-void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats) {
+void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats,
+                    const std::atomic<bool>* cancel) {
   const auto t0 = std::chrono::steady_clock::now();
   Refiner r(cad, s, stats);
   r.find_knife_edges();
   stats.border_splits = r.split_border_slivers();
-  r.split_long_edges(size, flips);
+  r.split_long_edges(size, flips, cancel);
   stats.seconds_refine = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -48,10 +48,11 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   }
   stats.deflection = deflection;
   try {
-    CadSurface s = tessellate_faces(*impl_, deflection, options.angle_deg * M_PI / 180.0, stats);
+    CadSurface s = tessellate_faces(*impl_, deflection, options.angle_deg * M_PI / 180.0, stats, options.cancel);
     // Far below the chord height: the move is lost in the tessellation's own error.
     stats.collapsed_edges = collapse_short_edges(s, std::min(0.1 * deflection, 0.01 * stats.size));
-    if (options.refine) refine_to_size(*impl_, s, stats.size, options.flips, stats);
+    throw_if_cancelled(options.cancel);
+    if (options.refine) refine_to_size(*impl_, s, stats.size, options.flips, stats, options.cancel);
     if (stats_out) *stats_out = stats;
     return std::move(s.mesh);
   } catch (const Standard_Failure& e) {

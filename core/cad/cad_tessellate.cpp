@@ -191,11 +191,19 @@ void drop_folded_pairs(CadSurface& s, TessellationStats& stats) {
 
 }  // namespace
 
-CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double angle_rad, TessellationStats& stats) {
+CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double angle_rad, TessellationStats& stats,
+                            const std::atomic<bool>* cancel_flag) {
   const auto t0 = std::chrono::steady_clock::now();
   // Triangulations stored in the file were made for another purpose.
   BRepTools::Clean(cad.shape);
-  BRepMesh_IncrementalMesh mesher(cad.shape, deflection, false, angle_rad, false);
+  OccCancel cancel(cancel_flag);
+  IMeshTools_Parameters parameters;
+  parameters.Deflection = deflection;
+  parameters.Angle = angle_rad;
+  parameters.Relative = false;
+  parameters.InParallel = false;
+  BRepMesh_IncrementalMesh mesher(cad.shape, parameters, cancel.range());
+  cancel.check();
   if (!mesher.IsDone()) throw InputError(cad.name + ": OpenCASCADE's mesher failed on the shape");
 
   CadSurface out;

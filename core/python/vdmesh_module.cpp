@@ -150,8 +150,9 @@ CadSource cad_source(py::handle path, py::handle brep, const char* function) {
   return s;
 }
 
-cad::CadModel read_cad(const CadSource& source) {
-  return source.path.empty() ? cad::CadModel::from_brep_string(source.brep) : cad::CadModel::read(source.path);
+cad::CadModel read_cad(const CadSource& source, const std::atomic<bool>* cancel = nullptr) {
+  return source.path.empty() ? cad::CadModel::from_brep_string(source.brep, "<brep>", cancel)
+                             : cad::CadModel::read(source.path, cancel);
 }
 
 py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs) {
@@ -162,7 +163,7 @@ py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs
     cad::CadMeshOptions copt = base;
     copt.mesh = opt;
     if (opt.progress) opt.progress("read CAD");
-    const cad::CadModel model = read_cad(source);
+    const cad::CadModel model = read_cad(source, opt.cancel);
     throw_if_cancelled(opt.cancel);
     MeshResult partial;
     try {
