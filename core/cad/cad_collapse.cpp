@@ -59,7 +59,7 @@ class Collapser {
       total += done;
       if (done == 0) break;
     }
-    if (total) compact();
+    if (total) compact_surface(s_, dead_);
     return total;
   }
 
@@ -213,46 +213,6 @@ class Collapser {
     return true;
   }
 
-  // Drops the dead facets and the removed vertices, renumbering the rest.
-  void compact() {
-    Mesh& m = s_.mesh;
-    std::vector<int> id(m.points.size(), -1);
-    int next = 0;
-    for (size_t v = 0; v < m.points.size(); ++v)
-      if (!removed_[v]) {
-        id[v] = next;
-        m.points[next] = m.points[v];
-        if (!m.point_size.empty()) m.point_size[next] = m.point_size[v];
-        ++next;
-      }
-    m.points.resize(next);
-    if (!m.point_size.empty()) m.point_size.resize(next);
-    size_t kept = 0;
-    for (size_t f = 0; f < m.triangles.size(); ++f) {
-      if (dead_[f]) continue;
-      Triangle t = m.triangles[f];
-      for (int& v : t.v) v = id[v];
-      m.triangles[kept] = t;
-      s_.uv[kept] = s_.uv[f];
-      s_.facet_face[kept] = s_.facet_face[f];
-      ++kept;
-    }
-    m.triangles.resize(kept);
-    s_.uv.resize(kept);
-    s_.facet_face.resize(kept);
-    std::unordered_map<std::uint64_t, CadEdgeSpan> spans;
-    spans.reserve(s_.edge_spans.size());
-    for (const auto& [key, span] : s_.edge_spans) {
-      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-      // Renumbering keeps the order of ids, so t_lo stays with the lower one.
-      spans[edge_key(id[a], id[b])] = span;
-    }
-    s_.edge_spans = std::move(spans);
-    std::unordered_set<int> singular;
-    for (int v : s_.singular) singular.insert(id[v]);
-    s_.singular = std::move(singular);
-  }
-
   CadSurface& s_;
   std::vector<std::vector<int>> facets_of_;
   std::vector<char> dead_, removed_;
@@ -263,5 +223,51 @@ class Collapser {
 }  // namespace
 
 int collapse_short_edges(CadSurface& s, double max_length) { return Collapser(s).run(max_length); }
+
+int compact_surface(CadSurface& s, const std::vector<char>& dead_facets) {
+  Mesh& m = s.mesh;
+  size_t kept = 0;
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    if (!dead_facets.empty() && dead_facets[f]) continue;
+    m.triangles[kept] = m.triangles[f];
+    s.uv[kept] = s.uv[f];
+    s.facet_face[kept] = s.facet_face[f];
+    ++kept;
+  }
+  m.triangles.resize(kept);
+  s.uv.resize(kept);
+  s.facet_face.resize(kept);
+
+  std::vector<int> id(m.points.size(), -1);
+  for (const Triangle& t : m.triangles)
+    for (int v : t.v) id[v] = 0;
+  int next = 0;
+  for (size_t v = 0; v < m.points.size(); ++v) {
+    if (id[v] < 0) continue;
+    id[v] = next;
+    m.points[next] = m.points[v];
+    if (!m.point_size.empty()) m.point_size[next] = m.point_size[v];
+    ++next;
+  }
+  const int dropped = static_cast<int>(m.points.size()) - next;
+  if (dropped == 0) return 0;
+  m.points.resize(next);
+  if (!m.point_size.empty()) m.point_size.resize(next);
+  for (Triangle& t : m.triangles)
+    for (int& v : t.v) v = id[v];
+  // Renumbering keeps the order of ids, so each span's t_lo stays with its lower end.
+  std::unordered_map<std::uint64_t, CadEdgeSpan> spans;
+  spans.reserve(s.edge_spans.size());
+  for (const auto& [key, span] : s.edge_spans) {
+    const int a = id[key >> 32], b = id[key & 0xffffffffu];
+    if (a >= 0 && b >= 0) spans[edge_key(a, b)] = span;
+  }
+  s.edge_spans = std::move(spans);
+  std::unordered_set<int> singular;
+  for (int v : s.singular)
+    if (id[v] >= 0) singular.insert(id[v]);
+  s.singular = std::move(singular);
+  return dropped;
+}
 
 }  // namespace vd::cad

@@ -42,6 +42,7 @@ void accumulate(DelaunayzationResult& total, const DelaunayzationResult& pass) {
   total.passes += pass.passes;
   total.flips += pass.flips;
   total.splits += pass.splits;
+  total.splits_on_chord += pass.splits_on_chord;
   total.added_vertices += pass.added_vertices;
   total.added_facets += pass.added_facets;
   total.oracle_wrong += pass.oracle_wrong;

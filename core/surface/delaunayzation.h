@@ -34,6 +34,7 @@ struct DelaunayzationResult {
   int passes = 0;
   int flips = 0;
   int splits = 0;            // split operations (one new vertex each)
+  int splits_on_chord = 0;   // with a SurfaceGeometry: kept on the chord, the true point being too far off
   int added_vertices = 0;
   int added_facets = 0;      // final facet count - input facet count
   int oracle_wrong = 0;      // oracle said Delaunay, the exact check said not
