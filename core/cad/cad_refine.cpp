@@ -206,13 +206,6 @@ class Refiner {
       int i = 0;
       while (!((t.v[i] == p || t.v[i] == q) && (t.v[(i + 1) % 3] == p || t.v[(i + 1) % 3] == q))) ++i;
       first_corner[k] = i;
-      // Both halves keep the facet's side: no fold, no zero area (a cap
-      // with its corner on a straight chord would give three collinear points).
-      const Vec3 parent = area_vector(m, t.v);
-      const Vec3 &A = m.points[t.v[i]], &B = m.points[t.v[(i + 1) % 3]], &C = m.points[t.v[(i + 2) % 3]];
-      const double share = 1e-3 * dot(parent, parent);
-      if (!(dot(cross(point - A, C - A), parent) > share && dot(cross(B - point, C - point), parent) > share))
-        return false;
       if (span == s_.edge_spans.end()) continue;
       const auto& uv = s_.uv[facets[k]];
       const gp_Pnt2d ua = uv[i], ub = uv[(i + 1) % 3], uc = uv[(i + 2) % 3];
