@@ -18,7 +18,7 @@ import FreeCAD
 import Part
 from FreeCAD import Vector
 
-from vdmeshwb import engine, femmesh, meshobject
+from vdmeshwb import engine, femmesh, inpreader, meshobject
 
 from .support import add_box_with_hole, figure, print_figures
 
@@ -85,7 +85,7 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
     @classmethod
     def setUpClass(cls):
         cls.doc = FreeCAD.newDocument("VDMeshTest")
-        figure("vdmesh binary: %s" % engine.find_binary())
+        figure("vdmesh engine: %s" % engine.engine_name())
 
     @classmethod
     def tearDownClass(cls):
@@ -167,6 +167,32 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         for i in (1, 2):
             self.assertTrue(fn <= set(obj.FemMesh.getGroupElements(groups["Solid%d_Nodes" % i])))
         figure("  interface Face%d: %d nodes, in both Solid1_Nodes and Solid2_Nodes" % (shared[0], len(fn)))
+
+    def test_4_module_and_program_give_the_same_mesh(self):
+        # ctest says which engine this build must use: the module (Release) or the program.
+        core = engine.core_module()
+        expected = os.environ.get("VDMESH_EXPECT_ENGINE", "")
+        if expected:
+            self.assertEqual("module" if core else "program", expected, engine.engine_name())
+        if core is None:
+            self.skipTest("the vdmesh module is not importable here: only the program was used")
+        shape = Part.makeCylinder(2, 5)
+        params = engine.Parameters(size=1.0, seed=7)
+        inp_module, report_module, _ = engine.mesh_shape(shape, params)
+        os.environ["VDMESH_ENGINE"] = "program"
+        try:
+            self.assertIsNone(engine.core_module())
+            inp_program, report_program, _ = engine.mesh_shape(shape, params)
+        finally:
+            del os.environ["VDMESH_ENGINE"]
+        a, b = inpreader.read_inp(inp_module), inpreader.read_inp(inp_program)
+        self.assertGreater(len(a.elements), 100)
+        self.assertEqual(a.elements, b.elements)
+        self.assertEqual(a.nodes, b.nodes)
+        self.assertEqual(a.surfaces, b.surfaces)
+        self.assertEqual(report_module["quality"]["min_dihedral_deg"], report_program["quality"]["min_dihedral_deg"])
+        figure("module and program, same cylinder and seed: the same %d nodes and %d tetrahedra"
+               % (len(a.nodes), len(a.elements)))
 
     def test_3_bad_geometry_leaves_document_unchanged(self):
         doc = self.doc

@@ -1,7 +1,7 @@
 """vdmesh FreeCAD workbench: tetrahedral FEM meshes of Part solids by the vdmesh mesher.
 
 Modules:
-  engine      find and run the `vdmesh` program (mesh, convert, compare), errors with exit codes
+  engine      mesh and convert through the `vdmesh` Python module, else the program; compare; errors with exit codes
   inpreader   read vdmesh's Abaqus deck (*NODE, C3D4 per *ELSET, *SURFACE / *NSET per face)
   femmesh     build a Fem.FemMesh with Solid<i> / Face<j> groups from it
   meshobject  the Fem::FemMeshObjectPython object (parameters as properties, recomputable)

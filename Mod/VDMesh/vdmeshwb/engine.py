@@ -1,6 +1,12 @@
-"""Runs the vdmesh command-line program: the engine until the Python module exists.
+"""The engine: vdmesh's Python module (`import vdmesh`) inside FreeCAD, else the vdmesh program.
 
-The binary is found through the environment variable VDMESH_BIN, else `vdmesh` on PATH, else the
+Meshing and export go through the module when FreeCAD's Python can import it (`cmake --install`
+puts it on Debian's python3 path; PYTHONPATH=<build>/python works too): no files or process in
+between, and the report comes back as a dict. Without the module, or with VDMESH_ENGINE=program,
+they run the program. `compare` always runs the program (it is a command-line tool that times
+TetGen and vdmesh in child processes).
+
+The program is found through the environment variable VDMESH_BIN, else `vdmesh` on PATH, else the
 path stored in the workbench preferences (User parameter:BaseApp/Preferences/Mod/VDMesh, "Binary").
 """
 import json
@@ -29,6 +35,22 @@ class VDMeshError(RuntimeError):
         self.code = code
         self.message = message
         self.output = output
+
+
+def core_module():
+    """The vdmesh Python module, or None when it cannot be imported or VDMESH_ENGINE=program."""
+    if os.environ.get("VDMESH_ENGINE", "") == "program":
+        return None
+    try:
+        import vdmesh
+    except ImportError:
+        return None
+    return vdmesh if hasattr(vdmesh, "mesh_cad") else None
+
+
+def engine_name():
+    core = core_module()
+    return "module %s" % core.__file__ if core else "program %s" % find_binary()
 
 
 def _pref_binary():
@@ -73,6 +95,18 @@ class Parameters:
         self.sliver_angle = sliver_angle
         self.seed = seed
         self.order = order          # 2: 10-node tetrahedra (C3D10 in the deck)
+
+    def keywords(self):
+        """The options as the module's keyword arguments (the same as options() on the command line)."""
+        k = {"interior": bool(self.interior), "flips": bool(self.flips), "oracle": self.oracle or "dt",
+             "sliver_angle": float(self.sliver_angle), "seed": int(self.seed), "order": int(self.order)}
+        if self.size and self.size > 0:
+            k["size"] = float(self.size)
+        if self.flips:
+            k["flip_angle"] = float(self.ridge_angle)
+        if self.lp_limit and self.lp_limit > 0:
+            k["lp_limit"] = int(self.lp_limit)
+        return k
 
     def options(self):
         o = []
@@ -133,21 +167,54 @@ def mesh_file(input_path, output_path, params, report_path=None, timeout=None):
     return report, proc.stdout
 
 
+def _mesh_with_module(core, shape, params, inp):
+    """mesh_shape through the module; the same errors and exit codes as the program."""
+    try:
+        mesh, report = core.mesh_cad(brep=shape.exportBrepToString(), **params.keywords())
+    except core.InputError as e:
+        raise VDMeshError("vdmesh mesh failed: %s (exit 3)\n%s" % (EXIT_MEANING[3], e), 3)
+    except core.RecoveryError as e:
+        raise VDMeshError("vdmesh mesh failed: %s (exit 4)\n%s" % (EXIT_MEANING[4], e), 4)
+    except KeyboardInterrupt:
+        raise VDMeshError("vdmesh mesh was interrupted")
+    except (core.Error, ValueError, TypeError, RuntimeError) as e:
+        raise VDMeshError("vdmesh mesh failed: %s" % e, 1)
+    core.write(mesh, inp)
+    return report, "vdmesh %s: %d tetrahedra\n" % (getattr(core, "__file__", "module"), len(mesh.tets))
+
+
 def mesh_shape(shape, params, workdir=None):
-    """Meshes a Part shape; returns (inp path, report dict, report text). The files stay in workdir."""
+    """Meshes a Part shape; returns (inp path, report dict, report text). The files stay in workdir:
+    the Abaqus deck is what Export converts and what the FemMesh is read from."""
     if shape is None or shape.isNull():
         raise VDMeshError("the selected object has no shape")
     if not shape.Solids:
         raise VDMeshError("the selected shape has no solid (%d faces, %d shells): vdmesh meshes solids"
                           % (len(shape.Faces), len(shape.Shells)))
     workdir = workdir or tempfile.mkdtemp(prefix="vdmesh-")
-    brep = export_shape(shape, os.path.join(workdir, "part.brep"))
     inp = os.path.join(workdir, "mesh.inp")
+    core = core_module()
+    if core is not None:
+        report, text = _mesh_with_module(core, shape, params, inp)
+        return inp, report, text
+    brep = export_shape(shape, os.path.join(workdir, "part.brep"))
     report, text = mesh_file(brep, inp, params, os.path.join(workdir, "report.json"))
     return inp, report, text
 
 
 def convert(input_path, output_path, extra=()):
+    """`vdmesh convert`; through the module when there is one (extra: the command line's --binary
+    and --msh-version)."""
+    core = core_module()
+    if core is not None:
+        extra = list(extra)
+        binary = "--binary" in extra
+        version = int(extra[extra.index("--msh-version") + 1]) if "--msh-version" in extra else 41
+        try:
+            core.write(core.read(input_path), output_path, binary=binary, msh_version=version)
+        except (ValueError, RuntimeError, OSError) as e:
+            raise VDMeshError("vdmesh convert failed: %s" % e, 3)
+        return output_path
     proc = _run([find_binary(), "convert", input_path, output_path] + list(extra))
     if proc.returncode != 0:
         raise _failure(proc, "vdmesh convert")
