@@ -238,23 +238,8 @@ int compact_surface(CadSurface& s, const std::vector<char>& dead_facets) {
   s.uv.resize(kept);
   s.facet_face.resize(kept);
 
-  std::vector<int> id(m.points.size(), -1);
-  for (const Triangle& t : m.triangles)
-    for (int v : t.v) id[v] = 0;
-  int next = 0;
-  for (size_t v = 0; v < m.points.size(); ++v) {
-    if (id[v] < 0) continue;
-    id[v] = next;
-    m.points[next] = m.points[v];
-    if (!m.point_size.empty()) m.point_size[next] = m.point_size[v];
-    ++next;
-  }
-  const int dropped = static_cast<int>(m.points.size()) - next;
-  if (dropped == 0) return 0;
-  m.points.resize(next);
-  if (!m.point_size.empty()) m.point_size.resize(next);
-  for (Triangle& t : m.triangles)
-    for (int& v : t.v) v = id[v];
+  const std::vector<int> id = drop_unused_points(m);
+  if (id.empty()) return 0;
   // Renumbering keeps the order of ids, so each span's t_lo stays with its lower end.
   std::unordered_map<std::uint64_t, CadEdgeSpan> spans;
   spans.reserve(s.edge_spans.size());
@@ -267,7 +252,7 @@ int compact_surface(CadSurface& s, const std::vector<char>& dead_facets) {
   for (int v : s.singular)
     if (id[v] >= 0) singular.insert(id[v]);
   s.singular = std::move(singular);
-  return dropped;
+  return static_cast<int>(std::count(id.begin(), id.end(), -1));
 }
 
 }  // namespace vd::cad

@@ -121,10 +121,8 @@ CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double
 // edge); the removed vertices are dropped. Returns the number collapsed.
 int collapse_short_edges(CadSurface& s, double max_length);
 // Drops the facets marked in `dead_facets` (none when empty) and every vertex
-// no facet uses, renumbering the rest. Returns the number of vertices dropped.
-// A vertex left alone (a face of zero area dropped, an edge collapsed) would
-// still be a vertex of the Delaunay tetrahedralization, and one a hair off
-// the surface keeps the facets there from ever becoming Delaunay.
+// no facet uses (drop_unused_points), renumbering the rest with their
+// parameters. Returns the number of vertices dropped.
 int compact_surface(CadSurface& s, const std::vector<char>& dead_facets = {});
 // cad_refine.cpp: edge splits to the size on the CAD geometry, then flips.
 void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats,

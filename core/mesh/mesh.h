@@ -74,4 +74,11 @@ struct Mesh {
   bool has_face_tags() const;
 };
 
+// Removes the points no triangle or tetrahedron uses and renumbers the rest
+// in order. Returns the old -> new id map (-1: removed); empty when nothing
+// was removed. A surface vertex that no facet uses would still be a vertex of
+// the Delaunay tetrahedralization, and one a hair off the surface keeps the
+// facets beside it from ever becoming Delaunay.
+std::vector<int> drop_unused_points(Mesh& m);
+
 }  // namespace vd

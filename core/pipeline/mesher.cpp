@@ -97,6 +97,8 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   m.triangles = input.triangles;
   m.region_names = input.region_names;
   m.face_names = input.face_names;
+  const std::vector<int> kept = drop_unused_points(m);
+  report.unused_input_vertices = static_cast<int>(std::count(kept.begin(), kept.end(), -1));
   if (options.validate) validate_surface(m);
   if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg);
   report.size_splits = refine_surface_to_size(m, options.size.uniform).splits;

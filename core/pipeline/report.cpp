@@ -42,6 +42,7 @@ std::string report_json(const MeshReport& r) {
   s << "{\n";
   s << "  \"complete\": " << (r.complete ? "true" : "false") << ",\n";
   s << "  \"counts\": {\"input_vertices\": " << r.input_vertices << ", \"input_facets\": " << r.input_facets
+    << ", \"unused_input_vertices\": " << r.unused_input_vertices
     << ", \"output_vertices\": " << r.output_vertices << ", \"output_facets\": " << r.output_facets
     << ", \"added_surface_vertices\": " << r.added_surface_vertices
     << ", \"added_surface_facets\": " << r.added_surface_facets
@@ -153,7 +154,10 @@ std::string report_table(const MeshReport& r) {
     }
     if (!which_area.empty()) row("largest face area error", which_area + " " + num(100.0 * worst_area) + " %");
   }
-  row("input", std::to_string(r.input_vertices) + " vertices, " + std::to_string(r.input_facets) + " facets");
+  row("input", std::to_string(r.input_vertices) + " vertices, " + std::to_string(r.input_facets) + " facets" +
+                   (r.unused_input_vertices ? " (" + std::to_string(r.unused_input_vertices) +
+                                                  " vertices no facet uses dropped)"
+                                            : std::string()));
   if (r.size_splits > 0) row("split to the size", std::to_string(r.size_splits) + " surface edges");
   row("added on the surface", std::to_string(r.added_surface_vertices) + " vertices, " +
                                   std::to_string(r.added_surface_facets) + " facets");

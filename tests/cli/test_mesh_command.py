@@ -44,6 +44,19 @@ bad("pierce.off", pierce, "intersects itself")
 code, _, err = run("mesh", os.path.join(out, "does-not-exist.off"), "-o", os.path.join(out, "x.vtu"))
 check(code == 3 and "does-not-exist.off" in err, "missing file: exit 3 naming it (%d: %s)" % (code, err.strip()))
 
+# A vertex no facet uses, 1e-7 above the middle of a face: it would be a vertex
+# of the Delaunay tetrahedralization and make recovery split the face down to
+# its distance. It is dropped before meshing, and the report says so.
+stray = tet_off.replace("4 4 0", "5 4 0").replace("0 0 1\n", "0 0 1\n0.3 0.3 -1e-7\n", 1)
+stray_path = os.path.join(out, "stray.off")
+with open(stray_path, "w") as f:
+    f.write(stray)
+code, _, err = run("mesh", stray_path, "-o", os.path.join(out, "stray.vtu"), "--report", os.path.join(out, "stray.json"),
+                   "--no-interior", "--quiet", "--max-added", "0")
+rep = json.load(open(os.path.join(out, "stray.json"))) if code == 0 else {}
+check(code == 0 and rep["counts"]["unused_input_vertices"] == 1 and rep["counts"]["tetrahedra"] == 1,
+      "a vertex no facet uses is dropped: exit %d, %s (%s)" % (code, rep.get("counts"), err.strip()[-200:]))
+
 # Usage errors: exit 2.
 for args in (["mesh"], ["mesh", bracket], ["mesh", bracket, "-o", os.path.join(out, "x.vtu"), "--oracle", "magic"],
              ["mesh", bracket, "-o", os.path.join(out, "x.vtu"), "--seed", "abc"], ["frobnicate"],
