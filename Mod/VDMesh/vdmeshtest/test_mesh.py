@@ -194,6 +194,37 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         figure("module and program, same cylinder and seed: the same %d nodes and %d tetrahedra"
                % (len(a.nodes), len(a.elements)))
 
+    def test_5_stop_while_meshing(self):
+        # The task panel's Stop: meshing runs on a worker thread while this one runs `idle` (the
+        # panel's event loop); a set CancelRequest stops the module (its CancelToken) or kills the
+        # program, and the document is left as it was. Size 0.25 would take a minute.
+        cut = self.doc.getObject("BoxWithHole") or add_box_with_hole(self.doc)
+        engines = ["program"] + (["module"] if engine.core_module() is not None else [])
+        for name in engines:
+            if name == "program":
+                os.environ["VDMESH_ENGINE"] = "program"
+            try:
+                names = sorted(o.Name for o in self.doc.Objects)
+                cancel, calls, sent = engine.CancelRequest(), [], []
+                t0 = time.monotonic()
+
+                def idle():
+                    calls.append(1)
+                    if not sent and time.monotonic() - t0 > 1.0:
+                        sent.append(time.monotonic())
+                        cancel.set()
+
+                with self.assertRaises(engine.VDMeshCancelled):
+                    meshobject.create_mesh(cut, engine.Parameters(size=0.25), cancel=cancel, idle=idle)
+                stopped = time.monotonic() - sent[0]
+                self.assertLess(stopped, 5.0)
+                self.assertGreater(len(calls), 20, "the calling thread kept running")
+                self.assertEqual(sorted(o.Name for o in self.doc.Objects), names)
+                figure("Stop (%s): stopped %.2f s after the request, idle ran %d times, document unchanged"
+                       % (name, stopped, len(calls)))
+            finally:
+                os.environ.pop("VDMESH_ENGINE", None)
+
     def test_3_bad_geometry_leaves_document_unchanged(self):
         doc = self.doc
         faces = Part.makeBox(1, 1, 1).Faces[:5]        # no lid

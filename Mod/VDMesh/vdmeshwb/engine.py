@@ -14,6 +14,8 @@ import os
 import shutil
 import subprocess
 import tempfile
+import threading
+import time
 
 PREFS = "User parameter:BaseApp/Preferences/Mod/VDMesh"
 
@@ -35,6 +37,54 @@ class VDMeshError(RuntimeError):
         self.code = code
         self.message = message
         self.output = output
+
+
+class VDMeshCancelled(VDMeshError):
+    """The run was stopped through its CancelRequest; nothing was made."""
+
+    def __init__(self):
+        super().__init__("vdmesh mesh was cancelled")
+
+
+class CancelRequest:
+    """Stops a running mesh_shape from another thread or a GUI callback (the task panel's Stop
+    button): the module's CancelToken, or killing the program."""
+
+    def __init__(self):
+        self._event = threading.Event()
+        core = core_module()
+        self.token = core.CancelToken() if core is not None else None
+
+    def set(self):
+        self._event.set()
+        if self.token is not None:
+            self.token.set()
+
+    def is_set(self):
+        return self._event.is_set()
+
+
+def _in_background(work, idle):
+    """work() on a worker thread while the calling thread runs idle() every 20 ms (the GUI's event
+    loop, so that it repaints and the Stop button works); without idle, work() here."""
+    if idle is None:
+        return work()
+    outcome = {}
+
+    def run():
+        try:
+            outcome["value"] = work()
+        except BaseException as e:  # handed to the calling thread
+            outcome["error"] = e
+
+    worker = threading.Thread(target=run, name="vdmesh")
+    worker.start()
+    while worker.is_alive():
+        idle()
+        worker.join(0.02)
+    if "error" in outcome:
+        raise outcome["error"]
+    return outcome["value"]
 
 
 def core_module():
@@ -129,13 +179,26 @@ class Parameters:
         return o
 
 
-def _run(args, timeout=None):
+def _run(args, timeout=None, cancel=None):
+    """Runs the program; a set `cancel` kills it (VDMeshCancelled)."""
     try:
-        return subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+        proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     except OSError as e:
         raise VDMeshError("could not run %s: %s" % (args[0], e))
-    except subprocess.TimeoutExpired:
-        raise VDMeshError("vdmesh did not finish within %s s" % timeout)
+    start = time.monotonic()
+    while True:
+        try:
+            out, err = proc.communicate(timeout=0.1)
+            return subprocess.CompletedProcess(args, proc.returncode, out, err)
+        except subprocess.TimeoutExpired:
+            stop = cancel is not None and cancel.is_set()
+            late = timeout is not None and time.monotonic() - start > timeout
+            if stop or late:
+                proc.kill()
+                proc.communicate()
+                if stop:
+                    raise VDMeshCancelled()
+                raise VDMeshError("vdmesh did not finish within %s s" % timeout)
 
 
 def _failure(proc, what):
@@ -152,12 +215,12 @@ def export_shape(shape, path):
     return path
 
 
-def mesh_file(input_path, output_path, params, report_path=None, timeout=None):
+def mesh_file(input_path, output_path, params, report_path=None, timeout=None, cancel=None):
     """Runs `vdmesh mesh`; returns (report dict or None, stdout). Raises VDMeshError on failure."""
     args = [find_binary(), "mesh", input_path, "-o", output_path] + params.options()
     if report_path:
         args += ["--report", report_path]
-    proc = _run(args, timeout)
+    proc = _run(args, timeout, cancel)
     if proc.returncode != 0:
         raise _failure(proc, "vdmesh mesh")
     report = None
@@ -167,10 +230,15 @@ def mesh_file(input_path, output_path, params, report_path=None, timeout=None):
     return report, proc.stdout
 
 
-def _mesh_with_module(core, shape, params, inp):
+def _mesh_with_module(core, brep, params, inp, cancel):
     """mesh_shape through the module; the same errors and exit codes as the program."""
+    keywords = params.keywords()
+    if cancel is not None and cancel.token is not None:
+        keywords["cancel"] = cancel.token
     try:
-        mesh, report = core.mesh_cad(brep=shape.exportBrepToString(), **params.keywords())
+        mesh, report = core.mesh_cad(brep=brep, **keywords)
+    except core.Cancelled:
+        raise VDMeshCancelled()
     except core.InputError as e:
         raise VDMeshError("vdmesh mesh failed: %s (exit 3)\n%s" % (EXIT_MEANING[3], e), 3)
     except core.RecoveryError as e:
@@ -183,9 +251,12 @@ def _mesh_with_module(core, shape, params, inp):
     return report, "vdmesh %s: %d tetrahedra\n" % (getattr(core, "__file__", "module"), len(mesh.tets))
 
 
-def mesh_shape(shape, params, workdir=None):
+def mesh_shape(shape, params, workdir=None, cancel=None, idle=None):
     """Meshes a Part shape; returns (inp path, report dict, report text). The files stay in workdir:
-    the Abaqus deck is what Export converts and what the FemMesh is read from."""
+    the Abaqus deck is what Export converts and what the FemMesh is read from.
+
+    cancel: a CancelRequest; once set, the run stops and VDMeshCancelled is raised. idle: called
+    every 20 ms on this thread while the mesher works on another (a GUI passes its event loop)."""
     if shape is None or shape.isNull():
         raise VDMeshError("the selected object has no shape")
     if not shape.Solids:
@@ -195,10 +266,12 @@ def mesh_shape(shape, params, workdir=None):
     inp = os.path.join(workdir, "mesh.inp")
     core = core_module()
     if core is not None:
-        report, text = _mesh_with_module(core, shape, params, inp)
+        brep = shape.exportBrepToString()  # FreeCAD's shape on this thread only
+        report, text = _in_background(lambda: _mesh_with_module(core, brep, params, inp, cancel), idle)
         return inp, report, text
     brep = export_shape(shape, os.path.join(workdir, "part.brep"))
-    report, text = mesh_file(brep, inp, params, os.path.join(workdir, "report.json"))
+    report, text = _in_background(
+        lambda: mesh_file(brep, inp, params, os.path.join(workdir, "report.json"), cancel=cancel), idle)
     return inp, report, text
 
 

@@ -44,10 +44,11 @@ def shape_of(part):
     return shape
 
 
-def run_mesh(part, params):
-    """Meshes part's shape; returns (FemMesh, info, inp path, report dict, report text)."""
+def run_mesh(part, params, cancel=None, idle=None):
+    """Meshes part's shape; returns (FemMesh, info, inp path, report dict, report text).
+    cancel, idle: see engine.mesh_shape."""
     shape = shape_of(part)
-    inp, report, text = engine.mesh_shape(shape, params)
+    inp, report, text = engine.mesh_shape(shape, params, cancel=cancel, idle=idle)
     deck = inpreader.read_inp(inp)
     if not deck.elements:
         raise engine.VDMeshError("vdmesh wrote no tetrahedra for %s" % part.Label)
@@ -189,13 +190,13 @@ def find_analysis(doc):
     return None
 
 
-def create_mesh(part, params=None, analysis=None, name="VDMesh"):
+def create_mesh(part, params=None, analysis=None, name="VDMesh", cancel=None, idle=None):
     """Meshes part and only then adds the mesh object (and puts it into analysis, or the active one).
 
-    Raises engine.VDMeshError, leaving the document unchanged, when vdmesh fails.
-    Returns (object, info dict, report dict, report text)."""
+    Raises engine.VDMeshError, leaving the document unchanged, when vdmesh fails or is cancelled
+    (engine.VDMeshCancelled). Returns (object, info dict, report dict, report text)."""
     params = params or engine.Parameters()
-    fm, info, inp, report, text = run_mesh(part, params)
+    fm, info, inp, report, text = run_mesh(part, params, cancel, idle)
     doc = part.Document
     doc.openTransaction("VDMesh")
     try:

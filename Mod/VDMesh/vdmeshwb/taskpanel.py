@@ -76,7 +76,16 @@ class MeshTaskPanel:
         self.run = QtGui.QPushButton("Mesh" if mesh_object is None else "Remesh")
         self.run.setObjectName("run")
         self.run.clicked.connect(self.mesh)
-        lay.addWidget(self.run)
+        # Meshing runs beside the GUI (engine.mesh_shape's idle loop); Stop cancels it.
+        self.stop = QtGui.QPushButton("Stop")
+        self.stop.setObjectName("stop")
+        self.stop.setEnabled(False)
+        self.stop.clicked.connect(self.request_stop)
+        self.cancel = None
+        buttons = QtGui.QHBoxLayout()
+        buttons.addWidget(self.run)
+        buttons.addWidget(self.stop)
+        lay.addLayout(buttons)
         self.status = QtGui.QLabel("")
         self.status.setObjectName("status")
         self.status.setWordWrap(True)
@@ -97,7 +106,17 @@ class MeshTaskPanel:
                                  sliver_angle=self.sliver.value(), seed=self.seed.value(),
                                  order=self.order.currentIndex() + 1)
 
+    def request_stop(self):
+        if self.cancel is not None:
+            self.cancel.set()
+            self.status.setText("stopping ...")
+
     def show_error(self, e):
+        if isinstance(e, engine.VDMeshCancelled):
+            self.status.setText("<b>stopped</b> (document unchanged)")
+            self.report.setPlainText("")
+            FreeCAD.Console.PrintMessage("VDMesh: meshing stopped\n")
+            return
         self.status.setText('<span style="color:#b00000"><b>vdmesh failed</b> (document unchanged)</span>')
         self.report.setPlainText(e.message)
         FreeCAD.Console.PrintError("VDMesh: %s\n" % e.message)
@@ -106,19 +125,27 @@ class MeshTaskPanel:
         if self.part is None:
             self.status.setText("Select a Part solid, compound or BooleanFragments first.")
             return False
-        self.status.setText("meshing ...")
+        if self.cancel is not None:
+            return False  # already meshing (the idle loop lets a second click through)
+        self.status.setText("meshing ... (Stop cancels)")
+        self.cancel = engine.CancelRequest()
+        self.run.setEnabled(False)
+        self.stop.setEnabled(True)
         QtGui.QApplication.processEvents()
-        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.BusyCursor)
+        idle = QtGui.QApplication.processEvents
         try:
             if self.obj is None:
-                self.obj, info, report, text = meshobject.create_mesh(self.part, self.params())
+                self.obj, info, report, text = meshobject.create_mesh(self.part, self.params(), cancel=self.cancel,
+                                                                      idle=idle)
             else:
                 p = self.params()
+                fm, info, inp, report, text = meshobject.run_mesh(self.part, p, self.cancel, idle)
+                # The properties change only with the mesh: a failed or stopped run leaves both.
                 o = self.obj
                 o.Size, o.Interior, o.Flips, o.RidgeAngle = p.size, p.interior, p.flips, p.ridge_angle
                 o.Oracle, o.LPLimit, o.SliverAngle, o.Seed = p.oracle, p.lp_limit, p.sliver_angle, p.seed
                 o.ElementOrder = meshobject.ELEMENT_ORDERS[p.order - 1]
-                fm, info, inp, report, text = meshobject.run_mesh(self.part, p)
                 meshobject.apply_result(o, fm, inp, report)
                 o.purgeTouched()
         except engine.VDMeshError as e:
@@ -126,6 +153,9 @@ class MeshTaskPanel:
             return False
         finally:
             QtGui.QApplication.restoreOverrideCursor()
+            self.cancel = None
+            self.run.setEnabled(True)
+            self.stop.setEnabled(False)
         summary = meshobject.mesh_summary(info, report)
         self.status.setText("<b>%s</b>: %d tetrahedra" % (self.obj.Label, info["tetrahedra"]))
         self.report.setPlainText(summary)
@@ -145,6 +175,9 @@ class MeshTaskPanel:
         return self.reject()
 
     def reject(self):
+        if self.cancel is not None:  # Close while meshing: stop first, the panel stays until then
+            self.request_stop()
+            return False
         FreeCADGui.Control.closeDialog()
         if self.obj is not None and FreeCADGui.ActiveDocument and FreeCADGui.ActiveDocument.getInEdit():
             FreeCADGui.ActiveDocument.resetEdit()
