@@ -27,7 +27,7 @@ const char* kMeshHelp =
     "options:\n"
     "  --size H                target edge length (default: surface input: from its edges, graded;\n"
     "                          CAD input: bounding box diagonal / 25, reported)\n"
-    "  --deflection D          CAD: chord height of the face tessellation\n                          (default: size / 10, at most mean thickness 2V/A / 50)\n"
+    "  --deflection D          CAD: chord height of the face tessellation\n                          (default: size / 10, at most the thinnest solid's 2V/A / 50)\n"
     "  --planar-splits         CAD: split vertices at chord mid-points (the paper) instead of on the CAD geometry\n"
     "  --gradation G           largest growth of the size per unit distance (default 0.3)\n"
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"

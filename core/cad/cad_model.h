@@ -22,7 +22,7 @@ namespace vd::cad {
 
 struct TessellationOptions {
   double size = 0;              // target edge length; 0: chosen from the part (report says which)
-  double deflection = 0;        // chord height of OpenCASCADE's mesher; 0: min(size / 10, 2V/A / 50)
+  double deflection = 0;        // chord height of OpenCASCADE's mesher; 0: min(size / 10, min over solids 2V/A / 50)
   double angle_deg = 20;        // angular deflection of OpenCASCADE's mesher
   bool refine = true;           // split edges longer than `size`, new vertices on the CAD geometry
   bool flips = true;            // improve triangle shape by flips inside each face

@@ -76,7 +76,7 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
         which then raises vdmesh.Cancelled
   CAD input only:
     deflection (float, 0): chord height of the face tessellation (0: size / 10,
-        at most the mean thickness 2V/A / 50)
+        at most the thinnest solid's mean thickness 2V/A / 50)
     planar_splits (bool, False): split vertices at chord mid-points instead of on the CAD geometry
 )";
 
