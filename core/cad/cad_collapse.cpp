@@ -21,10 +21,6 @@ namespace {
 
 enum class Kind { inner = 0, on_edge = 1, fixed = 2 };
 
-double orient2d(const gp_Pnt2d& a, const gp_Pnt2d& b, const gp_Pnt2d& c) {
-  return (b.X() - a.X()) * (c.Y() - a.Y()) - (b.Y() - a.Y()) * (c.X() - a.X());
-}
-
 int corner_of(const Triangle& t, int v) {
   for (int i = 0; i < 3; ++i)
     if (t.v[i] == v) return i;
@@ -183,7 +179,7 @@ class Collapser {
       }
       if (!found) return false;
       auto uv = s_.uv[f];
-      const double o_before = orient2d(uv[0], uv[1], uv[2]);
+      const int o_before = orient2d(uv[0], uv[1], uv[2]);
       uv[c] = uv_w[k];
       if (!(o_before * orient2d(uv[0], uv[1], uv[2]) > 0)) return false;
     }

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "cad/cad_model.h"
+#include "geometry/predicates.h"
 #include "mesh/cancel.h"
 
 namespace vd::cad {
@@ -70,6 +71,12 @@ class OccCancel {
 };
 
 inline Vec3 to_vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+
+// Orientation of (a, b, c) in a face's (u, v), exactly: +1 counter-clockwise,
+// -1 clockwise, 0 collinear. The fold guards multiply two of them.
+inline int orient2d(const gp_Pnt2d& a, const gp_Pnt2d& b, const gp_Pnt2d& c) {
+  return orientation_2d(a.X(), a.Y(), b.X(), b.Y(), c.X(), c.Y());
+}
 
 // Nearest points on a face's surface, in world coordinates (the face's
 // placement applied both ways); build one per face and keep it.

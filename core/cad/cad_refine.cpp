@@ -20,10 +20,6 @@ namespace {
 
 gp_Pnt2d mid(const gp_Pnt2d& a, const gp_Pnt2d& b) { return {0.5 * (a.X() + b.X()), 0.5 * (a.Y() + b.Y())}; }
 
-double orient2d(const gp_Pnt2d& a, const gp_Pnt2d& b, const gp_Pnt2d& c) {
-  return (b.X() - a.X()) * (c.Y() - a.Y()) - (b.Y() - a.Y()) * (c.X() - a.X());
-}
-
 Vec3 area_vector(const Mesh& m, const std::array<int, 3>& v) {
   return cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
 }
@@ -209,7 +205,7 @@ class Refiner {
       if (span == s_.edge_spans.end()) continue;
       const auto& uv = s_.uv[facets[k]];
       const gp_Pnt2d ua = uv[i], ub = uv[(i + 1) % 3], uc = uv[(i + 2) % 3];
-      const double o = orient2d(ua, ub, uc);
+      const int o = orient2d(ua, ub, uc);
       if (!(o * orient2d(ua, uv_new[k], uc) > 0 && o * orient2d(uv_new[k], ub, uc) > 0)) return false;
     }
     bool on_knife = false;
@@ -305,7 +301,7 @@ class Refiner {
     // refused no flip on the cylinder, Exhaust, gmsh_part or wing-fuselage).
     const auto& uv1 = s_.uv[f1];
     const gp_Pnt2d ua = uv1[o.ia], ub = uv1[(o.ia + 1) % 3], uc = uv1[(o.ia + 2) % 3], ud = s_.uv[f2][(o.ib2 + 2) % 3];
-    const double o1 = orient2d(ua, ub, uc);
+    const int o1 = orient2d(ua, ub, uc);
     if (!(o1 * orient2d(ua, ud, uc) > 0 && o1 * orient2d(ud, ub, uc) > 0 && o1 * orient2d(ub, ua, ud) > 0)) return false;
     apply_flip(f1, f2, o);
     return true;

@@ -25,6 +25,10 @@ int orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return static_cast<int>(CGAL::orientation(to_cgal(a), to_cgal(b), to_cgal(c), to_cgal(d)));
 }
 
+int orientation_2d(double ax, double ay, double bx, double by, double cx, double cy) {
+  return static_cast<int>(CGAL::orientation(K::Point_2(ax, ay), K::Point_2(bx, by), K::Point_2(cx, cy)));
+}
+
 bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
   return CGAL::collinear(to_cgal(a), to_cgal(b), to_cgal(c));
 }

@@ -19,6 +19,10 @@ enum class SphereSide { inside, on_boundary, outside };
 // -1 for a negative one, 0 when the four points are coplanar.
 int orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+// Sign of the turn a -> b -> c in a plane (a face's (u, v)): +1 counter-
+// clockwise, -1 clockwise, 0 collinear. Exact, as the 3D one.
+int orientation_2d(double ax, double ay, double bx, double by, double cx, double cy);
+
 // True when a, b, c lie on one line (or coincide).
 bool collinear(const Vec3& a, const Vec3& b, const Vec3& c);
 
