@@ -21,12 +21,6 @@ namespace {
 
 enum class Kind { inner = 0, on_edge = 1, fixed = 2 };
 
-int corner_of(const Triangle& t, int v) {
-  for (int i = 0; i < 3; ++i)
-    if (t.v[i] == v) return i;
-  return -1;
-}
-
 class Collapser {
  public:
   explicit Collapser(CadSurface& s) : s_(s) {
@@ -162,9 +156,9 @@ class Collapser {
       const Triangle& t = m.triangles[f];
       const int c = corner_of(t, u);
       std::array<int, 3> v = t.v;
-      const Vec3 before = cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
+      const Vec3 before = area_vector(m, v);
       v[c] = w;
-      const Vec3 after = cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
+      const Vec3 after = area_vector(m, v);
       const double nb = norm(before), na = norm(after);
       if (!(na > 0) || !(nb > 0) || dot(before, after) < cos_turn * na * nb) return false;
       // w's (u, v) in this face: from a shared facet of the same face, the

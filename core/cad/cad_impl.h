@@ -72,6 +72,18 @@ class OccCancel {
 
 inline Vec3 to_vec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 
+// The corner (0, 1, 2) of facet t at vertex v; -1 when v is not a corner.
+inline int corner_of(const Triangle& t, int v) {
+  for (int i = 0; i < 3; ++i)
+    if (t.v[i] == v) return i;
+  return -1;
+}
+
+// Twice the area of triangle v, along its normal (right-hand rule).
+inline Vec3 area_vector(const Mesh& m, const std::array<int, 3>& v) {
+  return cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
+}
+
 // Orientation of (a, b, c) in a face's (u, v), exactly: +1 counter-clockwise,
 // -1 clockwise, 0 collinear. The fold guards multiply two of them.
 inline int orient2d(const gp_Pnt2d& a, const gp_Pnt2d& b, const gp_Pnt2d& c) {

@@ -20,10 +20,6 @@ namespace {
 
 gp_Pnt2d mid(const gp_Pnt2d& a, const gp_Pnt2d& b) { return {0.5 * (a.X() + b.X()), 0.5 * (a.Y() + b.Y())}; }
 
-Vec3 area_vector(const Mesh& m, const std::array<int, 3>& v) {
-  return cross(m.points[v[1]] - m.points[v[0]], m.points[v[2]] - m.points[v[0]]);
-}
-
 double angle_at(const Vec3& apex, const Vec3& p, const Vec3& q) {
   const Vec3 a = p - apex, b = q - apex;
   return std::atan2(norm(cross(a, b)), dot(a, b));
@@ -90,8 +86,6 @@ struct EdgeFacets {
 };
 
 constexpr double kFlipRidgeDeg = 20.0;
-
-int corner(const Triangle& t, int v) { return t.v[0] == v ? 0 : (t.v[1] == v ? 1 : 2); }
 
 class Refiner {
  public:
@@ -175,7 +169,7 @@ class Refiner {
       for (size_t k = 0; k < facets.size(); ++k) {
         const int f = facets[k];
         const auto& uv = s_.uv[f];
-        const gp_Pnt2d hint = mid(uv[corner(m.triangles[f], p)], uv[corner(m.triangles[f], q)]);
+        const gp_Pnt2d hint = mid(uv[corner_of(m.triangles[f], p)], uv[corner_of(m.triangles[f], q)]);
         uv_new[k] = geo_.uv_on_face(e.edge, s_.facet_face[f], t_mid, hint);
       }
     } else {
@@ -186,7 +180,7 @@ class Refiner {
       for (size_t k = 0; k < facets.size(); ++k) {
         const int f = facets[k];
         const auto& t = m.triangles[f];
-        const int cp = corner(t, p), cq = corner(t, q);
+        const int cp = corner_of(t, p), cq = corner_of(t, q);
         uv_new[k] = mid(s_.uv[f][cp], s_.uv[f][cq]);
         if (singular && one_face) {
           const int regular = s_.singular.count(p) ? cq : cp;
@@ -261,13 +255,13 @@ class Refiner {
   bool quad_of(int f1, int f2, int p, int q, Quad& o) const {
     const Triangle& t1 = s_.mesh.triangles[f1];
     const Triangle& t2 = s_.mesh.triangles[f2];
-    const int i1 = corner(t1, p), j1 = corner(t1, q);
+    const int i1 = corner_of(t1, p), j1 = corner_of(t1, q);
     o.a = (j1 == (i1 + 1) % 3) ? p : q;
     o.b = o.a == p ? q : p;
-    o.ia = corner(t1, o.a);
+    o.ia = corner_of(t1, o.a);
     if (t1.v[(o.ia + 1) % 3] != o.b) return false;
     o.c = t1.v[(o.ia + 2) % 3];
-    o.ib2 = corner(t2, o.b);
+    o.ib2 = corner_of(t2, o.b);
     if (t2.v[(o.ib2 + 1) % 3] != o.a) return false;  // inconsistent orientation: leave it
     o.d = t2.v[(o.ib2 + 2) % 3];
     return o.c != o.d;
