@@ -131,6 +131,11 @@ class Cursor {
   size_t line() const { return line_; }
   size_t remaining() const { return data_.size() - pos_; }
   std::string_view data() const { return data_; }
+  // Lets the pages wholly inside [begin, end) go, for a look-ahead that read
+  // past the cursor (a no-op over plain memory).
+  void drop(size_t begin, size_t end) const {
+    if (file_) file_->drop(begin, end);
+  }
   const std::string& name() const { return name_; }
 
   [[noreturn]] void fail(const std::string& what) const;

@@ -273,6 +273,68 @@ TEST(ConvertersRoundTrip, GmshKeepsNamesAndSparseTags) {
     }
 }
 
+// A binary MSH 4.1 file by hand: two tetrahedra on five nodes, in the
+// element blocks given as (entity, {tag, tag, ...}) with tetrahedron i of
+// the list (in file order) taking nodes kTets[i].
+std::string binary_msh41(const std::string& name, const std::vector<std::pair<int, std::vector<uint64_t>>>& blocks) {
+  static const uint64_t kTets[2][4] = {{1, 2, 3, 4}, {2, 1, 3, 5}};
+  std::string b = "$MeshFormat\n4.1 1 8\n";
+  auto put = [&](const auto& v) { b.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  put(int32_t{1});
+  b += "\n$EndMeshFormat\n$Nodes\n";
+  const double xyz[5][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}};
+  put(uint64_t{1}), put(uint64_t{5}), put(uint64_t{1}), put(uint64_t{5});
+  put(int32_t{3}), put(int32_t{1}), put(int32_t{0}), put(uint64_t{5});
+  for (uint64_t t = 1; t <= 5; ++t) put(t);
+  for (const auto& p : xyz) b.append(reinterpret_cast<const char*>(p), sizeof p);
+  b += "\n$EndNodes\n$Elements\n";
+  uint64_t lo = UINT64_MAX, hi = 0;
+  for (const auto& blk : blocks)
+    for (uint64_t t : blk.second) lo = std::min(lo, t), hi = std::max(hi, t);
+  put(uint64_t{blocks.size()}), put(uint64_t{2}), put(lo), put(hi);
+  size_t next = 0;
+  for (const auto& [entity, tags] : blocks) {
+    put(int32_t{3}), put(int32_t{entity}), put(int32_t{4}), put(uint64_t{tags.size()});
+    for (uint64_t t : tags) {
+      put(t);
+      for (uint64_t v : kTets[next]) put(v);
+      ++next;
+    }
+  }
+  b += "\n$EndElements\n";
+  const std::string path = test::temp_path(name);
+  std::ofstream(path, std::ios::binary) << b;
+  return path;
+}
+
+// Tetrahedra come out in tag order whatever the tags look like: a range in
+// two blocks (placed by tag while reading), gaps, and a repeated tag (kept in
+// file order).
+TEST(ConvertersRoundTrip, BinaryMsh41PutsTetrahedraInTagOrder) {
+  const std::array<int, 4> first{0, 1, 2, 3}, second{1, 0, 2, 4};
+  {
+    const Mesh m = io::read_mesh(binary_msh41("range.msh", {{1, {2}}, {2, {1}}}));
+    ASSERT_EQ(m.tets.size(), 2u);
+    EXPECT_EQ(m.tets[0].v, second);
+    EXPECT_EQ(m.tets[0].region, 2);
+    EXPECT_EQ(m.tets[1].v, first);
+    EXPECT_EQ(m.tets[1].region, 1);
+  }
+  {
+    const Mesh m = io::read_mesh(binary_msh41("gaps.msh", {{1, {70, 30}}}));
+    ASSERT_EQ(m.tets.size(), 2u);
+    EXPECT_EQ(m.tets[0].v, second);
+    EXPECT_EQ(m.tets[1].v, first);
+  }
+  {
+    const Mesh m = io::read_mesh(binary_msh41("repeat.msh", {{4, {5}}, {3, {5}}}));
+    ASSERT_EQ(m.tets.size(), 2u);
+    EXPECT_EQ(m.tets[0].v, first);
+    EXPECT_EQ(m.tets[0].region, 4);
+    EXPECT_EQ(m.tets[1].v, second);
+  }
+}
+
 TEST(ConvertersRoundTrip, AbaqusRegionNamesAndSets) {
   Mesh m = cube_tets();
   m.region_names[2] = "Copper";
