@@ -4,6 +4,32 @@
 
 namespace vd {
 
+void FacetList::push_back(int f) {
+  if (n_ < 2) {
+    small_[n_++] = f;
+    return;
+  }
+  if (n_ == 2) big_.assign(small_, small_ + 2);
+  big_.push_back(f);
+  ++n_;
+}
+
+void FacetList::erase(int f) {
+  if (n_ <= 2) {
+    int kept = 0;
+    for (int i = 0; i < n_; ++i)
+      if (small_[i] != f) small_[kept++] = small_[i];
+    n_ = kept;
+    return;
+  }
+  big_.erase(std::remove(big_.begin(), big_.end(), f), big_.end());
+  n_ = static_cast<int>(big_.size());
+  if (n_ <= 2) {
+    std::copy(big_.begin(), big_.end(), small_);
+    big_ = {};
+  }
+}
+
 EdgeMap::EdgeMap(const std::vector<Triangle>& facets) {
   map_.reserve(facets.size() * 2);
   for (size_t f = 0; f < facets.size(); ++f) add(static_cast<int>(f), facets[f]);
@@ -17,14 +43,13 @@ void EdgeMap::remove(int facet, const Triangle& t) {
   for (int i = 0; i < 3; ++i) {
     auto it = map_.find(edge_key(t.v[i], t.v[(i + 1) % 3]));
     if (it == map_.end()) continue;
-    auto& list = it->second;
-    list.erase(std::remove(list.begin(), list.end(), facet), list.end());
-    if (list.empty()) map_.erase(it);
+    it->second.erase(facet);
+    if (it->second.empty()) map_.erase(it);
   }
 }
 
-const std::vector<int>& EdgeMap::facets(int a, int b) const {
-  static const std::vector<int> none;
+const FacetList& EdgeMap::facets(int a, int b) const {
+  static const FacetList none;
   auto it = map_.find(edge_key(a, b));
   return it == map_.end() ? none : it->second;
 }

@@ -20,6 +20,27 @@ inline std::pair<int, int> edge_of_key(std::uint64_t key) {
   return {int(key >> 32), int(key & 0xffffffffu)};
 }
 
+// The facets on one edge: two held inline (every manifold edge), all of
+// them on the heap past two (interface edges of three or more facets). A
+// std::vector per edge was a heap block per edge: a tenth of a bunny's run
+// went to building and freeing edge maps.
+class FacetList {
+ public:
+  const int* begin() const { return n_ <= 2 ? small_ : big_.data(); }
+  const int* end() const { return begin() + n_; }
+  size_t size() const { return static_cast<size_t>(n_); }
+  bool empty() const { return n_ == 0; }
+  int operator[](size_t i) const { return begin()[i]; }
+  operator std::vector<int>() const { return {begin(), end()}; }
+  void push_back(int f);
+  void erase(int f);  // every occurrence
+
+ private:
+  int n_ = 0;
+  int small_[2] = {-1, -1};
+  std::vector<int> big_;
+};
+
 class EdgeMap {
  public:
   EdgeMap() = default;
@@ -28,12 +49,12 @@ class EdgeMap {
   void add(int facet, const Triangle& t);
   void remove(int facet, const Triangle& t);
   // Facets on edge {a, b}; empty when the edge is not on the surface.
-  const std::vector<int>& facets(int a, int b) const;
+  const FacetList& facets(int a, int b) const;
   bool contains(int a, int b) const { return !facets(a, b).empty(); }
-  const std::unordered_map<std::uint64_t, std::vector<int>>& all() const { return map_; }
+  const std::unordered_map<std::uint64_t, FacetList>& all() const { return map_; }
 
  private:
-  std::unordered_map<std::uint64_t, std::vector<int>> map_;
+  std::unordered_map<std::uint64_t, FacetList> map_;
 };
 
 // Local size at each vertex: the mean length of its surface edges, replaced

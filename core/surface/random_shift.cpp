@@ -14,7 +14,7 @@ namespace {
 // manifold edge, or is a crease; vertices on it may move only along it.
 // Moving a vertex of a 90-degree crease "in its tangent plane" would move
 // the box's corner off the box.
-bool is_feature_edge(const Mesh& m, const std::vector<int>& on_edge, double cos_crease) {
+bool is_feature_edge(const Mesh& m, const FacetList& on_edge, double cos_crease) {
   if (on_edge.size() != 2) return true;
   const Triangle& a = m.triangles[on_edge[0]];
   const Triangle& b = m.triangles[on_edge[1]];

@@ -41,10 +41,25 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
     const auto& v = m.triangles[f].v;
     facet_of.emplace(sorted_triple(v), static_cast<int>(f));
   }
-  auto face_facet = [&](int tet, int i) {
-    auto it = facet_of.find(sorted_triple(face_opposite(cells.tets[tet], i)));
-    return it == facet_of.end() ? -1 : it->second;
-  };
+  // The facet each tetrahedron face lies on (-1: none), looked up once: the
+  // passes below ask three times per face, and the hash look-ups were a
+  // fifth of a surface-only run. A face with a vertex on no facet is no facet.
+  std::vector<char> on_facet(m.points.size(), 0);
+  for (const Triangle& t : m.triangles)
+    for (int v : t.v) on_facet[static_cast<size_t>(v)] = 1;
+  std::vector<std::array<int, 4>> facet_at(static_cast<size_t>(n), {-1, -1, -1, -1});
+  for (int t = 0; t < n; ++t) {
+    const auto& tet = cells.tets[t];
+    int touching = 0;
+    for (int v : tet) touching += on_facet[static_cast<size_t>(v)];
+    if (touching < 3) continue;
+    for (int i = 0; i < 4; ++i) {
+      if (touching == 3 && on_facet[static_cast<size_t>(tet[i])]) continue;  // i is one of the three
+      auto it = facet_of.find(sorted_triple(face_opposite(tet, i)));
+      if (it != facet_of.end()) facet_at[static_cast<size_t>(t)][i] = it->second;
+    }
+  }
+  auto face_facet = [&](int tet, int i) { return facet_at[static_cast<size_t>(tet)][i]; };
 
   // Components of tetrahedra joined across non-facet faces; component 0 is
   // the one reached from infinity through a non-facet hull face.
