@@ -6,7 +6,6 @@
 #include <limits>
 #include <memory>
 #include <unordered_map>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -55,12 +54,6 @@ namespace {
 
 using Triple = std::array<int, 3>;
 
-struct TripleHash {
-  size_t operator()(const Triple& k) const {
-    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
-  }
-};
-
 // Smaller gains are not worth a change (and a strict gain rules out cycles).
 constexpr double kMinGainDeg = 1e-6;
 // Largest number of tetrahedra around an edge that edge removal considers.
@@ -93,9 +86,14 @@ int apex(const std::array<int, 4>& v, const Triple& f) {
 class TetComplex {
  public:
   explicit TetComplex(Mesh& m)
-      : m_(m), star_(m.points.size()), stamp_(m.points.size(), 0), on_surface_(m.points.size(), false) {
+      : m_(m),
+        star_(m.points.size()),
+        stamp_(m.points.size(), 0),
+        on_surface_(m.points.size(), false),
+        facets_at_(m.points.size()) {
     for (const Triangle& t : m.triangles) {
-      constrained_.insert(sorted_triple(t.v));
+      const Triple k = sorted_triple(t.v);
+      facets_at_[k[0]].push_back({k[1], k[2]});
       for (int v : t.v) on_surface_[v] = true;
     }
     tets_.reserve(m.tets.size() + m.tets.size() / 4);
@@ -129,20 +127,31 @@ class TetComplex {
   double measure(const std::array<int, 4>& v) const {
     return smallest_dihedral_if_positive(point(v[0]), point(v[1]), point(v[2]), point(v[3]));
   }
+  // The same order as measure() without the acos (see smallest_dihedral_score).
+  double score(const std::array<int, 4>& v) const {
+    return smallest_dihedral_score(point(v[0]), point(v[1]), point(v[2]), point(v[3]));
+  }
   bool exactly_positive(const std::array<int, 4>& v) const {
     return orientation(point(v[0]), point(v[1]), point(v[2]), point(v[3])) > 0;
   }
 
   // The tetrahedra on the two sides of a face (-1 where there is none).
   std::array<int, 2> face_tets(const Triple& f) const {
-    auto it = faces_.find(sorted_triple(f));
-    return it == faces_.end() ? std::array<int, 2>{-1, -1} : it->second;
+    std::array<int, 2> out{-1, -1};
+    for (int t : star_[f[0]]) {
+      const int i = face_index(tets_[t].v, f);
+      if (i < 0) continue;
+      out[0] = t;
+      out[1] = nbr_[t][i];
+      break;
+    }
+    return out;
   }
   // The tetrahedron across face f of t, or -1 when f is a surface facet.
   int across(int t, const Triple& f) const {
-    if (constrained_.count(sorted_triple(f))) return -1;
-    const auto p = face_tets(f);
-    return p[0] == t ? p[1] : p[0];
+    const int i = face_index(tets_[t].v, f);
+    if (i < 0 || (fixed_[t] >> i & 1)) return -1;
+    return nbr_[t][i];
   }
 
   int add(const Tetrahedron& t) {
@@ -151,14 +160,32 @@ class TetComplex {
     alive_.push_back(true);
     failed_at_.push_back(-1);
     quality_.push_back(measure(t.v));
+    nbr_.push_back({-1, -1, -1, -1});
+    fixed_.push_back(0);
     for (int i = 0; i < 4; ++i) {
       star_[t.v[i]].push_back(id);
       touch(t.v[i]);
-      const Triple key = sorted_triple(face_opposite(t.v, i));
-      auto& p = faces_.try_emplace(key, std::array<int, 2>{-1, -1}).first->second;
-      if (p[0] < 0) p[0] = id;
-      else if (p[1] < 0) p[1] = id;
-      else constrained_.insert(key);  // a face of three tetrahedra (broken input): left alone
+    }
+    for (int i = 0; i < 4; ++i) {
+      const Triple f = face_opposite(t.v, i);
+      if (is_facet(f)) fixed_[id] |= 1 << i;
+      // The tetrahedron already on this face: in the star of its vertices.
+      for (int u : star_[f[0]]) {
+        if (u == id) continue;
+        const int j = face_index(tets_[u].v, f);
+        if (j < 0) continue;
+        if (nbr_[u][j] >= 0) {
+          // A face of three tetrahedra (broken input): left alone.
+          const int w = nbr_[u][j];
+          fixed_[u] |= 1 << j;
+          fixed_[id] |= 1 << i;
+          for (int k = 0; k < 4; ++k)
+            if (nbr_[w][k] == u) fixed_[w] |= 1 << k;
+          continue;
+        }
+        nbr_[u][j] = id;
+        nbr_[id][i] = u;
+      }
     }
     return id;
   }
@@ -169,12 +196,11 @@ class TetComplex {
     for (int i = 0; i < 4; ++i) {
       auto& s = star_[t.v[i]];
       s.erase(std::find(s.begin(), s.end(), id));
-      auto it = faces_.find(sorted_triple(face_opposite(t.v, i)));
-      if (it == faces_.end()) continue;
-      auto& p = it->second;
-      if (p[0] == id) p[0] = p[1], p[1] = -1;
-      else if (p[1] == id) p[1] = -1;
-      if (p[0] < 0) faces_.erase(it);
+      const int u = nbr_[id][i];
+      if (u < 0) continue;
+      for (int k = 0; k < 4; ++k)
+        if (nbr_[u][k] == id) nbr_[u][k] = -1;
+      nbr_[id][i] = -1;
     }
   }
 
@@ -236,8 +262,30 @@ class TetComplex {
   std::vector<long> stamp_;      // clock_ of the last change around each vertex
   long clock_ = 0;
   std::vector<bool> on_surface_;
-  std::unordered_set<Triple, TripleHash> constrained_;
-  std::unordered_map<Triple, std::array<int, 2>, TripleHash> faces_;
+  // Face adjacency per tetrahedron (the tetrahedron across face i, -1 for
+  // none) and which faces no change may remove (bit i): walks around edges
+  // read arrays. A hash map of faces was a third of a sliver pass, half of
+  // it two look-ups per step around an edge.
+  std::vector<std::array<int, 4>> nbr_;
+  std::vector<unsigned char> fixed_;
+  // The surface facets by their smallest vertex: (middle, largest).
+  std::vector<std::vector<std::pair<int, int>>> facets_at_;
+
+  bool is_facet(const Triple& f) const {
+    const Triple k = sorted_triple(f);
+    for (const auto& [b, c] : facets_at_[k[0]])
+      if (b == k[1] && c == k[2]) return true;
+    return false;
+  }
+  // The index of the vertex of v opposite face f, -1 when f is not a face of v.
+  static int face_index(const std::array<int, 4>& v, const Triple& f) {
+    int missing = -1, found = 0;
+    for (int i = 0; i < 4; ++i) {
+      if (v[i] == f[0] || v[i] == f[1] || v[i] == f[2]) ++found;
+      else missing = i;
+    }
+    return found == 3 ? missing : -1;
+  }
 };
 
 // A set of tetrahedra that may replace others with the same boundary.
@@ -292,19 +340,28 @@ bool remove_edge(const TetComplex& c, int a, int b, Replacement& r) {
     return std::array<std::array<int, 4>, 2>{std::array<int, 4>{ring[i], ring[k], ring[j], b},
                                              std::array<int, 4>{ring[i], ring[j], ring[k], a}};
   };
-  auto triangle_quality = [&](int i, int k, int j) {
+  // Scores, not degrees (the same order, no acos): this search was a third
+  // of a sliver pass.
+  auto triangle_score = [&](int i, int k, int j) {
     const auto p = pair_of(i, k, j);
-    return std::min(c.measure(p[0]), c.measure(p[1]));
+    return std::min(c.score(p[0]), c.score(p[1]));
   };
+  // A sub-polygon's triangle is worth measuring only when its two sides
+  // could still lift the best so far, and above the old tetrahedra's
+  // quality: no triangulation at or under that is ever taken, so values
+  // there may stay low without changing what is taken.
+  const double floor_score = score_of_degrees(min_quality(c, tets));
   constexpr double kOpen = std::numeric_limits<double>::infinity();
   std::vector<double> best(n * n, kOpen);
   std::vector<int> split(n * n, -1);
   for (int len = 2; len < n; ++len)
     for (int i = 0; i + len < n; ++i) {
       const int j = i + len;
-      double q = -1;
+      double q = -2;  // the score of a tetrahedron that is not positive
       for (int k = i + 1; k < j; ++k) {
-        const double v = std::min({best[i * n + k], best[k * n + j], triangle_quality(i, k, j)});
+        const double sides = std::min(best[i * n + k], best[k * n + j]);
+        if (sides <= q || sides <= floor_score) continue;
+        const double v = std::min(sides, triangle_score(i, k, j));
         if (v > q) q = v, split[i * n + j] = k;
       }
       best[i * n + j] = q;
@@ -312,7 +369,7 @@ bool remove_edge(const TetComplex& c, int a, int b, Replacement& r) {
   r.kind = n == 3 ? Replacement::flip_32 : Replacement::edge_removal;
   r.old_tets = tets;
   r.old_quality = min_quality(c, tets);
-  r.new_quality = best[n - 1];
+  r.new_quality = degrees_of_score(best[n - 1]);
   r.new_tets.clear();
   if (!(r.new_quality > 0)) return false;
   std::vector<std::pair<int, int>> todo{{0, n - 1}};
