@@ -5,6 +5,10 @@ the same run. Prints a Markdown table: seconds and peak memory (MiB).
 
   /usr/bin/python3 tests/bench/bench_recovery.py BUILD_DIR [--oracles dt,sphere,lp] [--quick]
 
+vdmesh runs with --no-interior --keep-slivers: the Delaunay tetrahedra of
+the recovered surface, as tetgen -pY gives its constrained ones (neither
+improves quality; vdmesh's sliver pass is measured in bench_quality.py).
+
 Inputs: icospheres of about 10k, 100k and 1M facets (written by this script)
 and the largest closed surfaces of the shared data ($VDMESH_DATA).
 """
@@ -71,7 +75,7 @@ def main():
         for o in oracles:
             report = os.path.join(work, "r.json")
             code, sec, mib = peak_of([vdmesh, "mesh", path, "-o", os.path.join(work, "out.vtu"), "--no-interior",
-                                      "--oracle", o, "--quiet", "--report", report])
+                                      "--keep-slivers", "--oracle", o, "--quiet", "--report", report])
             added = "-"
             if code == 0:
                 r = json.load(open(report))
