@@ -19,6 +19,24 @@ using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
 using CGALPoint = K::Point_3;
 
 CGALPoint to_cgal(const Vec3& p) { return {p.x, p.y, p.z}; }
+
+// Spatial sort traits over vertex ids (CGAL reads the typedefs; at namespace
+// scope, so the compiler does not take them for unused local ones).
+struct SortByIndex {
+  const std::vector<Vec3>* pts;
+  using Point_3 = int;
+  struct Less {
+    const std::vector<Vec3>* pts;
+    int axis;
+    bool operator()(int a, int b) const { return (*pts)[a][axis] < (*pts)[b][axis]; }
+  };
+  using Less_x_3 = Less;
+  using Less_y_3 = Less;
+  using Less_z_3 = Less;
+  Less less_x_3_object() const { return {pts, 0}; }
+  Less less_y_3_object() const { return {pts, 1}; }
+  Less less_z_3_object() const { return {pts, 2}; }
+};
 }  // namespace
 
 struct DelaunayTetrahedralization::Impl {
@@ -36,22 +54,7 @@ void DelaunayTetrahedralization::insert(const std::vector<Vec3>& points, int fir
   std::vector<int> order(points.size() - static_cast<size_t>(first));
   std::iota(order.begin(), order.end(), first);
   // Spatial sort gives CGAL good location hints: O(n log n) overall.
-  struct Traits {
-    const std::vector<Vec3>* pts;
-    using Point_3 = int;
-    struct Less {
-      const std::vector<Vec3>* pts;
-      int axis;
-      bool operator()(int a, int b) const { return (*pts)[a][axis] < (*pts)[b][axis]; }
-    };
-    using Less_x_3 = Less;
-    using Less_y_3 = Less;
-    using Less_z_3 = Less;
-    Less less_x_3_object() const { return {pts, 0}; }
-    Less less_y_3_object() const { return {pts, 1}; }
-    Less less_z_3_object() const { return {pts, 2}; }
-  };
-  CGAL::spatial_sort(order.begin(), order.end(), Traits{&points});
+  CGAL::spatial_sort(order.begin(), order.end(), SortByIndex{&points});
   impl_->last_located = DT::Cell_handle();  // insertions may delete it
   impl_->handle.resize(points.size());
   DT::Cell_handle hint;
