@@ -12,6 +12,8 @@
 //  - Indices are 0-based here; writers convert to each format's own base.
 #pragma once
 
+#include <cmath>
+
 #include <array>
 #include <cstdint>
 #include <map>
@@ -33,8 +35,12 @@ inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline Vec3 cross(Vec3 a, Vec3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-double norm(Vec3 a);
-Vec3 normalized(Vec3 a);
+// Inline: the sliver pass's compass searches call it millions of times.
+inline double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
+inline Vec3 normalized(Vec3 a) {
+  const double n = norm(a);
+  return n > 0 ? (1.0 / n) * a : a;
+}
 
 constexpr int kUnknownRegion = -1;
 constexpr int kNoFace = -1;
