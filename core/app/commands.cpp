@@ -28,6 +28,8 @@ const char* kMeshHelp =
     "  --size H                target edge length (default: surface input: from its edges, graded;\n"
     "                          CAD input: bounding box diagonal / 25, reported)\n"
     "  --deflection D          CAD: chord height of the face tessellation\n                          (default: size / 10, at most the thinnest solid's 2V/A / 50)\n"
+    "  --angular-deflection DEG  CAD: largest angle between the normals along a facet of a curved face\n"
+    "                          (default 20; 10 halves the chords: caxif_as1-oc-214.stp 0.83 % -> 0.27 % volume error)\n"
     "  --planar-splits         CAD: split vertices at chord mid-points (the paper) instead of on the CAD geometry\n"
     "  --gradation G           largest growth of the size per unit distance (default 0.3)\n"
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
@@ -95,14 +97,22 @@ MeshResult mesh_surface_file(const std::string& path, const MeshOptions& opt, Me
 }
 
 MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool splits_on_geometry, double deflection,
-                         MeshResult* partial) {
+                         double angle_deg, MeshResult* partial) {
   cad::CadMeshOptions copt;
   copt.mesh = opt;
   copt.splits_on_geometry = splits_on_geometry;
   copt.tessellation.deflection = deflection;
+  copt.tessellation.angle_deg = angle_deg;
   if (opt.progress) opt.progress("read CAD");
   const cad::CadModel model = cad::CadModel::read(path);
   return cad::mesh_cad(model, copt, partial);
+}
+
+// OpenCASCADE's angular deflection, in degrees.
+double angular_deflection(Args& args) {
+  const double deg = args.number("--angular-deflection", cad::TessellationOptions{}.angle_deg);
+  if (!(deg > 0 && deg <= 90)) throw UsageError("--angular-deflection must be in (0, 90]");
+  return deg;
 }
 
 int element_order(Args& args) {
@@ -142,6 +152,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   const bool quiet = args.flag("--quiet");
   const bool planar_splits = args.flag("--planar-splits");
   const double deflection = args.number("--deflection", 0.0);
+  const double angle_deg = angular_deflection(args);
   const auto pos = args.positionals();
   if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh mesh --help)");
   if (output.empty()) throw UsageError("missing -o OUTPUT");
@@ -160,7 +171,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   MeshResult partial;
   try {
     const MeshResult result = cad::CadModel::is_cad_file(pos[0])
-                                  ? mesh_cad_file(pos[0], opt, !planar_splits, deflection, &partial)
+                                  ? mesh_cad_file(pos[0], opt, !planar_splits, deflection, angle_deg, &partial)
                                   : mesh_surface_file(pos[0], opt, &partial);
     write_result(result.mesh, output, wopt);
     if (!report_path.empty()) write_text(report_path, report_json(result.report));
@@ -180,17 +191,20 @@ int convert_command(const std::vector<std::string>& raw) {
   if (wopt.msh_version != 22 && wopt.msh_version != 41) throw UsageError("--msh-version must be 22 or 41");
   const std::string from = args.value("--from"), to = args.value("--to");
   const double size = args.number("--size", 0.0), deflection = args.number("--deflection", 0.0);
+  const double angle_deg = angular_deflection(args);
   const std::string order = args.value("--order");
   const auto pos = args.positionals();
   if (pos.size() != 2)
     throw UsageError(
-        "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--size H] [--deflection D]");
+        "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--size H] [--deflection D] "
+        "[--angular-deflection DEG]");
   io::format_for(pos[1], to);
   if (from.empty() && cad::CadModel::is_cad_file(pos[0])) {
     // CAD to a surface format: the tagged tessellation the mesher would start from.
     cad::TessellationOptions topt;
     topt.size = size;
     topt.deflection = deflection;
+    topt.angle_deg = angle_deg;
     const Mesh surface = cad::CadModel::read(pos[0]).tessellate(topt);
     io::write_mesh(surface, pos[1], wopt, to);
     return 0;

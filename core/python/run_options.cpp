@@ -78,6 +78,7 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     deflection (float, 0): chord height of the face tessellation (0: size / 10,
         at most the thinnest solid's mean thickness 2V/A / 50)
     planar_splits (bool, False): split vertices at chord mid-points instead of on the CAD geometry
+    angular_deflection (float, 20): OpenCASCADE's angular deflection (deg) on curved faces
 )";
 
 RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
@@ -85,7 +86,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       "size",     "gradation",  "interior",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
       "order",    "progress",   "cancel"};
-  static const std::set<std::string> kCad = {"deflection", "planar_splits"};
+  static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection"};
   RunOptions run;
   MeshOptions& opt = run.cad.mesh;
   opt.size.uniform = 0;
@@ -132,6 +133,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       }
     } else if (name == "deflection") run.cad.tessellation.deflection = number(value, name);
     else if (name == "planar_splits") run.cad.splits_on_geometry = !boolean(value, name);
+    else if (name == "angular_deflection") run.cad.tessellation.angle_deg = number(value, name);
   }
   // The command line's checks, with the option names of this module.
   check(opt.size.uniform >= 0, "option size: must not be negative");
@@ -142,6 +144,8 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   check(opt.oracle == "dt" || opt.oracle == "lp" || opt.oracle == "sphere",
         "option oracle: unknown oracle '" + opt.oracle + "' (choose dt, lp or sphere)");
   check(run.cad.tessellation.deflection >= 0, "option deflection: must not be negative");
+  check(run.cad.tessellation.angle_deg > 0 && run.cad.tessellation.angle_deg <= 90,
+        "option angular_deflection: must be in (0, 90]");
   check(opt.delaunayzation.max_passes >= 0, "option max_passes: must not be negative");
   return run;
 }
