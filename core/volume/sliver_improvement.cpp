@@ -523,14 +523,9 @@ std::vector<Vec3> compass_directions() {
 // better of its position and the centroid of its neighbours. Returns the
 // smallest angle there (old_quality when nothing better was found).
 double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
-  // A tetrahedron around v, with the normal of the face opposite v, which
-  // no position of v changes (computed once, as smallest_dihedral_score
-  // would: the scores are the same to the bit).
   struct Local {
     std::array<Vec3, 4> p;
     int slot;
-    Vec3 fixed_normal;
-    double fixed_length;
   };
   std::vector<Local> local;
   Vec3 centroid{0, 0, 0};
@@ -544,10 +539,6 @@ double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
       if (x == v) l.slot = i;
       else centroid = centroid + l.p[i], spacing += norm(l.p[i] - c.point(v)), ++neighbours;
     }
-    const Vec3 ab = l.p[1] - l.p[0], ac = l.p[2] - l.p[0], ad = l.p[3] - l.p[0];
-    const Vec3 n[4] = {cross(ac, ab), cross(ab, ad), cross(ad, ac), cross(l.p[2] - l.p[1], l.p[3] - l.p[1])};
-    l.fixed_normal = n[3 - l.slot];
-    l.fixed_length = norm(l.fixed_normal);
     local.push_back(l);
   }
   if (!neighbours) return old_quality;
@@ -568,32 +559,11 @@ double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
   spacing /= neighbours;
   // Score of the smallest angle with v at x (smallest_dihedral_score),
   // stopping early once it cannot beat `floor`.
-  auto score_with = [](const Local& l, const Vec3& x) {
-    std::array<Vec3, 4> p = l.p;
-    p[l.slot] = x;
-    const Vec3 ab = p[1] - p[0], ac = p[2] - p[0], ad = p[3] - p[0];
-    if (dot(cross(ab, ac), ad) <= 0) return -2.0;
-    const int fixed = 3 - l.slot;
-    Vec3 n[4];
-    double len[4];
-    for (int i = 0; i < 4; ++i) {
-      if (i == fixed) {
-        n[i] = l.fixed_normal, len[i] = l.fixed_length;
-      } else {
-        n[i] = i == 0 ? cross(ac, ab) : i == 1 ? cross(ab, ad) : i == 2 ? cross(ad, ac) : cross(p[2] - p[1], p[3] - p[1]);
-        len[i] = norm(n[i]);
-      }
-      if (!(len[i] > 0)) return -2.0;
-    }
-    double lowest = 1.0;
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) lowest = std::min(lowest, dot(n[i], n[j]) / (len[i] * len[j]));
-    return std::clamp(lowest, -1.0, 1.0);
-  };
   auto quality_at = [&](const Vec3& x, double floor) {
     double lo = 1.0;
-    for (const Local& l : local) {
-      lo = std::min(lo, score_with(l, x));
+    for (Local l : local) {
+      l.p[l.slot] = x;
+      lo = std::min(lo, smallest_dihedral_score(l.p[0], l.p[1], l.p[2], l.p[3]));
       if (lo <= floor) return lo;
     }
     return lo;
