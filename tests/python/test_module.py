@@ -303,6 +303,15 @@ class Cad(unittest.TestCase):
         np.testing.assert_array_equal(a.points, b.points)
         np.testing.assert_array_equal(a.tets, b.tets)
 
+    def test_angular_deflection(self):
+        # The hole's circle (radius 4, edges under the size 2) is cut by the
+        # angular deflection alone: 10 degrees gives it more facets than 20.
+        fine, _ = vdmesh.mesh_cad(path=self.path, size=2, interior=False, angular_deflection=10)
+        coarse, _ = vdmesh.mesh_cad(path=self.path, size=2, interior=False, angular_deflection=20)
+        self.assertGreater(len(fine.triangles), len(coarse.triangles))
+        with self.assertRaisesRegex(ValueError, "angular_deflection"):
+            vdmesh.mesh_cad(path=self.path, angular_deflection=0)
+
     def test_tessellation(self):
         surface = vdmesh.tessellate_cad(path=self.path, size=2)
         self.assertEqual(len(surface.tets), 0)
