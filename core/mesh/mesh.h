@@ -12,9 +12,8 @@
 //  - Indices are 0-based here; writers convert to each format's own base.
 #pragma once
 
-#include <cmath>
-
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>

@@ -350,7 +350,8 @@ bool remove_edge(const TetComplex& c, int a, int b, Replacement& r) {
   // could still lift the best so far, and above the old tetrahedra's
   // quality: no triangulation at or under that is ever taken, so values
   // there may stay low without changing what is taken.
-  const double floor_score = score_of_degrees(min_quality(c, tets));
+  const double old_quality = min_quality(c, tets);
+  const double floor_score = score_of_degrees(old_quality);
   constexpr double kOpen = std::numeric_limits<double>::infinity();
   std::vector<double> best(n * n, kOpen);
   std::vector<int> split(n * n, -1);
@@ -368,7 +369,7 @@ bool remove_edge(const TetComplex& c, int a, int b, Replacement& r) {
     }
   r.kind = n == 3 ? Replacement::flip_32 : Replacement::edge_removal;
   r.old_tets = tets;
-  r.old_quality = min_quality(c, tets);
+  r.old_quality = old_quality;
   r.new_quality = degrees_of_score(best[n - 1]);
   r.new_tets.clear();
   if (!(r.new_quality > 0)) return false;
