@@ -96,6 +96,16 @@ bool DelaunayTetrahedralization::has_facet(int a, int b, int c) const {
   return impl_->dt.is_facet(impl_->at(a), impl_->at(b), impl_->at(c), cell, i, j, k);
 }
 
+std::array<int, 2> DelaunayTetrahedralization::facet_apexes(int a, int b, int c) const {
+  DT::Cell_handle cell;
+  int i, j, k;
+  if (!impl_->dt.is_facet(impl_->at(a), impl_->at(b), impl_->at(c), cell, i, j, k)) return {-2, -2};
+  const int opposite = 6 - i - j - k;
+  const DT::Cell_handle across = cell->neighbor(opposite);
+  auto id_of = [&](DT::Vertex_handle v) { return impl_->dt.is_infinite(v) ? -1 : v->info(); };
+  return {id_of(cell->vertex(opposite)), id_of(across->vertex(across->index(cell)))};
+}
+
 bool DelaunayTetrahedralization::has_edge(int a, int b) const {
   DT::Cell_handle cell;
   int i, j;

@@ -36,6 +36,10 @@ class DelaunayTetrahedralization {
   std::array<int, 4> locate(const Vec3& p) const;
   // Is triangle (a, b, c) a face of the tetrahedralization?
   bool has_facet(int a, int b, int c) const;
+  // The vertices opposite triangle (a, b, c) in the two tetrahedra beside it,
+  // -1 for a side on the convex hull (the infinite vertex); {-2, -2} when the
+  // triangle is not a face.
+  std::array<int, 2> facet_apexes(int a, int b, int c) const;
   bool has_edge(int a, int b) const;
   // Ids of the Delaunay neighbours of vertex `id`.
   std::vector<int> neighbours(int id) const;

@@ -185,7 +185,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     // Case A moves the surface off the input on curved faces; with cases B
     // and C it gains little above a fraction of a degree (slivers_test).
     so.ridge_angle_deg = std::min(so.ridge_angle_deg, options.delaunayzation.flip_angle_deg);
-    report.slivers = remove_slivers(m, so);
+    report.slivers = remove_slivers(m, so, [&dt](int a, int b, int c) { return dt.facet_apexes(a, b, c); });
     report.output_facets = static_cast<int>(m.triangles.size());
   }
   for (const Tetrahedron& t : m.tets) {

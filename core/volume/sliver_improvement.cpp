@@ -5,11 +5,11 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
-#include "geometry/point_grid.h"
 #include "geometry/predicates.h"
 #include "mesh/tet_faces.h"
 
@@ -415,63 +415,86 @@ bool apply_if_valid(TetComplex& c, const Replacement& r, SliverStats& stats) {
   return true;
 }
 
-// Witness spheres of the surface facets (see the header): an empty sphere
-// through each facet, kept as its defining points so that exact predicates
-// decide. The smallest one, the facet's equatorial sphere, when it is empty;
-// else the smaller circumsphere of the tetrahedra beside the facet, empty
-// while the tetrahedra are still Delaunay (before any change).
-class WitnessSpheres {
+// What keeps each surface facet a Delaunay face while interior vertices move
+// (see the header). The spheres through a facet's three vertices form a
+// pencil, one sphere per position s of the centre along the facet's normal;
+// the facet is Delaunay while some sphere of the pencil has every other
+// vertex strictly outside. A vertex above the facet's plane is outside the
+// spheres with s below some value, one below it outside those with s above
+// some value, so the empty spheres are an interval (L, U): U set by the
+// vertex above that allows the least, L by the one below. The two Delaunay
+// tetrahedra beside the facet, before any change, give both: their apexes
+// are those vertices (a side on the convex hull has no bound). A vertex may
+// move to p when the interval stays open (p above: the vertex giving L is
+// outside the sphere through the facet and p), and the bound tightens when p
+// allows less than the vertex that gave it. A bound keeps the position of a
+// vertex that moved away: the true interval is then only wider. Every
+// decision is an exact predicate on points: the bounds are kept as points.
+class FacetWitnesses {
  public:
-  WitnessSpheres(const TetComplex& c, const Mesh& m) {
-    PointGrid grid;
-    grid.build(m.points);
-    std::vector<int> occupants;
+  FacetWitnesses(const TetComplex& c, const Mesh& m, const FacetApexes& apexes) : c_(c) {
     double edge_sum = 0;
     for (const Triangle& t : m.triangles)
       for (int e = 0; e < 3; ++e) edge_sum += norm(m.points[t.v[(e + 1) % 3]] - m.points[t.v[e]]);
     cell_ = m.triangles.empty() ? 1.0 : 2.0 * edge_sum / (3.0 * m.triangles.size());
-    for (const Triangle& f : m.triangles) {
-      if (equatorial_sphere_occupants(grid, f.v[0], f.v[1], f.v[2], occupants) && occupants.empty()) {
-        add({m.points[f.v[0]], m.points[f.v[1]], m.points[f.v[2]], Vec3{}}, true);
-        continue;
+    for (const Triangle& t : m.triangles) {
+      const std::array<int, 2> apex = apexes(t.v[0], t.v[1], t.v[2]);
+      if (apex[0] == -2) throw std::logic_error("sliver removal: a surface facet is not a Delaunay face");
+      Facet f;
+      f.v = t.v;
+      for (int x : apex) {
+        if (x < 0) continue;
+        const int side = orientation(c.point(t.v[0]), c.point(t.v[1]), c.point(t.v[2]), c.point(x));
+        Bound& b = side > 0 ? f.above : f.below;
+        if (side == 0 || b.set) throw std::logic_error("sliver removal: a facet's Delaunay apexes are not on two sides");
+        b = {c.point(x), true};
       }
-      int chosen = -1;
-      double radius = std::numeric_limits<double>::infinity();
-      for (int t : c.face_tets(f.v)) {
-        if (t < 0) continue;
-        const auto& v = c.tet(t).v;
-        const Ball b = circumsphere(c.point(v[0]), c.point(v[1]), c.point(v[2]), c.point(v[3]));
-        if (chosen < 0 || b.radius < radius) chosen = t, radius = b.radius;
-      }
-      if (chosen < 0) continue;
-      const auto& v = c.tet(chosen).v;
-      add({c.point(v[0]), c.point(v[1]), c.point(v[2]), c.point(v[3])}, false);
+      add(f);
     }
   }
 
-  // True when p is strictly outside every witness sphere.
+  // True when every surface facet stays Delaunay with a vertex moved to p.
   bool allows(const Vec3& p) const {
-    auto outside = [&](int s) {
-      const auto& w = spheres_[s];
-      return (equatorial_[s] ? side_of_equatorial_sphere(w[0], w[1], w[2], p)
-                             : side_of_circumsphere(w[0], w[1], w[2], w[3], p)) == SphereSide::outside;
-    };
-    for (int s : large_) {
-      // Clearly outside by the approximate ball (centre and radius carry a
-      // relative error far below the margin): no exact test needed.
-      const Ball& b = balls_[s];
-      const double reach = b.radius * (1 + 1e-6);
-      if (std::isfinite(reach) && dot(p - b.centre, p - b.centre) > reach * reach) continue;
-      if (!outside(s)) return false;
-    }
-    auto it = cells_.find(cell_of(p));
-    if (it != cells_.end())
-      for (int s : it->second)
-        if (!outside(s)) return false;
-    return true;
+    bool ok = true;
+    for_each_near(p, [&](const Facet& f) {
+      const Vec3 &a = c_.point(f.v[0]), &b = c_.point(f.v[1]), &c = c_.point(f.v[2]);
+      const int side = orientation(a, b, c, p);
+      // In the plane: outside every sphere of the pencil or inside all of them.
+      if (side == 0) ok = side_of_equatorial_sphere(a, b, c, p) == SphereSide::outside;
+      else {
+        const Bound& other = side > 0 ? f.below : f.above;
+        ok = !other.set || side_of_circumsphere(a, b, c, p, other.at) == SphereSide::outside;
+      }
+      return ok;
+    });
+    return ok;
+  }
+
+  // A vertex moved to p (allowed): the bounds p tightens take it.
+  void record(const Vec3& p) {
+    for_each_near(p, [&](Facet& f) {
+      const Vec3 &a = c_.point(f.v[0]), &b = c_.point(f.v[1]), &c = c_.point(f.v[2]);
+      const int side = orientation(a, b, c, p);
+      if (side == 0) return true;
+      Bound& same = side > 0 ? f.above : f.below;
+      if (!same.set || side_of_circumsphere(a, b, c, p, same.at) == SphereSide::outside) same = {p, true};
+      return true;
+    });
   }
 
  private:
+  struct Bound {
+    Vec3 at;
+    bool set = false;
+  };
+  struct Facet {
+    Triple v;
+    Bound above, below;
+    // Every pencil sphere between the two bounds lies in the union of
+    // theirs, so these two balls (approximate, with a margin) hold every
+    // point the facet's tests could refuse or tighten on, now and later.
+    Ball reach[2];
+  };
   using Cell = std::array<std::int64_t, 3>;
   struct CellHash {
     size_t operator()(const Cell& k) const {
@@ -482,29 +505,62 @@ class WitnessSpheres {
     return {static_cast<std::int64_t>(std::floor(p.x / cell_)), static_cast<std::int64_t>(std::floor(p.y / cell_)),
             static_cast<std::int64_t>(std::floor(p.z / cell_))};
   }
-  void add(const std::array<Vec3, 4>& w, bool equatorial) {
-    const int id = static_cast<int>(spheres_.size());
-    spheres_.push_back(w);
-    equatorial_.push_back(equatorial);
-    const Ball b = equatorial ? equatorial_sphere(w[0], w[1], w[2]) : circumsphere(w[0], w[1], w[2], w[3]);
-    balls_.push_back(b);
-    // Spheres spanning many cells (and flat tetrahedra, radius +inf) are
-    // tested for every point instead of being spread over cells.
-    if (!(b.radius < 3.0 * cell_)) {
+
+  // Calls visit(facet) for every facet whose balls may hold p, until it
+  // returns false.
+  template <class Visit>
+  void for_each_near(const Vec3& p, Visit visit) const {
+    const_cast<FacetWitnesses*>(this)->for_each_near(p, [&](Facet& f) { return visit(static_cast<const Facet&>(f)); });
+  }
+  template <class Visit>
+  void for_each_near(const Vec3& p, Visit visit) {
+    auto near = [&](const Facet& f) {
+      for (const Ball& b : f.reach) {
+        const double reach = b.radius * (1 + 1e-6);
+        if (b.radius >= 0 && !(std::isfinite(reach) && dot(p - b.centre, p - b.centre) > reach * reach)) return true;
+      }
+      return false;
+    };
+    for (int id : large_)
+      if (near(facets_[id]) && !visit(facets_[id])) return;
+    auto it = cells_.find(cell_of(p));
+    if (it == cells_.end()) return;
+    for (int id : it->second)
+      if (near(facets_[id]) && !visit(facets_[id])) return;
+  }
+
+  void add(Facet f) {
+    const int id = static_cast<int>(facets_.size());
+    const Vec3 &a = c_.point(f.v[0]), &b = c_.point(f.v[1]), &c = c_.point(f.v[2]);
+    const Bound* bounds[2] = {&f.above, &f.below};
+    bool large = false;
+    for (int i = 0; i < 2; ++i) {
+      f.reach[i] = bounds[i]->set ? circumsphere(a, b, c, bounds[i]->at) : Ball{Vec3{}, -1.0};
+      // Balls spanning many cells (and flat tetrahedra, radius +inf) are
+      // looked at for every point instead of being spread over cells.
+      large = large || !(f.reach[i].radius < 3.0 * cell_);
+    }
+    facets_.push_back(f);
+    if (large) {
       large_.push_back(id);
       return;
     }
-    const double r = b.radius * (1 + 1e-6) + 1e-12 * cell_;
-    const Cell lo = cell_of(b.centre - Vec3{r, r, r}), hi = cell_of(b.centre + Vec3{r, r, r});
-    for (auto x = lo[0]; x <= hi[0]; ++x)
-      for (auto y = lo[1]; y <= hi[1]; ++y)
-        for (auto z = lo[2]; z <= hi[2]; ++z) cells_[{x, y, z}].push_back(id);
+    for (const Ball& ball : f.reach) {
+      if (ball.radius < 0) continue;
+      const double r = ball.radius * (1 + 1e-6) + 1e-12 * cell_;
+      const Cell lo = cell_of(ball.centre - Vec3{r, r, r}), hi = cell_of(ball.centre + Vec3{r, r, r});
+      for (auto x = lo[0]; x <= hi[0]; ++x)
+        for (auto y = lo[1]; y <= hi[1]; ++y)
+          for (auto z = lo[2]; z <= hi[2]; ++z) {
+            std::vector<int>& list = cells_[{x, y, z}];
+            if (list.empty() || list.back() != id) list.push_back(id);
+          }
+    }
   }
 
+  const TetComplex& c_;
   double cell_ = 1.0;
-  std::vector<std::array<Vec3, 4>> spheres_;
-  std::vector<bool> equatorial_;  // else the circumsphere of all four points
-  std::vector<Ball> balls_;       // approximate, for the grid and a first filter
+  std::vector<Facet> facets_;
   std::vector<int> large_;
   std::unordered_map<Cell, std::vector<int>, CellHash> cells_;
 };
@@ -591,7 +647,7 @@ double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
 }
 
 // Case C for tetrahedron t: the best accepted move of one of its interior vertices.
-bool move_a_vertex(TetComplex& c, const WitnessSpheres& w, int t, SliverStats& stats) {
+bool move_a_vertex(TetComplex& c, FacetWitnesses& w, int t, SliverStats& stats) {
   int best_v = -1;
   Vec3 best_to;
   double best_gain = kMinGainDeg;
@@ -630,16 +686,17 @@ bool move_a_vertex(TetComplex& c, const WitnessSpheres& w, int t, SliverStats& s
     return false;
   }
   c.move_point(best_v, best_to);
+  w.record(best_to);
   ++stats.moves;
   return true;
 }
 
 }  // namespace
 
-void improve_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats) {
+void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, SliverStats& stats) {
   TetComplex c(m);
-  std::unique_ptr<WitnessSpheres> witnesses;
-  if (o.moves) witnesses = std::make_unique<WitnessSpheres>(c, m);
+  std::unique_ptr<FacetWitnesses> witnesses;
+  if (o.moves) witnesses = std::make_unique<FacetWitnesses>(c, m, apexes);
   for (int pass = 0; pass < o.max_passes; ++pass) {
     std::vector<std::pair<double, int>> slivers;
     for (int t = 0; t < c.size(); ++t)

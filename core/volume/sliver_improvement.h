@@ -6,9 +6,9 @@
 // the cavity's tile it exactly once, so the mesh stays valid and conforming.
 // Surface facets are never flipped and surface vertices never move.
 // A vertex move also keeps every surface facet a face of the Delaunay
-// tetrahedralization of the vertices: each facet keeps an empty witness
-// sphere (circumsphere of a tetrahedron beside it, taken before any change)
-// and a vertex may only move to a point strictly outside all of them.
+// tetrahedralization of the vertices: each facet keeps the range of its empty
+// spheres, first read from the Delaunay tetrahedra on its two sides, and a
+// vertex may only move where that range stays open (FacetWitnesses).
 #pragma once
 
 #include "mesh/mesh.h"
@@ -20,7 +20,10 @@ namespace vd {
 // angle, worst first: the best improving flip (case B) if there is one, else
 // the best improving move of one of the sliver's interior vertices (case C).
 // Deterministic: no random choice, the order is by quality then index.
-void improve_slivers(Mesh& m, const SliverOptions& options, SliverStats& stats);
+// `apexes` gives, for each surface facet of m, the vertices opposite it in
+// the Delaunay tetrahedralization of m.points (FacetApexes); every facet must
+// be a face of it, as after the pipeline's recovery and case A.
+void improve_slivers(Mesh& m, const SliverOptions& options, const FacetApexes& apexes, SliverStats& stats);
 
 // Smallest dihedral angle in degrees of (a, b, c, d), or a negative value
 // when its floating-point volume is not positive. One acos per call.

@@ -82,7 +82,7 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats
   m.tets = std::move(kept);
 }
 
-SliverStats remove_slivers(Mesh& m, const SliverOptions& o) {
+SliverStats remove_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes) {
   SliverStats stats;
   auto count_slivers = [&] {
     long n = 0;
@@ -95,7 +95,7 @@ SliverStats remove_slivers(Mesh& m, const SliverOptions& o) {
   stats.below_10_before = before.below_10_deg;
   stats.slivers_before = count_slivers();
   remove_boundary_slivers(m, o, stats);
-  if (o.flips || o.moves) improve_slivers(m, o, stats);
+  if (o.flips || o.moves) improve_slivers(m, o, apexes, stats);
   const QualitySummary after = summarize_quality(m);
   stats.min_dihedral_after_deg = after.min_dihedral_deg;
   stats.below_5_after = after.below_5_deg;

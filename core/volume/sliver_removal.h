@@ -16,6 +16,9 @@
 // exactly as case A left them.
 #pragma once
 
+#include <array>
+#include <functional>
+
 #include "mesh/mesh.h"
 
 namespace vd {
@@ -48,7 +51,15 @@ struct SliverStats {
 // Case A alone (counts into stats.removed_boundary).
 void remove_boundary_slivers(Mesh& m, const SliverOptions& options, SliverStats& stats);
 
+// The vertices opposite triangle (a, b, c) in the two tetrahedra beside it in
+// the Delaunay tetrahedralization of the mesh's points, -1 for a convex-hull
+// side, {-2, -2} when it is not a face (DelaunayTetrahedralization::facet_apexes).
+using FacetApexes = std::function<std::array<int, 2>(int a, int b, int c)>;
+
 // Cases A, B and C in that order, with the before / after figures.
-SliverStats remove_slivers(Mesh& m, const SliverOptions& options);
+// Pre: every surface facet is a face of the Delaunay tetrahedralization
+// that `apexes` describes (case A keeps it so: its new facets are faces of
+// the Delaunay tetrahedra it removes).
+SliverStats remove_slivers(Mesh& m, const SliverOptions& options, const FacetApexes& apexes);
 
 }  // namespace vd

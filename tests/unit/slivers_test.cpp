@@ -46,12 +46,22 @@ int facets_missing_from_delaunay(const Mesh& m) {
   return missing;
 }
 
+// The Delaunay tetrahedralization of m's points, as the sliver pass's FacetApexes.
+struct DelaunayApexes {
+  DelaunayTetrahedralization dt;
+  explicit DelaunayApexes(const Mesh& m) { dt.insert(m.points); }
+  FacetApexes apexes() const {
+    return [this](int a, int b, int c) { return dt.facet_apexes(a, b, c); };
+  }
+};
+
 // Runs cases B and C on `before` and checks everything the pass promises;
 // returns the stats for case-specific checks.
 SliverStats check_pass_helps(const std::string& name, const Mesh& before) {
+  const DelaunayApexes delaunay(before);
   Mesh after = before;
   SliverStats stats;
-  improve_slivers(after, SliverOptions{}, stats);
+  improve_slivers(after, SliverOptions{}, delaunay.apexes(), stats);
   const QualitySummary q0 = summarize_quality(before), q1 = summarize_quality(after);
   std::cout << "[" << name << "] " << q0.tets << " -> " << q1.tets << " tets; min dihedral " << q0.min_dihedral_deg
             << " -> " << q1.min_dihedral_deg << "; under 5 deg " << q0.below_5_deg << " -> " << q1.below_5_deg
@@ -70,7 +80,7 @@ SliverStats check_pass_helps(const std::string& name, const Mesh& before) {
   // Deterministic: the same input gives the same result.
   Mesh again = before;
   SliverStats stats2;
-  improve_slivers(again, SliverOptions{}, stats2);
+  improve_slivers(again, SliverOptions{}, delaunay.apexes(), stats2);
   EXPECT_EQ(again.tets.size(), after.tets.size()) << name;
   bool same = again.tets.size() == after.tets.size();
   for (size_t i = 0; same && i < after.tets.size(); ++i) same = again.tets[i].v == after.tets[i].v;
@@ -174,12 +184,13 @@ TEST(Slivers, CaseARidgeLimitAgainstSurfaceChange) {
     o.remove_slivers = false;
     const Mesh base = mesh_surface(in, o).mesh;
     const double v0 = check_conformity(base).enclosed_volume.at(1);
+    const DelaunayApexes delaunay(base);
     double previous_change = -1;
     for (double ridge : {0.0, 0.5, 2.0, 5.0, 20.0}) {
       Mesh m = base;
       SliverOptions so;
       so.ridge_angle_deg = ridge;
-      const SliverStats s = remove_slivers(m, so);
+      const SliverStats s = remove_slivers(m, so, delaunay.apexes());
       const ConformityReport c = check_conformity(m);
       EXPECT_TRUE(c.ok(1e-9)) << name << " ridge " << ridge << ": " << c.summary();
       const double change = std::abs(c.enclosed_volume.at(1) - v0) / v0;
