@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/point_grid.h"
 #include "geometry/predicates.h"
 #include "mesh/tet_faces.h"
 
@@ -432,7 +433,9 @@ bool apply_if_valid(TetComplex& c, const Replacement& r, SliverStats& stats) {
 // decision is an exact predicate on points: the bounds are kept as points.
 class FacetWitnesses {
  public:
-  FacetWitnesses(const TetComplex& c, const Mesh& m, const FacetApexes& apexes) : c_(c) {
+  FacetWitnesses(const TetComplex& c, const Mesh& m, const FacetApexes& apexes)
+      : c_(c), facets_of_(m.points.size()) {
+    grid_.build(m.points);
     double edge_sum = 0;
     for (const Triangle& t : m.triangles)
       for (int e = 0; e < 3; ++e) edge_sum += norm(m.points[t.v[(e + 1) % 3]] - m.points[t.v[e]]);
@@ -446,46 +449,76 @@ class FacetWitnesses {
         if (x < 0) continue;
         const int side = orientation(c.point(t.v[0]), c.point(t.v[1]), c.point(t.v[2]), c.point(x));
         Bound& b = side > 0 ? f.above : f.below;
-        if (side == 0 || b.set) throw std::logic_error("sliver removal: a facet's Delaunay apexes are not on two sides");
-        b = {c.point(x), true};
+        if (side == 0 || b.kind != Bound::none)
+          throw std::logic_error("sliver removal: a facet's Delaunay apexes are not on two sides");
+        b = {Bound::point, c.point(x)};
       }
-      add(f);
+      for (int x : t.v) facets_of_[x].push_back(static_cast<int>(facets_.size()));
+      facets_.push_back(f);
+      spread(static_cast<int>(facets_.size()) - 1);
     }
   }
 
-  // True when every surface facet stays Delaunay with a vertex moved to p.
-  bool allows(const Vec3& p) const {
+  // True when every surface facet stays Delaunay with vertex `moving` at p.
+  // The facets of a moving surface vertex change shape: reshape_allows
+  // decides for them.
+  bool allows(const Vec3& p, int moving) const {
     bool ok = true;
     for_each_near(p, [&](const Facet& f) {
+      if (has(f, moving)) return true;
       const Vec3 &a = c_.point(f.v[0]), &b = c_.point(f.v[1]), &c = c_.point(f.v[2]);
       const int side = orientation(a, b, c, p);
       // In the plane: outside every sphere of the pencil or inside all of them.
       if (side == 0) ok = side_of_equatorial_sphere(a, b, c, p) == SphereSide::outside;
-      else {
-        const Bound& other = side > 0 ? f.below : f.above;
-        ok = !other.set || side_of_circumsphere(a, b, c, p, other.at) == SphereSide::outside;
-      }
+      else ok = outside_bound(a, b, c, p, side > 0 ? f.below : f.above);
       return ok;
     });
     return ok;
   }
 
-  // A vertex moved to p (allowed): the bounds p tightens take it.
-  void record(const Vec3& p) {
+  // With surface vertex v at p, is each of its facets Delaunay with an empty
+  // equatorial sphere (the one bound a changed facet gets)?
+  bool reshape_allows(int v, const Vec3& p) {
+    const Vec3 from = grid_.position(v);
+    grid_.update(v, p);
+    bool ok = true;
+    std::vector<int> occupants;
+    for (int id : facets_of_[v]) {
+      const Triple& t = facets_[id].v;
+      ok = equatorial_sphere_occupants(grid_, t[0], t[1], t[2], occupants) && occupants.empty();
+      if (!ok) break;
+    }
+    grid_.update(v, from);
+    return ok;
+  }
+
+  // Vertex v moved to p (allowed): the bounds p tightens take it, and the
+  // facets of a surface vertex get their new equatorial spheres as bounds.
+  void moved(int v, const Vec3& p) {
+    grid_.update(v, p);
     for_each_near(p, [&](Facet& f) {
+      if (has(f, v)) return true;
       const Vec3 &a = c_.point(f.v[0]), &b = c_.point(f.v[1]), &c = c_.point(f.v[2]);
       const int side = orientation(a, b, c, p);
       if (side == 0) return true;
       Bound& same = side > 0 ? f.above : f.below;
-      if (!same.set || side_of_circumsphere(a, b, c, p, same.at) == SphereSide::outside) same = {p, true};
+      if (tightens(a, b, c, p, same)) same = {Bound::point, p};
       return true;
     });
+    for (int id : facets_of_[v]) {
+      facets_[id].above = facets_[id].below = {Bound::equatorial, Vec3{}};
+      spread(id);
+    }
   }
 
  private:
+  // A bound of a facet's interval of empty spheres (see above): none (a
+  // convex-hull side), a vertex position, or the equatorial sphere itself
+  // (s = 0, for facets that changed shape: their interval is only known to
+  // hold 0).
   struct Bound {
+    enum Kind { none, point, equatorial } kind = none;
     Vec3 at;
-    bool set = false;
   };
   struct Facet {
     Triple v;
@@ -495,6 +528,28 @@ class FacetWitnesses {
     // point the facet's tests could refuse or tighten on, now and later.
     Ball reach[2];
   };
+
+  static bool has(const Facet& f, int v) { return f.v[0] == v || f.v[1] == v || f.v[2] == v; }
+  // p (off the plane) leaves the interval open against the bound on the
+  // other side.
+  static bool outside_bound(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Bound& other) {
+    switch (other.kind) {
+      case Bound::none: return true;
+      case Bound::point: return side_of_circumsphere(a, b, c, p, other.at) == SphereSide::outside;
+      case Bound::equatorial: return side_of_equatorial_sphere(a, b, c, p) == SphereSide::outside;
+    }
+    return false;
+  }
+  // p, on the side of `same`, allows less than it.
+  static bool tightens(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Bound& same) {
+    switch (same.kind) {
+      case Bound::none: return true;
+      case Bound::point: return side_of_circumsphere(a, b, c, p, same.at) == SphereSide::outside;
+      case Bound::equatorial: return side_of_equatorial_sphere(a, b, c, p) == SphereSide::inside;
+    }
+    return false;
+  }
+
   using Cell = std::array<std::int64_t, 3>;
   struct CellHash {
     size_t operator()(const Cell& k) const {
@@ -529,20 +584,25 @@ class FacetWitnesses {
       if (near(facets_[id]) && !visit(facets_[id])) return;
   }
 
-  void add(Facet f) {
-    const int id = static_cast<int>(facets_.size());
+  // (Re)computes facet id's balls from its bounds and lists it in the cells
+  // they cover (a listing left from earlier balls only costs a test).
+  void spread(int id) {
+    Facet& f = facets_[id];
     const Vec3 &a = c_.point(f.v[0]), &b = c_.point(f.v[1]), &c = c_.point(f.v[2]);
     const Bound* bounds[2] = {&f.above, &f.below};
     bool large = false;
     for (int i = 0; i < 2; ++i) {
-      f.reach[i] = bounds[i]->set ? circumsphere(a, b, c, bounds[i]->at) : Ball{Vec3{}, -1.0};
+      switch (bounds[i]->kind) {
+        case Bound::none: f.reach[i] = Ball{Vec3{}, -1.0}; break;
+        case Bound::point: f.reach[i] = circumsphere(a, b, c, bounds[i]->at); break;
+        case Bound::equatorial: f.reach[i] = equatorial_sphere(a, b, c); break;
+      }
       // Balls spanning many cells (and flat tetrahedra, radius +inf) are
       // looked at for every point instead of being spread over cells.
       large = large || !(f.reach[i].radius < 3.0 * cell_);
     }
-    facets_.push_back(f);
     if (large) {
-      large_.push_back(id);
+      if (std::find(large_.begin(), large_.end(), id) == large_.end()) large_.push_back(id);
       return;
     }
     for (const Ball& ball : f.reach) {
@@ -559,11 +619,73 @@ class FacetWitnesses {
   }
 
   const TetComplex& c_;
+  PointGrid grid_;  // the current positions, for the reshaped facets' spheres
   double cell_ = 1.0;
   std::vector<Facet> facets_;
+  std::vector<std::vector<int>> facets_of_;  // per vertex
   std::vector<int> large_;
   std::unordered_map<Cell, std::vector<int>, CellHash> cells_;
 };
+
+// The plane a surface vertex may slide in: every facet around it has the same
+// face id and regions and the same normal (to 1e-6 degrees), and they close a
+// disc around it. Sliding there leaves the surface's shape and the regions'
+// volumes as they are (to rounding).
+struct SlidePlane {
+  Vec3 origin, normal, u, w;
+  int axis = -1;  // the plane is x, y or z = origin's: that coordinate is kept exactly
+  Vec3 onto(Vec3 p) const {
+    if (axis == 0) p.x = origin.x;
+    else if (axis == 1) p.y = origin.y;
+    else if (axis == 2) p.z = origin.z;
+    else p = p - dot(p - origin, normal) * normal;
+    return p;
+  }
+};
+
+std::vector<std::unique_ptr<SlidePlane>> slide_planes(const Mesh& m) {
+  std::vector<std::vector<int>> around(m.points.size());
+  for (size_t f = 0; f < m.triangles.size(); ++f)
+    for (int v : m.triangles[f].v) around[v].push_back(static_cast<int>(f));
+  std::vector<std::unique_ptr<SlidePlane>> planes(m.points.size());
+  auto area_vector = [&](const Triangle& t) {
+    return cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]);
+  };
+  const double min_cos = std::cos(1e-6 * M_PI / 180.0);
+  for (size_t v = 0; v < around.size(); ++v) {
+    const std::vector<int>& fs = around[v];
+    if (fs.size() < 3) continue;
+    const Triangle& first = m.triangles[fs[0]];
+    Vec3 sum{0, 0, 0};
+    std::unordered_map<int, int> link;  // vertex -> facets around v using it
+    bool flat = true;
+    for (int f : fs) {
+      const Triangle& t = m.triangles[f];
+      flat = flat && t.face == first.face && t.front == first.front && t.back == first.back;
+      sum = sum + area_vector(t);
+      for (int x : t.v)
+        if (x != static_cast<int>(v)) ++link[x];
+    }
+    for (const auto& [x, uses] : link) flat = flat && uses == 2;
+    if (!flat || !(norm(sum) > 0)) continue;
+    const Vec3 n = normalized(sum);
+    for (int f : fs) flat = flat && dot(normalized(area_vector(m.triangles[f])), n) >= min_cos;
+    if (!flat) continue;
+    auto plane = std::make_unique<SlidePlane>();
+    plane->origin = m.points[v];
+    const Vec3 exact = area_vector(first);
+    for (int k = 0; k < 3; ++k) {
+      const double c[3] = {exact.x, exact.y, exact.z};
+      if (c[(k + 1) % 3] == 0 && c[(k + 2) % 3] == 0) plane->axis = k;
+    }
+    plane->normal = n;
+    const Vec3 helper = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    plane->u = normalized(cross(n, helper));
+    plane->w = cross(n, plane->u);
+    planes[v] = std::move(plane);
+  }
+  return planes;
+}
 
 // The 26 directions of a compass search (cube neighbours, unit length).
 std::vector<Vec3> compass_directions() {
@@ -575,11 +697,12 @@ std::vector<Vec3> compass_directions() {
   return d;
 }
 
-// Where interior vertex v should go: the position with the largest smallest
-// dihedral angle over the tetrahedra around it, by compass search from the
-// better of its position and the centroid of its neighbours. Returns the
-// smallest angle there (old_quality when nothing better was found).
-double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
+// Where vertex v should go: the position with the largest smallest dihedral
+// angle over the tetrahedra around it, by compass search from the better of
+// its position and the centroid of its neighbours; in `plane` when given (a
+// surface vertex). Returns the smallest angle there (old_quality when
+// nothing better was found).
+double best_position(const TetComplex& c, int v, double old_quality, const SlidePlane* plane, Vec3& to) {
   struct Local {
     std::array<Vec3, 4> p;
     int slot;
@@ -625,9 +748,18 @@ double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
     }
     return lo;
   };
-  static const std::vector<Vec3> directions = compass_directions();
+  static const std::vector<Vec3> all_directions = compass_directions();
+  std::vector<Vec3> in_plane;
+  if (plane)
+    for (int k = 0; k < 8; ++k) {
+      const double angle = k * M_PI / 4;
+      in_plane.push_back(std::cos(angle) * plane->u + std::sin(angle) * plane->w);
+    }
+  const std::vector<Vec3>& directions = plane ? in_plane : all_directions;
+  auto place = [&](const Vec3& y) { return plane ? plane->onto(y) : y; };
   Vec3 x = c.point(v);
   double q = score_of_degrees(old_quality);
+  centroid = place(centroid);
   const double qc = quality_at(centroid, q);
   if (qc > q) x = centroid, q = qc;
   double step = 0.2 * spacing;
@@ -635,7 +767,7 @@ double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
     Vec3 best = x;
     double best_q = q;
     for (const Vec3& d : directions) {
-      const Vec3 y = x + step * d;
+      const Vec3 y = place(x + step * d);
       const double qy = quality_at(y, best_q);
       if (qy > best_q) best = y, best_q = qy;
     }
@@ -646,23 +778,27 @@ double best_position(const TetComplex& c, int v, double old_quality, Vec3& to) {
   return degrees_of_score(q);
 }
 
-// Case C for tetrahedron t: the best accepted move of one of its interior vertices.
-bool move_a_vertex(TetComplex& c, FacetWitnesses& w, int t, SliverStats& stats) {
+// Case C for tetrahedron t: the best accepted move of one of its vertices
+// (interior ones anywhere, surface ones in their slide plane).
+bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const std::vector<std::unique_ptr<SlidePlane>>& planes, int t,
+                   SliverStats& stats) {
   int best_v = -1;
   Vec3 best_to;
   double best_gain = kMinGainDeg;
   bool blocked = false;
   for (int v : c.tet(t).v) {
-    if (c.on_surface(v)) continue;
+    const SlidePlane* plane = c.on_surface(v) ? planes[v].get() : nullptr;
+    if (c.on_surface(v) && !plane) continue;
     const double old_q = min_quality(c, c.star(v));
     Vec3 to;
-    const double new_q = best_position(c, v, old_q, to);
+    const double new_q = best_position(c, v, old_q, plane, to);
     if (new_q - old_q <= best_gain) continue;
-    // Shorter moves along the same way when the full one would enter a
-    // witness sphere.
+    // Shorter moves along the same way when the full one would make a
+    // surface facet non-Delaunay.
     const Vec3 from = c.point(v);
     for (int halving = 0; halving < 5; ++halving) {
-      const Vec3 p = from + std::ldexp(1.0, -halving) * (to - from);
+      Vec3 p = from + std::ldexp(1.0, -halving) * (to - from);
+      if (plane) p = plane->onto(p);
       bool positive = true;
       double q = 180;
       for (int s : c.star(v)) {
@@ -673,7 +809,7 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, int t, SliverStats& stats) 
         if (!positive || q - old_q <= best_gain) break;  // refused whatever the rest give
       }
       if (!positive || q - old_q <= best_gain) continue;
-      if (!w.allows(p)) {
+      if (!w.allows(p, v) || (plane && !w.reshape_allows(v, p))) {
         blocked = true;
         continue;
       }
@@ -686,8 +822,9 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, int t, SliverStats& stats) 
     return false;
   }
   c.move_point(best_v, best_to);
-  w.record(best_to);
+  w.moved(best_v, best_to);
   ++stats.moves;
+  stats.surface_moves += c.on_surface(best_v);
   return true;
 }
 
@@ -696,7 +833,11 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, int t, SliverStats& stats) 
 void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, SliverStats& stats) {
   TetComplex c(m);
   std::unique_ptr<FacetWitnesses> witnesses;
-  if (o.moves) witnesses = std::make_unique<FacetWitnesses>(c, m, apexes);
+  std::vector<std::unique_ptr<SlidePlane>> planes;
+  if (o.moves) {
+    witnesses = std::make_unique<FacetWitnesses>(c, m, apexes);
+    planes = slide_planes(m);
+  }
   for (int pass = 0; pass < o.max_passes; ++pass) {
     std::vector<std::pair<double, int>> slivers;
     for (int t = 0; t < c.size(); ++t)
@@ -710,7 +851,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
         ++changes;
         continue;
       }
-      if (o.moves && move_a_vertex(c, *witnesses, t, stats)) {
+      if (o.moves && move_a_vertex(c, *witnesses, planes, t, stats)) {
         ++changes;
         continue;
       }

@@ -4,7 +4,9 @@
 // the same boundary, and is kept only when each new tetrahedron is positive
 // by the exact orientation predicate: positive tetrahedra whose boundary is
 // the cavity's tile it exactly once, so the mesh stays valid and conforming.
-// Surface facets are never flipped and surface vertices never move.
+// Surface facets are never flipped. A surface vertex moves only inside a flat
+// patch (all its facets in one plane, one face id: SlidePlane), in that plane,
+// so the surface's shape stays as case A left it.
 // A vertex move also keeps every surface facet a face of the Delaunay
 // tetrahedralization of the vertices: each facet keeps the range of its empty
 // spheres, first read from the Delaunay tetrahedra on its two sides, and a

@@ -10,10 +10,11 @@
 // 2-3 flip across one of its faces or by removing one of its edges (3-2 flip
 // and its generalisation), inside one region, when the smallest dihedral
 // angle of the tetrahedra involved grows.
-// Case C (same file): the sliver is opened by moving one of its interior
-// vertices to where the smallest dihedral angle around that vertex is largest.
-// B and C never touch a surface facet, so the surface and its tags stay
-// exactly as case A left them.
+// Case C (same file): the sliver is opened by moving one of its vertices to
+// where the smallest dihedral angle around that vertex is largest: an
+// interior vertex anywhere, a surface vertex within the plane of its flat
+// patch. B and C never flip a surface facet or change the surface's shape,
+// so the surface and its tags stay as case A left them.
 #pragma once
 
 #include <array>
@@ -40,7 +41,8 @@ struct SliverStats {
   long flips_23 = 0;            // case B: face swaps (two tetrahedra into three)
   long flips_32 = 0;            // case B: edge with three tetrahedra around it (three into two)
   long edge_removals = 0;       // case B: edge with four to seven tetrahedra around it
-  long moves = 0;               // case C: interior vertices moved
+  long moves = 0;               // case C: vertices moved
+  long surface_moves = 0;       // of which surface vertices, in the plane of their flat patch
   long moves_blocked = 0;       // case C: better position found, refused to keep a surface facet Delaunay
   long slivers_after = 0;
   // Over all tetrahedra, before case A and after the last pass.
