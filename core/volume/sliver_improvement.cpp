@@ -5,14 +5,13 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <stdexcept>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
-#include "geometry/point_grid.h"
 #include "geometry/predicates.h"
 #include "mesh/tet_faces.h"
+#include "volume/facet_witnesses.h"
 
 namespace vd {
 
@@ -416,217 +415,6 @@ bool apply_if_valid(TetComplex& c, const Replacement& r, SliverStats& stats) {
   return true;
 }
 
-// What keeps each surface facet a Delaunay face while interior vertices move
-// (see the header). The spheres through a facet's three vertices form a
-// pencil, one sphere per position s of the centre along the facet's normal;
-// the facet is Delaunay while some sphere of the pencil has every other
-// vertex strictly outside. A vertex above the facet's plane is outside the
-// spheres with s below some value, one below it outside those with s above
-// some value, so the empty spheres are an interval (L, U): U set by the
-// vertex above that allows the least, L by the one below. The two Delaunay
-// tetrahedra beside the facet, before any change, give both: their apexes
-// are those vertices (a side on the convex hull has no bound). A vertex may
-// move to p when the interval stays open (p above: the vertex giving L is
-// outside the sphere through the facet and p), and the bound tightens when p
-// allows less than the vertex that gave it. A bound keeps the position of a
-// vertex that moved away: the true interval is then only wider. Every
-// decision is an exact predicate on points: the bounds are kept as points.
-class FacetWitnesses {
- public:
-  FacetWitnesses(const TetComplex& c, const Mesh& m, const FacetApexes& apexes)
-      : c_(c), facets_of_(m.points.size()) {
-    grid_.build(m.points);
-    double edge_sum = 0;
-    for (const Triangle& t : m.triangles)
-      for (int e = 0; e < 3; ++e) edge_sum += norm(m.points[t.v[(e + 1) % 3]] - m.points[t.v[e]]);
-    cell_ = m.triangles.empty() ? 1.0 : 2.0 * edge_sum / (3.0 * m.triangles.size());
-    for (const Triangle& t : m.triangles) {
-      const std::array<int, 2> apex = apexes(t.v[0], t.v[1], t.v[2]);
-      if (apex[0] == -2) throw std::logic_error("sliver removal: a surface facet is not a Delaunay face");
-      Facet f;
-      f.v = t.v;
-      for (int x : apex) {
-        if (x < 0) continue;
-        const int side = orientation(c.point(t.v[0]), c.point(t.v[1]), c.point(t.v[2]), c.point(x));
-        Bound& b = side > 0 ? f.above : f.below;
-        if (side == 0 || b.kind != Bound::none)
-          throw std::logic_error("sliver removal: a facet's Delaunay apexes are not on two sides");
-        b = {Bound::point, c.point(x)};
-      }
-      for (int x : t.v) facets_of_[x].push_back(static_cast<int>(facets_.size()));
-      facets_.push_back(f);
-      spread(static_cast<int>(facets_.size()) - 1);
-    }
-  }
-
-  // True when every surface facet stays Delaunay with vertex `moving` at p.
-  // The facets of a moving surface vertex change shape: reshape_allows
-  // decides for them.
-  bool allows(const Vec3& p, int moving) const {
-    bool ok = true;
-    for_each_near(p, [&](const Facet& f) {
-      if (has(f, moving)) return true;
-      const Vec3 &a = c_.point(f.v[0]), &b = c_.point(f.v[1]), &c = c_.point(f.v[2]);
-      const int side = orientation(a, b, c, p);
-      // In the plane: outside every sphere of the pencil or inside all of them.
-      if (side == 0) ok = side_of_equatorial_sphere(a, b, c, p) == SphereSide::outside;
-      else ok = outside_bound(a, b, c, p, side > 0 ? f.below : f.above);
-      return ok;
-    });
-    return ok;
-  }
-
-  // With surface vertex v at p, is each of its facets Delaunay with an empty
-  // equatorial sphere (the one bound a changed facet gets)?
-  bool reshape_allows(int v, const Vec3& p) {
-    const Vec3 from = grid_.position(v);
-    grid_.update(v, p);
-    bool ok = true;
-    std::vector<int> occupants;
-    for (int id : facets_of_[v]) {
-      const Triple& t = facets_[id].v;
-      ok = equatorial_sphere_occupants(grid_, t[0], t[1], t[2], occupants) && occupants.empty();
-      if (!ok) break;
-    }
-    grid_.update(v, from);
-    return ok;
-  }
-
-  // Vertex v moved to p (allowed): the bounds p tightens take it, and the
-  // facets of a surface vertex get their new equatorial spheres as bounds.
-  void moved(int v, const Vec3& p) {
-    grid_.update(v, p);
-    for_each_near(p, [&](Facet& f) {
-      if (has(f, v)) return true;
-      const Vec3 &a = c_.point(f.v[0]), &b = c_.point(f.v[1]), &c = c_.point(f.v[2]);
-      const int side = orientation(a, b, c, p);
-      if (side == 0) return true;
-      Bound& same = side > 0 ? f.above : f.below;
-      if (tightens(a, b, c, p, same)) same = {Bound::point, p};
-      return true;
-    });
-    for (int id : facets_of_[v]) {
-      facets_[id].above = facets_[id].below = {Bound::equatorial, Vec3{}};
-      spread(id);
-    }
-  }
-
- private:
-  // A bound of a facet's interval of empty spheres (see above): none (a
-  // convex-hull side), a vertex position, or the equatorial sphere itself
-  // (s = 0, for facets that changed shape: their interval is only known to
-  // hold 0).
-  struct Bound {
-    enum Kind { none, point, equatorial } kind = none;
-    Vec3 at;
-  };
-  struct Facet {
-    Triple v;
-    Bound above, below;
-    // Every pencil sphere between the two bounds lies in the union of
-    // theirs, so these two balls (approximate, with a margin) hold every
-    // point the facet's tests could refuse or tighten on, now and later.
-    Ball reach[2];
-  };
-
-  static bool has(const Facet& f, int v) { return f.v[0] == v || f.v[1] == v || f.v[2] == v; }
-  // p (off the plane) leaves the interval open against the bound on the
-  // other side.
-  static bool outside_bound(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Bound& other) {
-    switch (other.kind) {
-      case Bound::none: return true;
-      case Bound::point: return side_of_circumsphere(a, b, c, p, other.at) == SphereSide::outside;
-      case Bound::equatorial: return side_of_equatorial_sphere(a, b, c, p) == SphereSide::outside;
-    }
-    return false;
-  }
-  // p, on the side of `same`, allows less than it.
-  static bool tightens(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Bound& same) {
-    switch (same.kind) {
-      case Bound::none: return true;
-      case Bound::point: return side_of_circumsphere(a, b, c, p, same.at) == SphereSide::outside;
-      case Bound::equatorial: return side_of_equatorial_sphere(a, b, c, p) == SphereSide::inside;
-    }
-    return false;
-  }
-
-  using Cell = std::array<std::int64_t, 3>;
-  struct CellHash {
-    size_t operator()(const Cell& k) const {
-      return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
-    }
-  };
-  Cell cell_of(const Vec3& p) const {
-    return {static_cast<std::int64_t>(std::floor(p.x / cell_)), static_cast<std::int64_t>(std::floor(p.y / cell_)),
-            static_cast<std::int64_t>(std::floor(p.z / cell_))};
-  }
-
-  // Calls visit(facet) for every facet whose balls may hold p, until it
-  // returns false.
-  template <class Visit>
-  void for_each_near(const Vec3& p, Visit visit) const {
-    const_cast<FacetWitnesses*>(this)->for_each_near(p, [&](Facet& f) { return visit(static_cast<const Facet&>(f)); });
-  }
-  template <class Visit>
-  void for_each_near(const Vec3& p, Visit visit) {
-    auto near = [&](const Facet& f) {
-      for (const Ball& b : f.reach) {
-        const double reach = b.radius * (1 + 1e-6);
-        if (b.radius >= 0 && !(std::isfinite(reach) && dot(p - b.centre, p - b.centre) > reach * reach)) return true;
-      }
-      return false;
-    };
-    for (int id : large_)
-      if (near(facets_[id]) && !visit(facets_[id])) return;
-    auto it = cells_.find(cell_of(p));
-    if (it == cells_.end()) return;
-    for (int id : it->second)
-      if (near(facets_[id]) && !visit(facets_[id])) return;
-  }
-
-  // (Re)computes facet id's balls from its bounds and lists it in the cells
-  // they cover (a listing left from earlier balls only costs a test).
-  void spread(int id) {
-    Facet& f = facets_[id];
-    const Vec3 &a = c_.point(f.v[0]), &b = c_.point(f.v[1]), &c = c_.point(f.v[2]);
-    const Bound* bounds[2] = {&f.above, &f.below};
-    bool large = false;
-    for (int i = 0; i < 2; ++i) {
-      switch (bounds[i]->kind) {
-        case Bound::none: f.reach[i] = Ball{Vec3{}, -1.0}; break;
-        case Bound::point: f.reach[i] = circumsphere(a, b, c, bounds[i]->at); break;
-        case Bound::equatorial: f.reach[i] = equatorial_sphere(a, b, c); break;
-      }
-      // Balls spanning many cells (and flat tetrahedra, radius +inf) are
-      // looked at for every point instead of being spread over cells.
-      large = large || !(f.reach[i].radius < 3.0 * cell_);
-    }
-    if (large) {
-      if (std::find(large_.begin(), large_.end(), id) == large_.end()) large_.push_back(id);
-      return;
-    }
-    for (const Ball& ball : f.reach) {
-      if (ball.radius < 0) continue;
-      const double r = ball.radius * (1 + 1e-6) + 1e-12 * cell_;
-      const Cell lo = cell_of(ball.centre - Vec3{r, r, r}), hi = cell_of(ball.centre + Vec3{r, r, r});
-      for (auto x = lo[0]; x <= hi[0]; ++x)
-        for (auto y = lo[1]; y <= hi[1]; ++y)
-          for (auto z = lo[2]; z <= hi[2]; ++z) {
-            std::vector<int>& list = cells_[{x, y, z}];
-            if (list.empty() || list.back() != id) list.push_back(id);
-          }
-    }
-  }
-
-  const TetComplex& c_;
-  PointGrid grid_;  // the current positions, for the reshaped facets' spheres
-  double cell_ = 1.0;
-  std::vector<Facet> facets_;
-  std::vector<std::vector<int>> facets_of_;  // per vertex
-  std::vector<int> large_;
-  std::unordered_map<Cell, std::vector<int>, CellHash> cells_;
-};
-
 // The plane a surface vertex may slide in: every facet around it has the same
 // face id and regions and the same normal (to 1e-6 degrees), and they close a
 // disc around it. Sliding there leaves the surface's shape and the regions'
@@ -835,7 +623,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
   std::unique_ptr<FacetWitnesses> witnesses;
   std::vector<std::unique_ptr<SlidePlane>> planes;
   if (o.moves) {
-    witnesses = std::make_unique<FacetWitnesses>(c, m, apexes);
+    witnesses = std::make_unique<FacetWitnesses>(m.points, m.triangles, apexes);
     planes = slide_planes(m);
   }
   for (int pass = 0; pass < o.max_passes; ++pass) {

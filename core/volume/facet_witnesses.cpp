@@ -1,0 +1,175 @@
+#include "volume/facet_witnesses.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace vd {
+namespace {
+
+bool has(const std::array<int, 3>& f, int v) { return f[0] == v || f[1] == v || f[2] == v; }
+
+}  // namespace
+
+FacetWitnesses::FacetWitnesses(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles,
+                               const FacetApexes& apexes)
+    : points_(points), facets_of_(points.size()) {
+  grid_.build(points);
+  double edge_sum = 0;
+  for (const Triangle& t : triangles)
+    for (int e = 0; e < 3; ++e) edge_sum += norm(points[t.v[(e + 1) % 3]] - points[t.v[e]]);
+  cell_ = triangles.empty() ? 1.0 : 2.0 * edge_sum / (3.0 * triangles.size());
+  for (const Triangle& t : triangles) {
+    const std::array<int, 2> apex = apexes(t.v[0], t.v[1], t.v[2]);
+    if (apex[0] == -2) throw std::logic_error("facet witnesses: a surface facet is not a Delaunay face");
+    Facet f;
+    f.v = t.v;
+    for (int x : apex) {
+      if (x < 0) continue;
+      const int side = orientation(points[t.v[0]], points[t.v[1]], points[t.v[2]], points[x]);
+      Bound& b = side > 0 ? f.above : f.below;
+      if (side == 0 || b.kind != Bound::none)
+        throw std::logic_error("facet witnesses: a facet's Delaunay apexes are not on two sides");
+      b = {Bound::point, points[x]};
+    }
+    for (int x : t.v) facets_of_[x].push_back(static_cast<int>(facets_.size()));
+    facets_.push_back(f);
+    spread(static_cast<int>(facets_.size()) - 1);
+  }
+}
+
+namespace {
+
+// p (off the plane) leaves the interval open against the bound on the other side.
+template <class Bound>
+bool outside_bound(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Bound& other) {
+  switch (other.kind) {
+    case Bound::none: return true;
+    case Bound::point: return side_of_circumsphere(a, b, c, p, other.at) == SphereSide::outside;
+    case Bound::equatorial: return side_of_equatorial_sphere(a, b, c, p) == SphereSide::outside;
+  }
+  return false;
+}
+
+// p, on the side of `same`, allows less than it.
+template <class Bound>
+bool tightens(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p, const Bound& same) {
+  switch (same.kind) {
+    case Bound::none: return true;
+    case Bound::point: return side_of_circumsphere(a, b, c, p, same.at) == SphereSide::outside;
+    case Bound::equatorial: return side_of_equatorial_sphere(a, b, c, p) == SphereSide::inside;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool FacetWitnesses::allows(const Vec3& p, int moving) const {
+  bool ok = true;
+  const_cast<FacetWitnesses*>(this)->for_each_near(p, [&](const Facet& f) {
+    if (has(f.v, moving)) return true;
+    const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
+    const int side = orientation(a, b, c, p);
+    // In the plane: outside every sphere of the pencil or inside all of them.
+    if (side == 0) ok = side_of_equatorial_sphere(a, b, c, p) == SphereSide::outside;
+    else ok = outside_bound(a, b, c, p, side > 0 ? f.below : f.above);
+    return ok;
+  });
+  return ok;
+}
+
+bool FacetWitnesses::reshape_allows(int v, const Vec3& p) {
+  const Vec3 from = grid_.position(v);
+  grid_.update(v, p);
+  bool ok = true;
+  std::vector<int> occupants;
+  for (int id : facets_of_[v]) {
+    const auto& t = facets_[id].v;
+    ok = equatorial_sphere_occupants(grid_, t[0], t[1], t[2], occupants) && occupants.empty();
+    if (!ok) break;
+  }
+  grid_.update(v, from);
+  return ok;
+}
+
+void FacetWitnesses::moved(int v, const Vec3& p) {
+  grid_.update(v, p);
+  tighten(p, v);
+  for (int id : facets_of_[v]) {
+    facets_[id].above = facets_[id].below = {Bound::equatorial, Vec3{}};
+    spread(id);
+  }
+}
+
+void FacetWitnesses::added(const Vec3& p) { tighten(p, -1); }
+
+void FacetWitnesses::tighten(const Vec3& p, int moving) {
+  for_each_near(p, [&](Facet& f) {
+    if (has(f.v, moving)) return true;
+    const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
+    const int side = orientation(a, b, c, p);
+    if (side == 0) return true;
+    Bound& same = side > 0 ? f.above : f.below;
+    if (tightens(a, b, c, p, same)) same = {Bound::point, p};
+    return true;
+  });
+}
+
+FacetWitnesses::Cell FacetWitnesses::cell_of(const Vec3& p) const {
+  return {static_cast<std::int64_t>(std::floor(p.x / cell_)), static_cast<std::int64_t>(std::floor(p.y / cell_)),
+          static_cast<std::int64_t>(std::floor(p.z / cell_))};
+}
+
+// Calls visit(facet) for every facet whose balls may hold p, until it returns false.
+template <class Visit>
+void FacetWitnesses::for_each_near(const Vec3& p, Visit visit) {
+  auto near = [&](const Facet& f) {
+    for (const Ball& b : f.reach) {
+      const double reach = b.radius * (1 + 1e-6);
+      if (b.radius >= 0 && !(std::isfinite(reach) && dot(p - b.centre, p - b.centre) > reach * reach)) return true;
+    }
+    return false;
+  };
+  for (int id : large_)
+    if (near(facets_[id]) && !visit(facets_[id])) return;
+  auto it = cells_.find(cell_of(p));
+  if (it == cells_.end()) return;
+  for (int id : it->second)
+    if (near(facets_[id]) && !visit(facets_[id])) return;
+}
+
+// (Re)computes facet id's balls from its bounds and lists it in the cells
+// they cover (a listing left from earlier balls only costs a test).
+void FacetWitnesses::spread(int id) {
+  Facet& f = facets_[id];
+  const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
+  const Bound* bounds[2] = {&f.above, &f.below};
+  bool large = false;
+  for (int i = 0; i < 2; ++i) {
+    switch (bounds[i]->kind) {
+      case Bound::none: f.reach[i] = Ball{Vec3{}, -1.0}; break;
+      case Bound::point: f.reach[i] = circumsphere(a, b, c, bounds[i]->at); break;
+      case Bound::equatorial: f.reach[i] = equatorial_sphere(a, b, c); break;
+    }
+    // Balls spanning many cells (and flat tetrahedra, radius +inf) are
+    // looked at for every point instead of being spread over cells.
+    large = large || !(f.reach[i].radius < 3.0 * cell_);
+  }
+  if (large) {
+    if (std::find(large_.begin(), large_.end(), id) == large_.end()) large_.push_back(id);
+    return;
+  }
+  for (const Ball& ball : f.reach) {
+    if (ball.radius < 0) continue;
+    const double r = ball.radius * (1 + 1e-6) + 1e-12 * cell_;
+    const Cell lo = cell_of(ball.centre - Vec3{r, r, r}), hi = cell_of(ball.centre + Vec3{r, r, r});
+    for (auto x = lo[0]; x <= hi[0]; ++x)
+      for (auto y = lo[1]; y <= hi[1]; ++y)
+        for (auto z = lo[2]; z <= hi[2]; ++z) {
+          std::vector<int>& list = cells_[{x, y, z}];
+          if (list.empty() || list.back() != id) list.push_back(id);
+        }
+  }
+}
+
+}  // namespace vd

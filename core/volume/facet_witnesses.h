@@ -1,0 +1,92 @@
+// What keeps each surface facet a Delaunay face while vertices move or are
+// added (the sliver pass's case C, the interior vertices).
+//
+// The spheres through a facet's three vertices form a pencil, one sphere per
+// position s of the centre along the facet's normal; the facet is Delaunay
+// while some sphere of the pencil has every other vertex strictly outside. A
+// vertex above the facet's plane is outside the spheres with s below some
+// value, one below it outside those with s above some value, so the empty
+// spheres are an interval (L, U): U set by the vertex above that allows the
+// least, L by the one below. The two Delaunay tetrahedra beside the facet give
+// both at the start: their apexes are those vertices (a side on the convex
+// hull has no bound). A vertex may go to p when the interval stays open (p
+// above: the vertex giving L is outside the sphere through the facet and p),
+// and the bound tightens when p allows less than the vertex that gave it. A
+// bound keeps the position of a vertex that moved away: the true interval is
+// then only wider. Every decision is an exact predicate on points: the bounds
+// are kept as points.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "geometry/point_grid.h"
+#include "geometry/predicates.h"
+#include "mesh/mesh.h"
+#include "volume/sliver_removal.h"
+
+namespace vd {
+
+class FacetWitnesses {
+ public:
+  // `points` is read as it changes (it must outlive this); every triangle
+  // must be a face of the Delaunay tetrahedralization `apexes` describes
+  // (std::logic_error otherwise).
+  FacetWitnesses(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles, const FacetApexes& apexes);
+
+  // True when every surface facet stays Delaunay with vertex `moving` at p
+  // (-1: a new vertex). The facets of a moving surface vertex change shape:
+  // reshape_allows decides for them.
+  bool allows(const Vec3& p, int moving = -1) const;
+  // With surface vertex v at p, is each of its facets Delaunay with an empty
+  // equatorial sphere (the one bound a changed facet gets)?
+  bool reshape_allows(int v, const Vec3& p);
+  // Vertex v moved to p (allowed; `points` already says so): the bounds p
+  // tightens take it, and the facets of a surface vertex get their new
+  // equatorial spheres as bounds.
+  void moved(int v, const Vec3& p);
+  // A vertex added at p (allowed): the bounds it tightens take it. It is not
+  // in the point index: reshape_allows does not see it.
+  void added(const Vec3& p);
+
+ private:
+  // A bound of a facet's interval: none (a convex-hull side), a vertex
+  // position, or the equatorial sphere itself (s = 0, for facets that
+  // changed shape: their interval is only known to hold 0).
+  struct Bound {
+    enum Kind { none, point, equatorial } kind = none;
+    Vec3 at;
+  };
+  struct Facet {
+    std::array<int, 3> v;
+    Bound above, below;
+    // Every pencil sphere between the two bounds lies in the union of
+    // theirs, so these two balls (approximate, with a margin) hold every
+    // point the facet's tests could refuse or tighten on, now and later.
+    Ball reach[2];
+  };
+  using Cell = std::array<std::int64_t, 3>;
+  struct CellHash {
+    size_t operator()(const Cell& k) const {
+      return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
+    }
+  };
+
+  Cell cell_of(const Vec3& p) const;
+  template <class Visit>
+  void for_each_near(const Vec3& p, Visit visit);
+  void tighten(const Vec3& p, int moving);
+  void spread(int id);
+
+  const std::vector<Vec3>& points_;
+  PointGrid grid_;  // the current positions, for the reshaped facets' spheres
+  double cell_ = 1.0;
+  std::vector<Facet> facets_;
+  std::vector<std::vector<int>> facets_of_;  // per vertex
+  std::vector<int> large_;
+  std::unordered_map<Cell, std::vector<int>, CellHash> cells_;
+};
+
+}  // namespace vd
