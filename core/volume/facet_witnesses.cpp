@@ -101,8 +101,6 @@ void FacetWitnesses::moved(int v, const Vec3& p) {
   }
 }
 
-void FacetWitnesses::added(const Vec3& p) { tighten(p, -1); }
-
 void FacetWitnesses::tighten(const Vec3& p, int moving) {
   for_each_near(p, [&](Facet& f) {
     if (has(f.v, moving)) return true;

@@ -1,5 +1,5 @@
-// What keeps each surface facet a Delaunay face while vertices move or are
-// added (the sliver pass's case C, the interior vertices).
+// What keeps each surface facet a Delaunay face while vertices move (the
+// sliver pass's case C).
 //
 // The spheres through a facet's three vertices form a pencil, one sphere per
 // position s of the centre along the facet's normal; the facet is Delaunay
@@ -36,10 +36,10 @@ class FacetWitnesses {
   // (std::logic_error otherwise).
   FacetWitnesses(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles, const FacetApexes& apexes);
 
-  // True when every surface facet stays Delaunay with vertex `moving` at p
-  // (-1: a new vertex). The facets of a moving surface vertex change shape:
+  // True when every surface facet stays Delaunay with vertex `moving` at p.
+  // The facets of a moving surface vertex change shape:
   // reshape_allows decides for them.
-  bool allows(const Vec3& p, int moving = -1) const;
+  bool allows(const Vec3& p, int moving) const;
   // With surface vertex v at p, is each of its facets Delaunay with an empty
   // equatorial sphere (the one bound a changed facet gets)?
   bool reshape_allows(int v, const Vec3& p);
@@ -47,9 +47,6 @@ class FacetWitnesses {
   // tightens take it, and the facets of a surface vertex get their new
   // equatorial spheres as bounds.
   void moved(int v, const Vec3& p);
-  // A vertex added at p (allowed): the bounds it tightens take it. It is not
-  // in the point index: reshape_allows does not see it.
-  void added(const Vec3& p);
 
  private:
   // A bound of a facet's interval: none (a convex-hull side), a vertex
