@@ -72,6 +72,7 @@ class FacetWitnesses {
   };
 
   Cell cell_of(const Vec3& p) const;
+  void narrow_to_equatorial(Facet& f) const;
   template <class Visit>
   void for_each_near(const Vec3& p, Visit visit);
   void tighten(const Vec3& p, int moving);
