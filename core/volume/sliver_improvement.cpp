@@ -415,14 +415,22 @@ bool apply_if_valid(TetComplex& c, const Replacement& r, SliverStats& stats) {
   return true;
 }
 
-// The plane a surface vertex may slide in: every facet around it has the same
-// face id and regions and the same normal (to 1e-6 degrees), and they close a
-// disc around it. Sliding there leaves the surface's shape and the regions'
-// volumes as they are (to rounding).
+// Where a surface vertex may slide: in a plane when every facet around it has
+// the same face id and regions and the same normal (to 1e-6 degrees) and they
+// close a disc around it; along a line when the facets lie in two such planes
+// that meet along a straight crease through it. Sliding there leaves the
+// surface's shape and the regions' volumes as they are (to rounding).
 struct SlidePlane {
   Vec3 origin, normal, u, w;
-  int axis = -1;  // the plane is x, y or z = origin's: that coordinate is kept exactly
+  bool line = false;  // along u only
+  int axis = -1;      // plane: x, y or z = origin's; line: along that axis. Kept exactly.
   Vec3 onto(Vec3 p) const {
+    if (line) {
+      if (axis < 0) return origin + dot(p - origin, u) * u;
+      Vec3 q = origin;
+      q[axis] = p[axis];
+      return q;
+    }
     if (axis == 0) p.x = origin.x;
     else if (axis == 1) p.y = origin.y;
     else if (axis == 2) p.z = origin.z;
@@ -439,37 +447,88 @@ std::vector<std::unique_ptr<SlidePlane>> slide_planes(const Mesh& m) {
   auto area_vector = [&](const Triangle& t) {
     return cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]);
   };
+  auto exact_axis = [](const Vec3& d, bool zeros_elsewhere) {
+    const double c[3] = {d.x, d.y, d.z};
+    for (int k = 0; k < 3; ++k)
+      if (zeros_elsewhere && c[(k + 1) % 3] == 0 && c[(k + 2) % 3] == 0 && c[k] != 0) return k;
+    return -1;
+  };
   const double min_cos = std::cos(1e-6 * M_PI / 180.0);
   for (size_t v = 0; v < around.size(); ++v) {
     const std::vector<int>& fs = around[v];
     if (fs.size() < 3) continue;
-    const Triangle& first = m.triangles[fs[0]];
-    Vec3 sum{0, 0, 0};
     std::unordered_map<int, int> link;  // vertex -> facets around v using it
-    bool flat = true;
-    for (int f : fs) {
-      const Triangle& t = m.triangles[f];
-      flat = flat && t.face == first.face && t.front == first.front && t.back == first.back;
-      sum = sum + area_vector(t);
-      for (int x : t.v)
+    for (int f : fs)
+      for (int x : m.triangles[f].v)
         if (x != static_cast<int>(v)) ++link[x];
+    bool disc = true;
+    for (const auto& [x, uses] : link) disc = disc && uses == 2;
+    if (!disc) continue;
+    // The facets by plane: at most two planes, each of one face id and regions.
+    std::vector<int> group(fs.size(), -1);
+    int leader[2] = {-1, -1};
+    bool ok = true;
+    for (size_t i = 0; i < fs.size() && ok; ++i) {
+      const Triangle& t = m.triangles[fs[i]];
+      const Vec3 n = normalized(area_vector(t));
+      for (int g = 0; g < 2 && group[i] < 0; ++g) {
+        if (leader[g] < 0) {
+          leader[g] = static_cast<int>(i);
+          group[i] = g;
+        } else {
+          const Triangle& l = m.triangles[fs[leader[g]]];
+          if (t.face == l.face && t.front == l.front && t.back == l.back &&
+              dot(n, normalized(area_vector(l))) >= min_cos)
+            group[i] = g;
+        }
+      }
+      ok = group[i] >= 0;
     }
-    for (const auto& [x, uses] : link) flat = flat && uses == 2;
-    if (!flat || !(norm(sum) > 0)) continue;
-    const Vec3 n = normalized(sum);
-    for (int f : fs) flat = flat && dot(normalized(area_vector(m.triangles[f])), n) >= min_cos;
-    if (!flat) continue;
+    if (!ok) continue;
     auto plane = std::make_unique<SlidePlane>();
     plane->origin = m.points[v];
-    const Vec3 exact = area_vector(first);
-    for (int k = 0; k < 3; ++k) {
+    if (leader[1] < 0) {
+      Vec3 sum{0, 0, 0};
+      for (int f : fs) sum = sum + area_vector(m.triangles[f]);
+      if (!(norm(sum) > 0)) continue;
+      const Vec3 n = normalized(sum);
+      const Vec3 exact = area_vector(m.triangles[fs[0]]);
       const double c[3] = {exact.x, exact.y, exact.z};
-      if (c[(k + 1) % 3] == 0 && c[(k + 2) % 3] == 0) plane->axis = k;
+      for (int k = 0; k < 3; ++k)
+        if (c[(k + 1) % 3] == 0 && c[(k + 2) % 3] == 0) plane->axis = k;
+      plane->normal = n;
+      const Vec3 helper = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+      plane->u = normalized(cross(n, helper));
+      plane->w = cross(n, plane->u);
+    } else {
+      // The crease: the two link vertices whose edges to v have a facet of each plane.
+      std::unordered_map<int, int> seen;  // link vertex -> groups it touches (bits)
+      for (size_t i = 0; i < fs.size(); ++i)
+        for (int x : m.triangles[fs[i]].v)
+          if (x != static_cast<int>(v)) seen[x] |= 1 << group[i];
+      std::vector<int> ends;
+      for (const auto& [x, bits] : seen)
+        if (bits == 3) ends.push_back(x);
+      if (ends.size() != 2) continue;
+      std::sort(ends.begin(), ends.end());
+      const Vec3 chord = m.points[ends[1]] - m.points[ends[0]];
+      const Vec3 d = normalized(chord);
+      const Vec3 n0 = normalized(area_vector(m.triangles[fs[leader[0]]]));
+      const Vec3 n1 = normalized(area_vector(m.triangles[fs[leader[1]]]));
+      const Vec3 off = m.points[v] - m.points[ends[0]];
+      if (!(norm(cross(off, d)) <= 1e-12 * norm(chord)) || !(std::abs(dot(d, n0)) <= 1e-12) ||
+          !(std::abs(dot(d, n1)) <= 1e-12))
+        continue;
+      plane->line = true;
+      plane->u = d;
+      plane->w = Vec3{0, 0, 0};
+      plane->normal = n0;
+      plane->axis = exact_axis(chord, true);
+      if (plane->axis >= 0) {
+        const double o[3] = {off.x, off.y, off.z};
+        if (o[(plane->axis + 1) % 3] != 0 || o[(plane->axis + 2) % 3] != 0) continue;  // not exactly on it
+      }
     }
-    plane->normal = n;
-    const Vec3 helper = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-    plane->u = normalized(cross(n, helper));
-    plane->w = cross(n, plane->u);
     planes[v] = std::move(plane);
   }
   return planes;
@@ -538,7 +597,8 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
   };
   static const std::vector<Vec3> all_directions = compass_directions();
   std::vector<Vec3> in_plane;
-  if (plane)
+  if (plane && plane->line) in_plane = {plane->u, -1.0 * plane->u};
+  else if (plane)
     for (int k = 0; k < 8; ++k) {
       const double angle = k * M_PI / 4;
       in_plane.push_back(std::cos(angle) * plane->u + std::sin(angle) * plane->w);
