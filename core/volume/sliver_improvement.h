@@ -6,7 +6,8 @@
 // the cavity's tile it exactly once, so the mesh stays valid and conforming.
 // Surface facets are never flipped. A surface vertex moves only inside a flat
 // patch (all its facets in one plane, one face id: SlidePlane), in that plane,
-// so the surface's shape stays as case A left it.
+// or along a straight crease between two flat faces, so the surface's shape
+// stays as case A left it.
 // A vertex move also keeps every surface facet a face of the Delaunay
 // tetrahedralization of the vertices: each facet keeps the range of its empty
 // spheres, first read from the Delaunay tetrahedra on its two sides, and a

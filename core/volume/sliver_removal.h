@@ -13,7 +13,7 @@
 // Case C (same file): the sliver is opened by moving one of its vertices to
 // where the smallest dihedral angle around that vertex is largest: an
 // interior vertex anywhere, a surface vertex within the plane of its flat
-// patch. B and C never flip a surface facet or change the surface's shape,
+// patch or along its straight crease. B and C never flip a surface facet or change the surface's shape,
 // so the surface and its tags stay as case A left them.
 #pragma once
 
@@ -42,7 +42,7 @@ struct SliverStats {
   long flips_32 = 0;            // case B: edge with three tetrahedra around it (three into two)
   long edge_removals = 0;       // case B: edge with four to seven tetrahedra around it
   long moves = 0;               // case C: vertices moved
-  long surface_moves = 0;       // of which surface vertices, in the plane of their flat patch
+  long surface_moves = 0;       // of which surface vertices, in their flat patch or along their crease
   long moves_blocked = 0;       // case C: better position found, refused to keep a surface facet Delaunay
   long slivers_after = 0;
   // Over all tetrahedra, before case A and after the last pass.
