@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -439,18 +440,18 @@ struct SlidePlane {
   }
 };
 
-std::vector<std::unique_ptr<SlidePlane>> slide_planes(const Mesh& m) {
+std::vector<std::optional<SlidePlane>> slide_planes(const Mesh& m) {
   std::vector<std::vector<int>> around(m.points.size());
   for (size_t f = 0; f < m.triangles.size(); ++f)
     for (int v : m.triangles[f].v) around[v].push_back(static_cast<int>(f));
-  std::vector<std::unique_ptr<SlidePlane>> planes(m.points.size());
+  std::vector<std::optional<SlidePlane>> planes(m.points.size());
   auto area_vector = [&](const Triangle& t) {
     return cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]);
   };
-  auto exact_axis = [](const Vec3& d, bool zeros_elsewhere) {
-    const double c[3] = {d.x, d.y, d.z};
+  // The axis a vector lies along exactly (its other two components are 0), or -1.
+  auto exact_axis = [](const Vec3& d) {
     for (int k = 0; k < 3; ++k)
-      if (zeros_elsewhere && c[(k + 1) % 3] == 0 && c[(k + 2) % 3] == 0 && c[k] != 0) return k;
+      if (d[(k + 1) % 3] == 0 && d[(k + 2) % 3] == 0 && d[k] != 0) return k;
     return -1;
   };
   const double min_cos = std::cos(1e-6 * M_PI / 180.0);
@@ -485,21 +486,18 @@ std::vector<std::unique_ptr<SlidePlane>> slide_planes(const Mesh& m) {
       ok = group[i] >= 0;
     }
     if (!ok) continue;
-    auto plane = std::make_unique<SlidePlane>();
-    plane->origin = m.points[v];
+    SlidePlane plane;
+    plane.origin = m.points[v];
     if (leader[1] < 0) {
       Vec3 sum{0, 0, 0};
       for (int f : fs) sum = sum + area_vector(m.triangles[f]);
       if (!(norm(sum) > 0)) continue;
       const Vec3 n = normalized(sum);
-      const Vec3 exact = area_vector(m.triangles[fs[0]]);
-      const double c[3] = {exact.x, exact.y, exact.z};
-      for (int k = 0; k < 3; ++k)
-        if (c[(k + 1) % 3] == 0 && c[(k + 2) % 3] == 0) plane->axis = k;
-      plane->normal = n;
+      plane.axis = exact_axis(area_vector(m.triangles[fs[0]]));
+      plane.normal = n;
       const Vec3 helper = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-      plane->u = normalized(cross(n, helper));
-      plane->w = cross(n, plane->u);
+      plane.u = normalized(cross(n, helper));
+      plane.w = cross(n, plane.u);
     } else {
       // The crease: the two link vertices whose edges to v have a facet of each plane.
       std::unordered_map<int, int> seen;  // link vertex -> groups it touches (bits)
@@ -519,17 +517,15 @@ std::vector<std::unique_ptr<SlidePlane>> slide_planes(const Mesh& m) {
       if (!(norm(cross(off, d)) <= 1e-12 * norm(chord)) || !(std::abs(dot(d, n0)) <= 1e-12) ||
           !(std::abs(dot(d, n1)) <= 1e-12))
         continue;
-      plane->line = true;
-      plane->u = d;
-      plane->w = Vec3{0, 0, 0};
-      plane->normal = n0;
-      plane->axis = exact_axis(chord, true);
-      if (plane->axis >= 0) {
-        const double o[3] = {off.x, off.y, off.z};
-        if (o[(plane->axis + 1) % 3] != 0 || o[(plane->axis + 2) % 3] != 0) continue;  // not exactly on it
-      }
+      plane.line = true;
+      plane.u = d;
+      plane.w = Vec3{0, 0, 0};
+      plane.normal = n0;
+      plane.axis = exact_axis(chord);
+      const int k = plane.axis;
+      if (k >= 0 && (off[(k + 1) % 3] != 0 || off[(k + 2) % 3] != 0)) continue;  // not exactly on it
     }
-    planes[v] = std::move(plane);
+    planes[v] = plane;
   }
   return planes;
 }
@@ -628,14 +624,14 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
 
 // Case C for tetrahedron t: the best accepted move of one of its vertices
 // (interior ones anywhere, surface ones in their slide plane).
-bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const std::vector<std::unique_ptr<SlidePlane>>& planes, int t,
+bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const std::vector<std::optional<SlidePlane>>& planes, int t,
                    SliverStats& stats) {
   int best_v = -1;
   Vec3 best_to;
   double best_gain = kMinGainDeg;
   bool blocked = false;
   for (int v : c.tet(t).v) {
-    const SlidePlane* plane = c.on_surface(v) ? planes[v].get() : nullptr;
+    const SlidePlane* plane = c.on_surface(v) && planes[v] ? &*planes[v] : nullptr;
     if (c.on_surface(v) && !plane) continue;
     const double old_q = min_quality(c, c.star(v));
     Vec3 to;
@@ -681,7 +677,7 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const std::vector<std::uniq
 void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, SliverStats& stats) {
   TetComplex c(m);
   std::unique_ptr<FacetWitnesses> witnesses;
-  std::vector<std::unique_ptr<SlidePlane>> planes;
+  std::vector<std::optional<SlidePlane>> planes;
   if (o.moves) {
     witnesses = std::make_unique<FacetWitnesses>(m.points, m.triangles, apexes);
     planes = slide_planes(m);

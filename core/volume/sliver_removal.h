@@ -13,8 +13,9 @@
 // Case C (same file): the sliver is opened by moving one of its vertices to
 // where the smallest dihedral angle around that vertex is largest: an
 // interior vertex anywhere, a surface vertex within the plane of its flat
-// patch or along its straight crease. B and C never flip a surface facet or change the surface's shape,
-// so the surface and its tags stay as case A left them.
+// patch or along its straight crease. B and C never flip a surface facet or
+// change the surface's shape, so the surface and its tags stay as case A left
+// them.
 #pragma once
 
 #include <array>
