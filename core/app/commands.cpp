@@ -43,6 +43,7 @@ const char* kMeshHelp =
     "  --flip-angle DEG        largest ridge angle a flip may create (default 20)\n"
     "  --sharp-angle DEG       face ids for untagged input: patches split where normals differ more (default 40)\n"
     "  --seed N                random seed (default 1): same input, options and seed give the same mesh\n"
+    "  --threads N             threads for the parallel loops (default: one per core; the mesh is the same)\n"
     "  --shift REL             random shift relative to the local edge length (default 1e-4, 0 = none)\n"
     "  --max-passes N          Delaunayzation guard (default 200)\n"
     "  --max-added N           Delaunayzation guard on added vertices (default 20 x input + 1000)\n"
@@ -144,6 +145,9 @@ int mesh_command(const std::vector<std::string>& raw) {
   opt.delaunayzation.max_added_vertices = static_cast<int>(args.integer("--max-added", -1));
   opt.sharp_angle_deg = args.number("--sharp-angle", opt.sharp_angle_deg);
   opt.seed = static_cast<std::uint64_t>(args.integer("--seed", 1));
+  const long threads = args.integer("--threads", 0);
+  if (threads < 0 || threads > 1024) throw UsageError("--threads must be in [0, 1024]");
+  opt.threads = static_cast<int>(threads);
   opt.order = element_order(args);
   opt.shift = args.number("--shift", opt.shift);
   const std::string report_path = args.value("--report");

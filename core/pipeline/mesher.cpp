@@ -6,6 +6,7 @@
 
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "mesh/error.h"
+#include "mesh/parallel.h"
 #include "surface/face_patches.h"
 #include "surface/size_refinement.h"
 #include "surface/validate_surface.h"
@@ -92,6 +93,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   auto oracle = make_oracle(options.oracle, options.oracle_options);
 
   timer.start("validate");
+  set_thread_count(options.threads);
   m.points = input.points;
   m.point_size = input.point_size;
   m.triangles = input.triangles;
@@ -185,16 +187,18 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     // Case A moves the surface off the input on curved faces; with cases B
     // and C it gains little above a fraction of a degree (slivers_test).
     so.ridge_angle_deg = std::min(so.ridge_angle_deg, options.delaunayzation.flip_angle_deg);
-    report.slivers = remove_slivers(m, so, [&dt](int a, int b, int c) { return dt.facet_apexes(a, b, c); });
+    report.slivers = remove_slivers(
+        m, so, [&dt](int a, int b, int c) { return dt.facet_apexes(a, b, c); }, &report.quality);
     report.output_facets = static_cast<int>(m.triangles.size());
+  } else {
+    timer.start("quality");
+    report.quality = summarize_quality(m);
   }
   for (const Tetrahedron& t : m.tets) {
     if (t.region >= static_cast<int>(report.tets_per_region.size())) report.tets_per_region.resize(t.region + 1, 0);
     ++report.tets_per_region[t.region];
   }
 
-  timer.start("quality");
-  report.quality = summarize_quality(m);
   if (options.order == 2) {
     // After the quality figures: they are those of the straight elements.
     timer.start("second order");

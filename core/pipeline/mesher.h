@@ -29,6 +29,9 @@ struct MeshOptions {
   DelaunayzationOptions delaunayzation;
   double shift = 1e-4;               // random shift, relative to the local size (0: none)
   std::uint64_t seed = 1;
+  // Threads for the loops that split evenly (quality figures); 0: one per
+  // core. The mesh is the same for any number.
+  int threads = 0;
   double sharp_angle_deg = 40.0;     // face patches for input without face ids
   bool validate = true;
   bool interior = true;              // interior vertices (paper §2); --no-interior turns them off

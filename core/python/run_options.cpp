@@ -65,6 +65,7 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     flip_angle (float, 20): largest ridge angle (deg) a flip may create
     sharp_angle (float, 40): face ids of untagged input split where normals differ more (deg)
     seed (int, 1): the same input, options and seed give the same mesh
+    threads (int, 0): threads for the parallel loops, 0 one per core; the mesh is the same
     shift (float, 1e-4): random shift relative to the local edge length, in [0, 0.1]
     max_passes (int, 200), max_added (int, -1: 20 x input vertices + 1000): Delaunayzation guards
     order (int, 1): 2 gives 10-node tetrahedra (mesh.tet_mid, mesh.triangle_mid); on CAD
@@ -85,7 +86,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   static const std::set<std::string> kCommon = {
       "size",     "gradation",  "interior",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
-      "order",    "progress",   "cancel"};
+      "order",    "progress",   "cancel",      "threads"};
   static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection"};
   RunOptions run;
   MeshOptions& opt = run.cad.mesh;
@@ -113,6 +114,10 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       const long long s = integer(value, name);
       check(s >= 0, "option seed: must not be negative");
       opt.seed = static_cast<std::uint64_t>(s);
+    } else if (name == "threads") {
+      const long long t = integer(value, name);
+      check(t >= 0 && t <= 1024, "option threads: must be in [0, 1024]");
+      opt.threads = static_cast<int>(t);
     } else if (name == "shift") opt.shift = number(value, name);
     else if (name == "max_passes") opt.delaunayzation.max_passes = static_cast<int>(integer(value, name));
     else if (name == "max_added") opt.delaunayzation.max_added_vertices = static_cast<int>(integer(value, name));

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mesh/parallel.h"
+
 namespace vd {
 
 std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
@@ -31,6 +33,28 @@ std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Ve
   return out;
 }
 
+double smallest_dihedral_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // Face normals pointing away from the opposite vertex whatever the
+  // tetrahedron's orientation: flip all when it is negative.
+  const Vec3 ab = b - a, ac = c - a, ad = d - a;
+  const double sign = dot(cross(ab, ac), ad) < 0 ? -1.0 : 1.0;
+  Vec3 n[4] = {cross(ac, ab), cross(ab, ad), cross(ad, ac), cross(c - b, d - b)};
+  double len[4];
+  for (int i = 0; i < 4; ++i) {
+    n[i] = sign * n[i];
+    len[i] = norm(n[i]);
+  }
+  // The smallest angle has the smallest cosine between outward normals; a
+  // degenerate face counts as 90 degrees, as in dihedral_angles_deg.
+  double lowest = 1.0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      const double l = len[i] * len[j];
+      lowest = std::min(lowest, l > 0 ? dot(n[i], n[j]) / l : 0.0);
+    }
+  return 180.0 - std::acos(std::clamp(lowest, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
 double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const double vol = std::abs(dot(cross(b - a, c - a), d - a)) / 6.0;
   const double area = 0.5 * (norm(cross(b - a, c - a)) + norm(cross(b - a, d - a)) + norm(cross(c - a, d - a)) +
@@ -46,27 +70,81 @@ double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) 
   return R > 0 ? 3.0 * r_in / R : 0;
 }
 
-QualitySummary summarize_quality(const Mesh& m) {
-  QualitySummary q;
-  double sum_rr = 0;
-  for (const Tetrahedron& t : m.tets) {
-    const Vec3 &a = m.points[t.v[0]], &b = m.points[t.v[1]], &c = m.points[t.v[2]], &d = m.points[t.v[3]];
+namespace {
+
+// The cosines between outward face normals whose dihedral angle, 180 minus
+// their angle, is 10, 20, ... 170 degrees: an angle is in bin k when its
+// cosine is at least the k-th of them. Bins by cosine save five of the six
+// acos per tetrahedron.
+struct BinEdges {
+  double cosine[17];
+  BinEdges() {
+    for (int k = 1; k <= 17; ++k) cosine[k - 1] = std::cos((180.0 - 10.0 * k) * M_PI / 180.0);
+  }
+  int bin(double c) const { return static_cast<int>(std::upper_bound(cosine, cosine + 17, c) - cosine); }
+};
+
+double degrees_between_faces(double cosine) { return 180.0 - std::acos(cosine) * 180.0 / M_PI; }
+
+// One chunk's figures; the mean radius ratio's sum kept apart.
+void summarize_into(const Mesh& m, long begin, long end, const BinEdges& edges, QualitySummary& q, double& sum_rr) {
+  for (long i = begin; i < end; ++i) {
+    const Tetrahedron& t = m.tets[i];
+    const Vec3 p[4] = {m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]};
     ++q.tets;
-    if (dot(cross(b - a, c - a), d - a) <= 0) ++q.inverted;
-    const auto angles = dihedral_angles_deg(a, b, c, d);
-    double lo = 180;
-    for (double x : angles) {
-      lo = std::min(lo, x);
-      q.min_dihedral_deg = std::min(q.min_dihedral_deg, x);
-      q.max_dihedral_deg = std::max(q.max_dihedral_deg, x);
-      q.dihedral_histogram[std::min(17, std::max(0, int(x / 10.0)))]++;
+    if (dot(cross(p[1] - p[0], p[2] - p[0]), p[3] - p[0]) <= 0) ++q.inverted;
+    // The same normals as dihedral_angles_deg, so that the extremes agree
+    // with it to the last bit.
+    Vec3 n[4];
+    for (int f = 0; f < 4; ++f) {
+      const Vec3 &a = p[f == 0 ? 1 : 0], &b = p[f <= 1 ? 2 : 1], &c = p[f <= 2 ? 3 : 2];
+      Vec3 nf = cross(b - a, c - a);
+      if (dot(nf, p[f] - a) > 0) nf = -1.0 * nf;
+      n[f] = normalized(nf);
     }
-    q.below_5_deg += lo < 5;
-    q.below_10_deg += lo < 10;
-    const double rr = radius_ratio(a, b, c, d);
+    double lo = 1, hi = -1;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        const double c = std::clamp(dot(n[a], n[b]), -1.0, 1.0);
+        lo = std::min(lo, c), hi = std::max(hi, c);
+        q.dihedral_histogram[edges.bin(c)]++;
+      }
+    const double smallest = degrees_between_faces(lo);
+    q.min_dihedral_deg = std::min(q.min_dihedral_deg, smallest);
+    q.max_dihedral_deg = std::max(q.max_dihedral_deg, degrees_between_faces(hi));
+    q.below_5_deg += smallest < 5;
+    q.below_10_deg += smallest < 10;
+    const double rr = radius_ratio(p[0], p[1], p[2], p[3]);
     sum_rr += rr;
     q.min_radius_ratio = std::min(q.min_radius_ratio, rr);
     q.radius_ratio_histogram[std::min(9, std::max(0, int(rr * 10.0)))]++;
+  }
+}
+
+}  // namespace
+
+QualitySummary summarize_quality(const Mesh& m) {
+  static const BinEdges edges;
+  constexpr long kChunk = 1 << 16;
+  const long n = static_cast<long>(m.tets.size());
+  std::vector<QualitySummary> parts((n + kChunk - 1) / kChunk);
+  std::vector<double> sums(parts.size(), 0.0);
+  for_each_chunk(n, kChunk, [&](long c, long begin, long end) { summarize_into(m, begin, end, edges, parts[c], sums[c]); });
+  QualitySummary q;
+  double sum_rr = 0;
+  for (size_t c = 0; c < parts.size(); ++c) {
+    const QualitySummary& p = parts[c];
+    q.tets += p.tets;
+    q.inverted += p.inverted;
+    q.min_dihedral_deg = std::min(q.min_dihedral_deg, p.min_dihedral_deg);
+    q.max_dihedral_deg = std::max(q.max_dihedral_deg, p.max_dihedral_deg);
+    q.min_radius_ratio = std::min(q.min_radius_ratio, p.min_radius_ratio);
+    for (size_t k = 0; k < q.dihedral_histogram.size(); ++k) q.dihedral_histogram[k] += p.dihedral_histogram[k];
+    for (size_t k = 0; k < q.radius_ratio_histogram.size(); ++k)
+      q.radius_ratio_histogram[k] += p.radius_ratio_histogram[k];
+    q.below_5_deg += p.below_5_deg;
+    q.below_10_deg += p.below_10_deg;
+    sum_rr += sums[c];
   }
   if (q.tets) q.mean_radius_ratio = sum_rr / q.tets;
   else q.min_dihedral_deg = q.max_dihedral_deg = q.min_radius_ratio = 0;

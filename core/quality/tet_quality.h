@@ -12,6 +12,8 @@ namespace vd {
 
 // The six dihedral angles of (a, b, c, d), in degrees.
 std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+// The smallest of them, with one acos instead of six.
+double smallest_dihedral_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
 struct QualitySummary {

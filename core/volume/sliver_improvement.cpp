@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "geometry/predicates.h"
+#include "mesh/parallel.h"
 #include "mesh/tet_faces.h"
 #include "volume/facet_witnesses.h"
 
@@ -88,7 +89,7 @@ class TetComplex {
  public:
   explicit TetComplex(Mesh& m)
       : m_(m),
-        star_(m.points.size()),
+        own_star_(m.points.size(), -1),
         stamp_(m.points.size(), 0),
         on_surface_(m.points.size(), false),
         facets_at_(m.points.size()) {
@@ -97,14 +98,28 @@ class TetComplex {
       facets_at_[k[0]].push_back({k[1], k[2]});
       for (int v : t.v) on_surface_[v] = true;
     }
-    tets_.reserve(m.tets.size() + m.tets.size() / 4);
-    for (const Tetrahedron& t : m.tets) add(t);
+    const size_t n = m.tets.size();
+    tets_.reserve(n + n / 4);
+    for (const Tetrahedron& t : m.tets) append(t, 0.0);
+    // Measured apart, on every core: a third of building the complex.
+    for_each_chunk(static_cast<long>(n), 1 << 14, [&](long, long begin, long end) {
+      for (long t = begin; t < end; ++t) quality_[t] = measure(tets_[t].v);
+    });
+    // The stars in one array, counted then filled, in tetrahedron order.
+    star_start_.assign(m.points.size() + 1, 0);
+    for (const Tetrahedron& t : tets_)
+      for (int v : t.v) ++star_start_[v + 1];
+    for (size_t v = 0; v < m.points.size(); ++v) star_start_[v + 1] += star_start_[v];
+    star_flat_.resize(star_start_.back());
+    std::vector<int> fill(star_start_.begin(), star_start_.end() - 1);
+    for (int t = 0; t < size(); ++t)
+      for (int v : tets_[t].v) star_flat_[fill[v]++] = t;
   }
 
   const Vec3& point(int v) const { return m_.points[v]; }
   void move_point(int v, const Vec3& p) {
     m_.points[v] = p;
-    for (int t : star_[v]) {
+    for (int t : star(v)) {
       quality_[t] = measure(tets_[t].v);
       for (int x : tets_[t].v) touch(x);
     }
@@ -123,7 +138,19 @@ class TetComplex {
   const Tetrahedron& tet(int t) const { return tets_[t]; }
   double quality(int t) const { return quality_[t]; }
   bool on_surface(int v) const { return on_surface_[v]; }
-  const std::vector<int>& star(int v) const { return star_[v]; }
+  // The live tetrahedra around v, in the order they were made.
+  struct Star {
+    const int *first, *last;
+    const int* begin() const { return first; }
+    const int* end() const { return last; }
+  };
+  Star star(int v) const {
+    if (own_star_[v] >= 0) {
+      const std::vector<int>& s = owned_stars_[own_star_[v]];
+      return {s.data(), s.data() + s.size()};
+    }
+    return {star_flat_.data() + star_start_[v], star_flat_.data() + star_start_[v + 1]};
+  }
 
   double measure(const std::array<int, 4>& v) const {
     return smallest_dihedral_if_positive(point(v[0]), point(v[1]), point(v[2]), point(v[3]));
@@ -136,57 +163,19 @@ class TetComplex {
     return orientation(point(v[0]), point(v[1]), point(v[2]), point(v[3])) > 0;
   }
 
-  // The tetrahedra on the two sides of a face (-1 where there is none).
-  std::array<int, 2> face_tets(const Triple& f) const {
-    std::array<int, 2> out{-1, -1};
-    for (int t : star_[f[0]]) {
-      const int i = face_index(tets_[t].v, f);
-      if (i < 0) continue;
-      out[0] = t;
-      out[1] = nbr_[t][i];
-      break;
-    }
-    return out;
-  }
   // The tetrahedron across face f of t, or -1 when f is a surface facet.
   int across(int t, const Triple& f) const {
     const int i = face_index(tets_[t].v, f);
-    if (i < 0 || (fixed_[t] >> i & 1)) return -1;
-    return nbr_[t][i];
+    if (i < 0) return -1;
+    if (nbr_[t][i] == kUnknown) resolve(t, i);
+    return fixed_[t] >> i & 1 ? -1 : nbr_[t][i];
   }
 
   int add(const Tetrahedron& t) {
-    const int id = size();
-    tets_.push_back(t);
-    alive_.push_back(true);
-    failed_at_.push_back(-1);
-    quality_.push_back(measure(t.v));
-    nbr_.push_back({-1, -1, -1, -1});
-    fixed_.push_back(0);
-    for (int i = 0; i < 4; ++i) {
-      star_[t.v[i]].push_back(id);
-      touch(t.v[i]);
-    }
-    for (int i = 0; i < 4; ++i) {
-      const Triple f = face_opposite(t.v, i);
-      if (is_facet(f)) fixed_[id] |= 1 << i;
-      // The tetrahedron already on this face: in the star of its vertices.
-      for (int u : star_[f[0]]) {
-        if (u == id) continue;
-        const int j = face_index(tets_[u].v, f);
-        if (j < 0) continue;
-        if (nbr_[u][j] >= 0) {
-          // A face of three tetrahedra (broken input): left alone.
-          const int w = nbr_[u][j];
-          fixed_[u] |= 1 << j;
-          fixed_[id] |= 1 << i;
-          for (int k = 0; k < 4; ++k)
-            if (nbr_[w][k] == u) fixed_[w] |= 1 << k;
-          continue;
-        }
-        nbr_[u][j] = id;
-        nbr_[id][i] = u;
-      }
+    const int id = append(t, measure(t.v));
+    for (int v : t.v) {
+      own_star(v).push_back(id);
+      touch(v);
     }
     return id;
   }
@@ -195,13 +184,13 @@ class TetComplex {
     alive_[id] = false;
     const Tetrahedron& t = tets_[id];
     for (int i = 0; i < 4; ++i) {
-      auto& s = star_[t.v[i]];
+      auto& s = own_star(t.v[i]);
       s.erase(std::find(s.begin(), s.end(), id));
       const int u = nbr_[id][i];
       if (u < 0) continue;
       for (int k = 0; k < 4; ++k)
-        if (nbr_[u][k] == id) nbr_[u][k] = -1;
-      nbr_[id][i] = -1;
+        if (nbr_[u][k] == id) nbr_[u][k] = kUnknown;
+      nbr_[id][i] = kUnknown;
     }
   }
 
@@ -213,7 +202,7 @@ class TetComplex {
     tets.clear();
     ring.clear();
     int t0 = -1;
-    for (int t : star_[a])
+    for (int t : star(a))
       if (contains(tets_[t].v, b)) {
         t0 = t;
         break;
@@ -259,24 +248,82 @@ class TetComplex {
   std::vector<bool> alive_;
   std::vector<double> quality_;
   std::vector<long> failed_at_;  // clock_ when the tetrahedron last failed to improve
-  std::vector<std::vector<int>> star_;
+  // Stars: those of the first tetrahedra in one flat array (one allocation
+  // instead of one per vertex), and a vertex's own vector from the first
+  // change around it on.
+  std::vector<int> star_start_, star_flat_;
+  std::vector<int> own_star_;  // index into owned_stars_, -1: still in star_flat_
+  std::vector<std::vector<int>> owned_stars_;
   std::vector<long> stamp_;      // clock_ of the last change around each vertex
   long clock_ = 0;
   std::vector<bool> on_surface_;
   // Face adjacency per tetrahedron (the tetrahedron across face i, -1 for
-  // none) and which faces no change may remove (bit i): walks around edges
-  // read arrays. A hash map of faces was a third of a sliver pass, half of
-  // it two look-ups per step around an edge.
-  std::vector<std::array<int, 4>> nbr_;
-  std::vector<unsigned char> fixed_;
+  // none, kUnknown until asked) and which faces no change may remove (bit
+  // i): walks around edges read arrays. A hash map of faces was a third of a
+  // sliver pass, half of it two look-ups per step around an edge. Filled on
+  // demand: linking every face up front was 15 % of a whole run on a box
+  // (865k tetrahedra), and the pass asks about the few around slivers.
+  static constexpr int kUnknown = -2;
+  mutable std::vector<std::array<int, 4>> nbr_;
+  mutable std::vector<unsigned char> fixed_;
   // The surface facets by their smallest vertex: (middle, largest).
   std::vector<std::vector<std::pair<int, int>>> facets_at_;
+
+  // A tetrahedron without its stars (they are filled by the caller).
+  int append(const Tetrahedron& t, double quality) {
+    const int id = size();
+    tets_.push_back(t);
+    alive_.push_back(true);
+    failed_at_.push_back(-1);
+    quality_.push_back(quality);
+    nbr_.push_back({kUnknown, kUnknown, kUnknown, kUnknown});
+    fixed_.push_back(0);
+    return id;
+  }
+  std::vector<int>& own_star(int v) {
+    if (own_star_[v] < 0) {
+      own_star_[v] = static_cast<int>(owned_stars_.size());
+      owned_stars_.emplace_back(star_flat_.begin() + star_start_[v], star_flat_.begin() + star_start_[v + 1]);
+    }
+    return owned_stars_[own_star_[v]];
+  }
 
   bool is_facet(const Triple& f) const {
     const Triple k = sorted_triple(f);
     for (const auto& [b, c] : facets_at_[k[0]])
       if (b == k[1] && c == k[2]) return true;
     return false;
+  }
+  // Links face i of t to the tetrahedron on its other side, found in the
+  // star of one of its vertices. A face of three tetrahedra (broken input)
+  // is left alone: fixed in all of them.
+  void resolve(int t, int i) const {
+    const Triple f = face_opposite(tets_[t].v, i);
+    int other = -1, j_other = -1, count = 0;
+    for (int u : star(f[0])) {
+      if (u == t) continue;
+      const int j = face_index(tets_[u].v, f);
+      if (j < 0) continue;
+      ++count;
+      other = u, j_other = j;
+    }
+    if (count <= 1) {
+      nbr_[t][i] = other;
+      if (other >= 0) nbr_[other][j_other] = t;
+      if (is_facet(f)) {
+        fixed_[t] |= 1 << i;
+        if (other >= 0) fixed_[other] |= 1 << j_other;
+      }
+      return;
+    }
+    nbr_[t][i] = -1;
+    fixed_[t] |= 1 << i;
+    for (int u : star(f[0])) {
+      const int j = u == t ? -1 : face_index(tets_[u].v, f);
+      if (j < 0) continue;
+      nbr_[u][j] = -1;
+      fixed_[u] |= 1 << j;
+    }
   }
   // The index of the vertex of v opposite face f, -1 when f is not a face of v.
   static int face_index(const std::array<int, 4>& v, const Triple& f) {
@@ -297,7 +344,8 @@ struct Replacement {
   double old_quality = 0, new_quality = -1;
 };
 
-double min_quality(const TetComplex& c, const std::vector<int>& tets) {
+template <class Tets>
+double min_quality(const TetComplex& c, const Tets& tets) {
   double q = 180;
   for (int t : tets) q = std::min(q, c.quality(t));
   return q;

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "geometry/predicates.h"
+#include "mesh/parallel.h"
 #include "mesh/tet_faces.h"
 #include "quality/tet_quality.h"
 #include "surface/face_patches.h"
@@ -14,13 +15,48 @@ namespace vd {
 namespace {
 
 double smallest_dihedral(const Mesh& m, const Tetrahedron& t) {
-  const auto a = dihedral_angles_deg(m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]);
-  return *std::min_element(a.begin(), a.end());
+  return smallest_dihedral_deg(m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]);
+}
+
+// The smallest dihedral angles of a mesh in one pass over it.
+struct SmallestAngles {
+  double min_deg = 180;
+  long below_5 = 0, below_10 = 0;
+  std::vector<size_t> slivers;  // under the sliver angle, in mesh order
+};
+
+SmallestAngles smallest_angles(const Mesh& m, double sliver_angle_deg) {
+  constexpr long kChunk = 1 << 16;
+  const long n = static_cast<long>(m.tets.size());
+  std::vector<SmallestAngles> parts((n + kChunk - 1) / kChunk);
+  for_each_chunk(n, kChunk, [&](long c, long begin, long end) {
+    SmallestAngles& p = parts[c];
+    for (long t = begin; t < end; ++t) {
+      const double a = smallest_dihedral(m, m.tets[t]);
+      p.min_deg = std::min(p.min_deg, a);
+      p.below_5 += a < 5;
+      p.below_10 += a < 10;
+      if (a < sliver_angle_deg) p.slivers.push_back(static_cast<size_t>(t));
+    }
+  });
+  SmallestAngles all;
+  for (const SmallestAngles& p : parts) {
+    all.min_deg = std::min(all.min_deg, p.min_deg);
+    all.below_5 += p.below_5;
+    all.below_10 += p.below_10;
+    all.slivers.insert(all.slivers.end(), p.slivers.begin(), p.slivers.end());
+  }
+  if (n == 0) all.min_deg = 0;
+  return all;
 }
 
 }  // namespace
 
-void remove_boundary_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats) {
+namespace {
+
+// Case A over the given slivers (indices into m.tets).
+void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<size_t>& slivers,
+                             SliverStats& stats) {
   std::map<std::array<int, 3>, int> facet_of;
   for (size_t f = 0; f < m.triangles.size(); ++f) facet_of[sorted_triple(m.triangles[f].v)] = static_cast<int>(f);
   std::vector<bool> removed(m.tets.size(), false);
@@ -29,10 +65,9 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats
   // Removing one sliver exposes faces of its neighbours: repeat until stable.
   for (bool changed = true; changed;) {
     changed = false;
-    for (size_t ti = 0; ti < m.tets.size(); ++ti) {
+    for (size_t ti : slivers) {
       if (removed[ti]) continue;
       const Tetrahedron& t = m.tets[ti];
-      if (smallest_dihedral(m, t) >= o.sliver_angle_deg) continue;
       int on_surface[4], n = 0, off_surface[4], k = 0;
       for (int i = 0; i < 4; ++i) {
         auto it = facet_of.find(sorted_triple(face_opposite(t.v, i)));
@@ -82,25 +117,29 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats
   m.tets = std::move(kept);
 }
 
-SliverStats remove_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes) {
+}  // namespace
+
+void remove_boundary_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats) {
+  remove_boundary_slivers(m, o, smallest_angles(m, o.sliver_angle_deg).slivers, stats);
+}
+
+SliverStats remove_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, QualitySummary* after_out) {
   SliverStats stats;
-  auto count_slivers = [&] {
-    long n = 0;
-    for (const Tetrahedron& t : m.tets) n += smallest_dihedral(m, t) < o.sliver_angle_deg;
-    return n;
-  };
-  const QualitySummary before = summarize_quality(m);
-  stats.min_dihedral_before_deg = before.min_dihedral_deg;
-  stats.below_5_before = before.below_5_deg;
-  stats.below_10_before = before.below_10_deg;
-  stats.slivers_before = count_slivers();
-  remove_boundary_slivers(m, o, stats);
+  // No point moves in case A: its slivers are those counted here.
+  const SmallestAngles before = smallest_angles(m, o.sliver_angle_deg);
+  stats.min_dihedral_before_deg = before.min_deg;
+  stats.below_5_before = before.below_5;
+  stats.below_10_before = before.below_10;
+  stats.slivers_before = static_cast<long>(before.slivers.size());
+  remove_boundary_slivers(m, o, before.slivers, stats);
   if (o.flips || o.moves) improve_slivers(m, o, apexes, stats);
   const QualitySummary after = summarize_quality(m);
   stats.min_dihedral_after_deg = after.min_dihedral_deg;
   stats.below_5_after = after.below_5_deg;
   stats.below_10_after = after.below_10_deg;
-  stats.slivers_after = count_slivers();
+  stats.slivers_after = o.sliver_angle_deg == 10.0 ? after.below_10_deg
+                                                  : static_cast<long>(smallest_angles(m, o.sliver_angle_deg).slivers.size());
+  if (after_out) *after_out = after;
   return stats;
 }
 

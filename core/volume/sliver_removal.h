@@ -22,6 +22,7 @@
 #include <functional>
 
 #include "mesh/mesh.h"
+#include "quality/tet_quality.h"
 
 namespace vd {
 
@@ -59,10 +60,13 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& options, SliverStats&
 // side, {-2, -2} when it is not a face (DelaunayTetrahedralization::facet_apexes).
 using FacetApexes = std::function<std::array<int, 2>(int a, int b, int c)>;
 
-// Cases A, B and C in that order, with the before / after figures.
+// Cases A, B and C in that order, with the before / after figures; the
+// quality summary of the result into *after when given (the same as
+// summarize_quality's, without measuring every tetrahedron again).
 // Pre: every surface facet is a face of the Delaunay tetrahedralization
 // that `apexes` describes (case A keeps it so: its new facets are faces of
 // the Delaunay tetrahedra it removes).
-SliverStats remove_slivers(Mesh& m, const SliverOptions& options, const FacetApexes& apexes);
+SliverStats remove_slivers(Mesh& m, const SliverOptions& options, const FacetApexes& apexes,
+                           QualitySummary* after = nullptr);
 
 }  // namespace vd
