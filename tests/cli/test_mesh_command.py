@@ -4,6 +4,7 @@ import json
 import os
 
 from cli_support import SOURCE, check, data, finish, run, tmpdir
+from surface_shapes import icosphere, write_off
 
 out = tmpdir()
 bracket = os.path.join(SOURCE, "Resources", "examples", "bracket.obj")
@@ -19,6 +20,26 @@ if code == 0:
     check("vdmesh report" in stdout, "report table printed")
     code, info, _ = run("info", os.path.join(out, "b.vtu"))
     check(code == 0 and "volume 2000" in info, "info reads the mesh back with volume 2000: " + info.strip()[:400])
+
+# Threads change nothing: a sphere of ~150k tetrahedra (several chunks of the
+# parallel loops) gives the same file and the same figures on 1 and 2 threads.
+sphere_path = os.path.join(out, "sphere.off")
+write_off(sphere_path, *icosphere(3))
+runs = {}
+for threads in ("1", "2"):
+    target, rep_path = os.path.join(out, "sphere%s.vtu" % threads), os.path.join(out, "sphere%s.json" % threads)
+    code, _, err = run("mesh", sphere_path, "-o", target, "--size", "0.09", "--quiet", "--threads", threads,
+                       "--report", rep_path)
+    check(code == 0, "sphere on %s threads (exit %d: %s)" % (threads, code, err.strip()[-300:]))
+    if code == 0:
+        runs[threads] = (open(target, "rb").read(), json.load(open(rep_path)))
+if len(runs) == 2:
+    check(runs["1"][1]["counts"]["tetrahedra"] > 100000, "sphere: %d tetrahedra" % runs["1"][1]["counts"]["tetrahedra"])
+    check(runs["1"][0] == runs["2"][0], "the same mesh file on 1 and 2 threads")
+    check(runs["1"][1]["quality"] == runs["2"][1]["quality"], "the same quality figures on 1 and 2 threads")
+    check(runs["1"][1]["slivers"] == runs["2"][1]["slivers"], "the same sliver figures on 1 and 2 threads")
+code, _, err = run("mesh", sphere_path, "-o", os.path.join(out, "x.vtu"), "--threads", "-1")
+check(code == 2 and "--threads" in err, "--threads -1: usage error naming it (%d: %s)" % (code, err.strip()[:200]))
 
 # Bad input: exit 3 with a message naming the problem, and no output file.
 def bad(name, text, needle):
