@@ -28,7 +28,7 @@ write_off(sphere_path, *icosphere(3))
 runs = {}
 for threads in ("1", "2"):
     target, rep_path = os.path.join(out, "sphere%s.vtu" % threads), os.path.join(out, "sphere%s.json" % threads)
-    code, _, err = run("mesh", sphere_path, "-o", target, "--size", "0.09", "--quiet", "--threads", threads,
+    code, _, err = run("mesh", sphere_path, "-o", target, "--size", "0.075", "--quiet", "--threads", threads,
                        "--report", rep_path)
     check(code == 0, "sphere on %s threads (exit %d: %s)" % (threads, code, err.strip()[-300:]))
     if code == 0:
