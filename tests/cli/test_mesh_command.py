@@ -21,14 +21,14 @@ if code == 0:
     code, info, _ = run("info", os.path.join(out, "b.vtu"))
     check(code == 0 and "volume 2000" in info, "info reads the mesh back with volume 2000: " + info.strip()[:400])
 
-# Threads change nothing: a sphere of ~150k tetrahedra (several chunks of the
+# Threads change nothing: a sphere of over 100k tetrahedra (several chunks of the
 # parallel loops) gives the same file and the same figures on 1 and 2 threads.
 sphere_path = os.path.join(out, "sphere.off")
 write_off(sphere_path, *icosphere(3))
 runs = {}
 for threads in ("1", "2"):
     target, rep_path = os.path.join(out, "sphere%s.vtu" % threads), os.path.join(out, "sphere%s.json" % threads)
-    code, _, err = run("mesh", sphere_path, "-o", target, "--size", "0.075", "--quiet", "--threads", threads,
+    code, _, err = run("mesh", sphere_path, "-o", target, "--size", "0.068", "--quiet", "--threads", threads,
                        "--report", rep_path)
     check(code == 0, "sphere on %s threads (exit %d: %s)" % (threads, code, err.strip()[-300:]))
     if code == 0:
