@@ -15,8 +15,8 @@ namespace vd {
 namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Vb = CGAL::Triangulation_vertex_base_with_info_3<int, K>;
-// Cells carry an int so that cells() numbers them without a hash map of
-// handles (that map was a tenth of a run at 865k tetrahedra).
+// Cells carry an int so that number_cells() numbers them without a hash map
+// of handles (that map was a tenth of a run at 865k tetrahedra).
 using Cb = CGAL::Triangulation_cell_base_with_info_3<int, K>;
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
 using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
@@ -47,6 +47,7 @@ struct DelaunayTetrahedralization::Impl {
   DT dt;
   std::vector<DT::Vertex_handle> handle;  // by vertex id
   mutable DT::Cell_handle last_located;    // walk start for the next locate
+  mutable std::vector<DT::Cell_handle> numbered;  // by number_cells()
 
   DT::Vertex_handle at(int id) const { return handle[static_cast<size_t>(id)]; }
 };
@@ -60,6 +61,7 @@ void DelaunayTetrahedralization::insert(const std::vector<Vec3>& points, int fir
   // Spatial sort gives CGAL good location hints: O(n log n) overall.
   CGAL::spatial_sort(order.begin(), order.end(), SortByIndex{&points});
   impl_->last_located = DT::Cell_handle();  // insertions may delete it
+  std::vector<DT::Cell_handle>().swap(impl_->numbered);
   impl_->handle.resize(points.size());
   DT::Cell_handle hint;
   CancelPoll poll(cancel, 4096);
@@ -76,6 +78,7 @@ std::vector<int> DelaunayTetrahedralization::insert_one(const Vec3& p, int id, i
   DT::Cell_handle start;
   if (hint >= 0) start = impl_->at(hint)->cell();
   impl_->last_located = DT::Cell_handle();  // the insertion may delete it
+  std::vector<DT::Cell_handle>().swap(impl_->numbered);
   DT::Vertex_handle v = impl_->dt.insert(to_cgal(p), start);
   v->info() = id;
   if (impl_->handle.size() <= static_cast<size_t>(id)) impl_->handle.resize(id + 1);
@@ -126,20 +129,37 @@ std::vector<int> DelaunayTetrahedralization::neighbours(int id) const {
   return ids;
 }
 
-DelaunayTetrahedralization::Cells DelaunayTetrahedralization::cells() const {
+int DelaunayTetrahedralization::number_cells() const {
   const DT& dt = impl_->dt;
-  Cells out;
-  out.tets.reserve(dt.number_of_finite_cells());
+  auto& numbered = impl_->numbered;
+  numbered.clear();
+  numbered.reserve(dt.number_of_finite_cells());
   for (auto c : dt.all_cell_handles()) c->info() = -1;
   for (auto c : dt.finite_cell_handles()) {
-    c->info() = static_cast<int>(out.tets.size());
-    // CGAL's finite cells are positively oriented (orientation(p0..p3) > 0).
-    out.tets.push_back({c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(),
-                        c->vertex(3)->info()});
+    c->info() = static_cast<int>(numbered.size());
+    numbered.push_back(c);
   }
-  out.across.resize(out.tets.size());
-  for (auto c : dt.finite_cell_handles())
-    for (int f = 0; f < 4; ++f) out.across[c->info()][f] = c->neighbor(f)->info();
+  return static_cast<int>(numbered.size());
+}
+
+std::array<int, 4> DelaunayTetrahedralization::cell(int t) const {
+  // CGAL's finite cells are positively oriented (orientation(p0..p3) > 0).
+  const DT::Cell_handle c = impl_->numbered[static_cast<size_t>(t)];
+  return {c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()};
+}
+
+int DelaunayTetrahedralization::cell_across(int t, int i) const {
+  return impl_->numbered[static_cast<size_t>(t)]->neighbor(i)->info();
+}
+
+std::vector<std::array<int, 2>> DelaunayTetrahedralization::hull_faces() const {
+  const DT& dt = impl_->dt;
+  std::vector<std::array<int, 2>> out;
+  for (auto c : dt.all_cell_handles()) {
+    if (!dt.is_infinite(c)) continue;
+    const DT::Cell_handle inside = c->neighbor(c->index(dt.infinite_vertex()));
+    out.push_back({inside->info(), inside->index(c)});
+  }
   return out;
 }
 

@@ -44,14 +44,17 @@ class DelaunayTetrahedralization {
   // Ids of the Delaunay neighbours of vertex `id`.
   std::vector<int> neighbours(int id) const;
 
-  // The finite tetrahedra, positively oriented, and for each of its four faces
-  // (face i is opposite vertex i) the index of the tetrahedron across it, or
-  // -1 when the face lies on the convex hull.
-  struct Cells {
-    std::vector<std::array<int, 4>> tets;
-    std::vector<std::array<int, 4>> across;
-  };
-  Cells cells() const;
+  // The finite tetrahedra, numbered 0 .. n-1 by number_cells() (which
+  // returns n; valid until the next insertion): cell(t) gives one's
+  // vertices, positively oriented, and cell_across(t, i) the tetrahedron
+  // across its face i (opposite vertex i), -1 on the convex hull. Read in
+  // place: copies of both tables were a sixth of the peak memory.
+  int number_cells() const;
+  std::array<int, 4> cell(int t) const;
+  int cell_across(int t, int i) const;
+  // The faces on the convex hull as (tetrahedron, face index), numbered as
+  // by the last number_cells().
+  std::vector<std::array<int, 2>> hull_faces() const;
 
  private:
   struct Impl;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
+#include <memory>
 #include <unordered_map>
 
 #include "delaunay/delaunay_tetrahedralization.h"
@@ -13,6 +15,22 @@
 
 namespace vd {
 namespace {
+
+// The high-water mark of resident memory, from /proc/self/status (VmHWM, in
+// kB); 0 where that file does not exist.
+double peak_resident_mib() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kb = 0;
+      status >> kb;
+      return kb / 1024.0;
+    }
+    status.ignore(4096, '\n');
+  }
+  return 0;
+}
 
 class PhaseTimer {
  public:
@@ -29,6 +47,8 @@ class PhaseTimer {
     if (phase_.empty()) return;
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
     report_.seconds.emplace_back(phase_, s);
+    const double peak = peak_resident_mib();
+    if (peak > 0) report_.peak_mib.emplace_back(phase_, peak);
     phase_.clear();
   }
 
@@ -109,7 +129,9 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   if (options.shift > 0) report.shift = random_shift(m, {options.shift, options.seed, options.sharp_angle_deg});
 
   timer.start("tetrahedralize");
-  DelaunayTetrahedralization dt;
+  // Owned apart so that the sliver pass can free it once it is done with it.
+  auto dt_owner = std::make_unique<DelaunayTetrahedralization>();
+  DelaunayTetrahedralization& dt = *dt_owner;
   dt.insert(m.points, 0, options.cancel);
   if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
     throw InputError("the input has coincident vertices (" +
@@ -176,7 +198,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
       throw std::runtime_error("an interior vertex coincides with another vertex");
     recover("delaunayzation with interior vertices");
-    timer.start("volume");
+    timer.start("volume with interior vertices");
     const bool from_tags = report.regions.regions_from_tags;  // the first pass set the tags
     report.regions = build_region_tetrahedra(m, dt);
     report.regions.regions_from_tags = from_tags;
@@ -188,7 +210,8 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     // and C it gains little above a fraction of a degree (slivers_test).
     so.ridge_angle_deg = std::min(so.ridge_angle_deg, options.delaunayzation.flip_angle_deg);
     report.slivers = remove_slivers(
-        m, so, [&dt](int a, int b, int c) { return dt.facet_apexes(a, b, c); }, &report.quality);
+        m, so, [&dt](int a, int b, int c) { return dt.facet_apexes(a, b, c); }, &report.quality,
+        [&dt_owner] { dt_owner.reset(); });  // nothing below looks at dt
     report.output_facets = static_cast<int>(m.triangles.size());
   } else {
     timer.start("quality");

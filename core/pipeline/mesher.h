@@ -87,6 +87,9 @@ struct MeshReport {
   QualitySummary quality;
   SecondOrderStats second_order;     // filled when order == 2
   std::vector<std::pair<std::string, double>> seconds;  // per phase, in order
+  // The process's peak resident memory (MiB) at the end of each phase, in
+  // order; empty where the system does not tell (Linux's /proc does).
+  std::vector<std::pair<std::string, double>> peak_mib;
   CadInputReport cad;
   bool complete = false;
   std::vector<std::array<int, 3>> missing_facets;       // vertex ids, when not complete

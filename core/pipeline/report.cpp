@@ -81,6 +81,10 @@ std::string report_json(const MeshReport& r) {
   for (size_t i = 0; i < r.seconds.size(); ++i)
     s << (i ? ", " : "") << "\"" << r.seconds[i].first << "\": " << exact(r.seconds[i].second);
   s << "},\n";
+  s << "  \"peak_mib\": {";
+  for (size_t i = 0; i < r.peak_mib.size(); ++i)
+    s << (i ? ", " : "") << "\"" << r.peak_mib[i].first << "\": " << exact(r.peak_mib[i].second);
+  s << "},\n";
   s << "  \"quality\": {\"tetrahedra\": " << q.tets << ", \"inverted\": " << q.inverted
     << ", \"min_dihedral_deg\": " << exact(q.min_dihedral_deg) << ", \"max_dihedral_deg\": " << exact(q.max_dihedral_deg)
     << ", \"min_radius_ratio\": " << exact(q.min_radius_ratio) << ", \"mean_radius_ratio\": " << exact(q.mean_radius_ratio)

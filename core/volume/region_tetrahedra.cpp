@@ -33,8 +33,7 @@ double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
 }
 
 RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& dt) {
-  const auto cells = dt.cells();
-  const int n = static_cast<int>(cells.tets.size());
+  const int n = dt.number_cells();
   std::unordered_map<std::array<int, 3>, int, TripleHash> facet_of;
   facet_of.reserve(m.triangles.size() * 2);
   for (size_t f = 0; f < m.triangles.size(); ++f) {
@@ -49,7 +48,7 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
     for (int v : t.v) on_facet[static_cast<size_t>(v)] = 1;
   std::vector<std::array<int, 4>> facet_at(static_cast<size_t>(n), {-1, -1, -1, -1});
   for (int t = 0; t < n; ++t) {
-    const auto& tet = cells.tets[t];
+    const auto tet = dt.cell(t);
     int touching = 0;
     for (int v : tet) touching += on_facet[static_cast<size_t>(v)];
     if (touching < 3) continue;
@@ -73,7 +72,7 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
       const int t = stack.back();
       stack.pop_back();
       for (int i = 0; i < 4; ++i) {
-        const int u = cells.across[t][i];
+        const int u = dt.cell_across(t, i);
         if (u < 0 || comp[u] >= 0 || face_facet(t, i) >= 0) continue;
         comp[u] = id;
         stack.push_back(u);
@@ -81,9 +80,8 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
     }
   };
   const int outside = components++;
-  for (int t = 0; t < n; ++t)
-    for (int i = 0; i < 4; ++i)
-      if (comp[t] < 0 && cells.across[t][i] < 0 && face_facet(t, i) < 0) flood(t, outside);
+  for (const auto& [t, i] : dt.hull_faces())
+    if (comp[t] < 0 && face_facet(t, i) < 0) flood(t, outside);
   // Other components in the order of their lowest bounding facet, so that the
   // numbering depends on the input, not on CGAL's cell order.
   std::vector<std::pair<int, int>> seeds;  // (lowest facet, tet)
@@ -109,9 +107,9 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
     for (int i = 0; i < 4; ++i) {
       const int f = face_facet(t, i);
       if (f < 0) continue;
-      const bool front = on_front_side(m.points, m.triangles[f], cells.tets[t][i]);
+      const bool front = on_front_side(m.points, m.triangles[f], dt.cell(t)[i]);
       sides[f][front ? 0 : 1] = comp[t];
-      if (cells.across[t][i] < 0) sides[f][front ? 1 : 0] = outside;  // hull facet: infinity beyond
+      if (dt.cell_across(t, i) < 0) sides[f][front ? 1 : 0] = outside;  // hull facet: infinity beyond
     }
 
   RegionStats stats;
@@ -163,7 +161,7 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
       ++stats.tets_in_exterior;
       continue;
     }
-    m.tets.push_back({cells.tets[t], r});
+    m.tets.push_back({dt.cell(t), r});
     if (r >= static_cast<int>(seen_region.size())) seen_region.resize(r + 1, false);
     seen_region[r] = true;
   }

@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -98,8 +97,15 @@ class TetComplex {
       facets_at_[k[0]].push_back({k[1], k[2]});
       for (int v : t.v) on_surface_[v] = true;
     }
-    const size_t n = m.tets.size();
-    tets_.reserve(n + n / 4);
+    // Room for the tetrahedra flips add (a few per cent at most) without
+    // doubling every array.
+    const size_t n = m.tets.size(), room = n + n / 8 + 1024;
+    tets_.reserve(room);
+    alive_.reserve(room);
+    failed_at_.reserve(room);
+    quality_.reserve(room);
+    nbr_.reserve(room);
+    fixed_.reserve(room);
     for (const Tetrahedron& t : m.tets) append(t, 0.0);
     // Measured apart, on every core: a third of building the complex.
     for_each_chunk(static_cast<long>(n), 1 << 14, [&](long, long begin, long end) {
@@ -114,6 +120,8 @@ class TetComplex {
     std::vector<int> fill(star_start_.begin(), star_start_.end() - 1);
     for (int t = 0; t < size(); ++t)
       for (int v : tets_[t].v) star_flat_[fill[v]++] = t;
+    // The complex holds them now; write_back() gives them back.
+    std::vector<Tetrahedron>().swap(m.tets);
   }
 
   const Vec3& point(int v) const { return m_.points[v]; }
@@ -233,11 +241,11 @@ class TetComplex {
   // Alive tetrahedra in their order (originals first, then those made by
   // flips), back into the mesh.
   void write_back() {
-    std::vector<Tetrahedron> kept;
-    kept.reserve(tets_.size());
+    size_t kept = 0;
     for (int t = 0; t < size(); ++t)
-      if (alive_[t]) kept.push_back(tets_[t]);
-    m_.tets = std::move(kept);
+      if (alive_[t]) tets_[kept++] = tets_[t];
+    tets_.resize(kept);
+    m_.tets = std::move(tets_);
   }
 
  private:
@@ -488,11 +496,15 @@ struct SlidePlane {
   }
 };
 
-std::vector<std::optional<SlidePlane>> slide_planes(const Mesh& m) {
+// By surface vertex, for those that may slide: a map, since a vector over
+// all vertices was a tenth of the sliver pass's peak memory.
+using SlidePlanes = std::unordered_map<int, SlidePlane>;
+
+SlidePlanes slide_planes(const Mesh& m) {
   std::vector<std::vector<int>> around(m.points.size());
   for (size_t f = 0; f < m.triangles.size(); ++f)
     for (int v : m.triangles[f].v) around[v].push_back(static_cast<int>(f));
-  std::vector<std::optional<SlidePlane>> planes(m.points.size());
+  SlidePlanes planes;
   auto area_vector = [&](const Triangle& t) {
     return cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]);
   };
@@ -573,7 +585,7 @@ std::vector<std::optional<SlidePlane>> slide_planes(const Mesh& m) {
       const int k = plane.axis;
       if (k >= 0 && (off[(k + 1) % 3] != 0 || off[(k + 2) % 3] != 0)) continue;  // not exactly on it
     }
-    planes[v] = plane;
+    planes.emplace(v, plane);
   }
   return planes;
 }
@@ -672,14 +684,18 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
 
 // Case C for tetrahedron t: the best accepted move of one of its vertices
 // (interior ones anywhere, surface ones in their slide plane).
-bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const std::vector<std::optional<SlidePlane>>& planes, int t,
+bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, int t,
                    SliverStats& stats) {
   int best_v = -1;
   Vec3 best_to;
   double best_gain = kMinGainDeg;
   bool blocked = false;
   for (int v : c.tet(t).v) {
-    const SlidePlane* plane = c.on_surface(v) && planes[v] ? &*planes[v] : nullptr;
+    const SlidePlane* plane = nullptr;
+    if (c.on_surface(v)) {
+      const auto it = planes.find(v);
+      if (it != planes.end()) plane = &it->second;
+    }
     if (c.on_surface(v) && !plane) continue;
     const double old_q = min_quality(c, c.star(v));
     Vec3 to;
@@ -722,14 +738,18 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const std::vector<std::opti
 
 }  // namespace
 
-void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, SliverStats& stats) {
-  TetComplex c(m);
+void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, SliverStats& stats,
+                     const std::function<void()>& apexes_done) {
   std::unique_ptr<FacetWitnesses> witnesses;
-  std::vector<std::optional<SlidePlane>> planes;
+  SlidePlanes planes;
   if (o.moves) {
     witnesses = std::make_unique<FacetWitnesses>(m.points, m.triangles, apexes);
     planes = slide_planes(m);
   }
+  // Before the complex: what answers `apexes` and the complex need not be
+  // in memory together.
+  if (apexes_done) apexes_done();
+  TetComplex c(m);
   for (int pass = 0; pass < o.max_passes; ++pass) {
     std::vector<std::pair<double, int>> slivers;
     for (int t = 0; t < c.size(); ++t)

@@ -26,7 +26,10 @@ namespace vd {
 // `apexes` gives, for each surface facet of m, the vertices opposite it in
 // the Delaunay tetrahedralization of m.points (FacetApexes); every facet must
 // be a face of it, as after the pipeline's recovery and case A.
-void improve_slivers(Mesh& m, const SliverOptions& options, const FacetApexes& apexes, SliverStats& stats);
+// `apexes_done` (may be empty) is called as soon as `apexes` is no longer
+// needed, before the passes: the caller may free what answers it.
+void improve_slivers(Mesh& m, const SliverOptions& options, const FacetApexes& apexes, SliverStats& stats,
+                     const std::function<void()>& apexes_done = {});
 
 // Smallest dihedral angle in degrees of (a, b, c, d), or a negative value
 // when its floating-point volume is not positive. One acos per call.

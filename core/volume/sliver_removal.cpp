@@ -123,7 +123,8 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats
   remove_boundary_slivers(m, o, smallest_angles(m, o.sliver_angle_deg).slivers, stats);
 }
 
-SliverStats remove_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, QualitySummary* after_out) {
+SliverStats remove_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, QualitySummary* after_out,
+                           const std::function<void()>& apexes_done) {
   SliverStats stats;
   // No point moves in case A: its slivers are those counted here.
   const SmallestAngles before = smallest_angles(m, o.sliver_angle_deg);
@@ -132,7 +133,8 @@ SliverStats remove_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& a
   stats.below_10_before = before.below_10;
   stats.slivers_before = static_cast<long>(before.slivers.size());
   remove_boundary_slivers(m, o, before.slivers, stats);
-  if (o.flips || o.moves) improve_slivers(m, o, apexes, stats);
+  if (o.flips || o.moves) improve_slivers(m, o, apexes, stats, apexes_done);
+  else if (apexes_done) apexes_done();
   const QualitySummary after = summarize_quality(m);
   stats.min_dihedral_after_deg = after.min_dihedral_deg;
   stats.below_5_after = after.below_5_deg;

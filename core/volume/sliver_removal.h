@@ -63,10 +63,13 @@ using FacetApexes = std::function<std::array<int, 2>(int a, int b, int c)>;
 // Cases A, B and C in that order, with the before / after figures; the
 // quality summary of the result into *after when given (the same as
 // summarize_quality's, without measuring every tetrahedron again).
+// `apexes_done` (may be empty) is called once `apexes` is no longer needed:
+// the pipeline frees its tetrahedralization there, before the passes that
+// hold a second copy of the tetrahedra (a third of the peak memory).
 // Pre: every surface facet is a face of the Delaunay tetrahedralization
 // that `apexes` describes (case A keeps it so: its new facets are faces of
 // the Delaunay tetrahedra it removes).
 SliverStats remove_slivers(Mesh& m, const SliverOptions& options, const FacetApexes& apexes,
-                           QualitySummary* after = nullptr);
+                           QualitySummary* after = nullptr, const std::function<void()>& apexes_done = {});
 
 }  // namespace vd

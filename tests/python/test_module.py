@@ -194,7 +194,7 @@ class Report(unittest.TestCase):
         p, t = icosphere(2)
         mesh, r = vdmesh.mesh_surface(np.array(p), np.array(t), size=0.25)
         self.assertEqual(set(r), {"complete", "counts", "oracle", "delaunayzation", "interior", "slivers", "shift",
-                                  "seconds", "quality", "missing_facets"})
+                                  "seconds", "peak_mib", "quality", "missing_facets"})
         self.assertTrue(r["complete"])
         self.assertEqual(r["missing_facets"], [])
         c = r["counts"]

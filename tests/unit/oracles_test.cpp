@@ -51,12 +51,13 @@ Triple sorted(Triple t) {
 
 std::vector<Triple> dt_facets(const DelaunayTetrahedralization& dt) {
   std::set<Triple> facets;
-  for (const auto& t : dt.cells().tets)
+  const int n = dt.number_cells();
+  for (int c = 0; c < n; ++c)
     for (int skip = 0; skip < 4; ++skip) {
       Triple f;
       int k = 0;
       for (int i = 0; i < 4; ++i)
-        if (i != skip) f[static_cast<size_t>(k++)] = t[static_cast<size_t>(i)];
+        if (i != skip) f[static_cast<size_t>(k++)] = dt.cell(c)[static_cast<size_t>(i)];
       facets.insert(sorted(f));
     }
   return {facets.begin(), facets.end()};
