@@ -86,6 +86,13 @@ std::vector<int> DelaunayTetrahedralization::insert_one(const Vec3& p, int id, i
   return neighbours(id);
 }
 
+void DelaunayTetrahedralization::remove(int id) {
+  impl_->last_located = DT::Cell_handle();  // the removal may delete it
+  std::vector<DT::Cell_handle>().swap(impl_->numbered);
+  impl_->dt.remove(impl_->at(id));
+  impl_->handle[static_cast<size_t>(id)] = DT::Vertex_handle();
+}
+
 int DelaunayTetrahedralization::number_of_vertices() const {
   return static_cast<int>(impl_->dt.number_of_vertices());
 }

@@ -29,6 +29,9 @@ class DelaunayTetrahedralization {
   // face that appeared or disappeared with it has all its vertices among them
   // and `id`.
   std::vector<int> insert_one(const Vec3& p, int id, int hint = -1);
+  // Takes vertex `id` out again (the tetrahedralization of the others is
+  // unique, so it is as before the insertion); its id may be given anew.
+  void remove(int id);
 
   int number_of_vertices() const;
   // Vertex ids of the finite tetrahedron containing p (exact point location),

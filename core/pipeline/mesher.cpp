@@ -12,6 +12,7 @@
 #include "surface/face_patches.h"
 #include "surface/size_refinement.h"
 #include "surface/validate_surface.h"
+#include "volume/cap_vertices.h"
 
 namespace vd {
 namespace {
@@ -202,6 +203,29 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     const bool from_tags = report.regions.regions_from_tags;  // the first pass set the tags
     report.regions = build_region_tetrahedra(m, dt);
     report.regions.regions_from_tags = from_tags;
+    if (options.remove_slivers) {
+      // Flat tetrahedra held by two facets over a fold: the sliver pass
+      // cannot reach them, a vertex inside the region can.
+      timer.start("cap vertices");
+      SliverOptions so = options.slivers;
+      so.ridge_angle_deg = std::min(so.ridge_angle_deg, options.delaunayzation.flip_angle_deg);
+      const std::vector<Vec3> caps = cap_breaking_points(m, dt, so.sliver_angle_deg, so.ridge_angle_deg);
+      const int first_cap = static_cast<int>(m.points.size());
+      const int kept = caps.empty() ? 0 : insert_cap_vertices(m, dt, caps);
+      if (kept > 0) {
+        for (int id = first_cap; id < static_cast<int>(m.points.size()); ++id) oracle->vertex_added(id);
+        if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
+          throw std::runtime_error("a cap vertex coincides with another vertex");
+        report.interior.cap_points = kept;
+        report.interior_vertices += kept;
+        report.output_vertices = static_cast<int>(m.points.size());
+        // Every facet is still a Delaunay face (insert_cap_vertices kept it
+        // so): no recovery, only the tetrahedra again.
+        timer.start("volume with cap vertices");
+        report.regions = build_region_tetrahedra(m, dt);
+        report.regions.regions_from_tags = from_tags;
+      }
+    }
   }
   if (options.remove_slivers) {
     timer.start("slivers");

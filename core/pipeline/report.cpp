@@ -63,6 +63,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"lattice_points\": " << r.interior.lattice_points << ", \"candidates\": " << r.interior.candidates
     << ", \"rejected_outside\": " << r.interior.rejected_outside << ", \"rejected_near_vertex\": "
     << r.interior.rejected_near_vertex << ", \"rejected_near_surface\": " << r.interior.rejected_near_surface
+    << ", \"cap_points\": " << r.interior.cap_points
     << ", \"smallest_size\": " << exact(r.smallest_size) << "},\n";
   const auto& sl = r.slivers;
   s << "  \"slivers\": {\"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary

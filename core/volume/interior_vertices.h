@@ -28,6 +28,7 @@ struct InteriorOptions {
 struct InteriorStats {
   long offset_points = 0, lattice_points = 0;
   long candidates = 0, rejected_outside = 0, rejected_near_vertex = 0, rejected_near_surface = 0;
+  long cap_points = 0;  // added after the tetrahedra, to open flat caps (volume/cap_vertices.h)
 };
 
 // `region_at(p)` gives the region containing p (0 outside). Returns the new

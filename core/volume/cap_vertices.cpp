@@ -1,0 +1,157 @@
+#include "volume/cap_vertices.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "geometry/predicates.h"
+#include "mesh/tet_faces.h"
+#include "quality/tet_quality.h"
+#include "surface/face_patches.h"
+
+namespace vd {
+namespace {
+
+struct TripleHash {
+  size_t operator()(const std::array<int, 3>& k) const {
+    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
+  }
+};
+struct QuadHash {
+  size_t operator()(const std::array<int, 4>& k) const {
+    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u) ^
+           (size_t(k[3]) * 2654435761u);
+  }
+};
+
+std::array<int, 4> sorted_quad(std::array<int, 4> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+struct Cap {
+  int tet;
+  Vec3 point;
+  double fold_length;
+};
+
+}  // namespace
+
+std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt, double sliver_angle_deg,
+                                      double ridge_angle_deg) {
+  std::vector<char> on_surface(m.points.size(), 0);
+  std::unordered_map<std::array<int, 3>, int, TripleHash> facet_of;
+  facet_of.reserve(m.triangles.size());
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    facet_of.emplace(sorted_triple(m.triangles[f].v), static_cast<int>(f));
+    for (int v : m.triangles[f].v) on_surface[v] = 1;
+  }
+  const double cos_ridge = std::cos(ridge_angle_deg * M_PI / 180.0);
+  std::vector<Cap> caps;
+  std::unordered_set<long long> folds;
+  for (size_t ti = 0; ti < m.tets.size(); ++ti) {
+    const Tetrahedron& t = m.tets[ti];
+    if (!(on_surface[t.v[0]] && on_surface[t.v[1]] && on_surface[t.v[2]] && on_surface[t.v[3]])) continue;
+    const Vec3 &p0 = m.points[t.v[0]], &p1 = m.points[t.v[1]], &p2 = m.points[t.v[2]], &p3 = m.points[t.v[3]];
+    if (smallest_dihedral_deg(p0, p1, p2, p3) >= sliver_angle_deg) continue;
+    int faces[4], n = 0;
+    for (int i = 0; i < 4; ++i)
+      if (facet_of.count(sorted_triple(face_opposite(t.v, i)))) faces[n++] = i;
+    if (n != 2) continue;
+    // The facets' normals into the cap's region.
+    Vec3 inward{0, 0, 0};
+    Vec3 normal[2];
+    bool sided = true;
+    for (int k = 0; k < 2; ++k) {
+      const Triangle& f = m.triangles[facet_of.at(sorted_triple(face_opposite(t.v, faces[k])))];
+      const Vec3 nf = facet_normal(m.points, f);
+      if (f.front == t.region) normal[k] = nf;
+      else if (f.back == t.region) normal[k] = -1.0 * nf;
+      else sided = false;
+      inward = inward + normal[k];
+    }
+    if (!sided || dot(normal[0], normal[1]) >= cos_ridge) continue;  // flat enough for case A
+    // The fold edge: the two vertices both facets share.
+    int a = -1, b = -1;
+    for (int i = 0; i < 4; ++i)
+      if (i != faces[0] && i != faces[1]) (a < 0 ? a : b) = t.v[i];
+    if (!folds.insert((static_cast<long long>(std::min(a, b)) << 32) | std::max(a, b)).second) continue;
+    const double length = norm(m.points[b] - m.points[a]);
+    if (!(norm(inward) > 0) || !(length > 0)) continue;
+    if (orientation(p0, p1, p2, p3) == 0) continue;
+    // Deep enough to make fair tetrahedra with the two facets, but inside
+    // the cap's circumsphere: from the fold's middle, else from the cap's
+    // centroid (inside its circumsphere, as the whole tetrahedron is), ever
+    // shallower.
+    const Vec3 middle = 0.5 * (m.points[a] + m.points[b]), centroid = 0.25 * (p0 + p1 + p2 + p3);
+    const Vec3 in = normalized(inward);
+    for (double depth : {0.35, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005}) {
+      const Vec3 from_middle = middle + (depth * length) * in, from_centroid = centroid + (depth * length) * in;
+      const Vec3* p = side_of_circumsphere(p0, p1, p2, p3, from_middle) == SphereSide::inside ? &from_middle
+                      : side_of_circumsphere(p0, p1, p2, p3, from_centroid) == SphereSide::inside ? &from_centroid
+                                                                                                 : nullptr;
+      if (!p) continue;
+      caps.push_back({static_cast<int>(ti), *p, length});
+      break;
+    }
+  }
+  if (caps.empty()) return {};
+
+  // The regions of the tetrahedra around the caps' vertices, to check where
+  // each point lands without a table of every tetrahedron.
+  std::vector<char> near_cap(m.points.size(), 0);
+  for (const Cap& c : caps)
+    for (int v : m.tets[c.tet].v) near_cap[v] = 1;
+  std::unordered_map<std::array<int, 4>, int, QuadHash> region_of;
+  for (const Tetrahedron& t : m.tets)
+    if (near_cap[t.v[0]] || near_cap[t.v[1]] || near_cap[t.v[2]] || near_cap[t.v[3]])
+      region_of.emplace(sorted_quad(t.v), t.region);
+
+  std::vector<Vec3> out;
+  for (const Cap& c : caps) {
+    const std::array<int, 4> cell = dt.locate(c.point);
+    if (cell[0] < 0) continue;
+    const auto it = region_of.find(sorted_quad(cell));
+    if (it == region_of.end() || it->second != m.tets[c.tet].region) continue;
+    bool clear = true;
+    for (int v : cell) clear = clear && norm(m.points[v] - c.point) > 0.1 * c.fold_length;
+    for (const Vec3& q : out) clear = clear && norm(q - c.point) > 0.1 * c.fold_length;
+    if (clear) out.push_back(c.point);
+  }
+  return out;
+}
+
+int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<Vec3>& points) {
+  std::vector<std::vector<int>> facets_at(m.points.size());
+  for (size_t f = 0; f < m.triangles.size(); ++f)
+    for (int v : m.triangles[f].v) facets_at[v].push_back(static_cast<int>(f));
+  std::vector<int> mark(m.points.size() + points.size(), -1);
+  int kept = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int id = static_cast<int>(m.points.size());
+    const std::vector<int> neighbours = dt.insert_one(points[i], id);
+    // Only faces whose vertices are all new neighbours can have gone.
+    for (int n : neighbours) mark[n] = static_cast<int>(i);
+    bool keeps = true;
+    for (int n : neighbours) {
+      if (n >= static_cast<int>(facets_at.size())) continue;
+      for (int f : facets_at[n]) {
+        const auto& v = m.triangles[f].v;
+        if (mark[v[0]] == static_cast<int>(i) && mark[v[1]] == static_cast<int>(i) &&
+            mark[v[2]] == static_cast<int>(i) && !dt.has_facet(v[0], v[1], v[2]))
+          keeps = false;
+      }
+    }
+    if (!keeps) {
+      dt.remove(id);
+      continue;
+    }
+    m.points.push_back(points[i]);
+    if (!m.point_size.empty()) m.point_size.push_back(0.0);
+    ++kept;
+  }
+  return kept;
+}
+
+}  // namespace vd

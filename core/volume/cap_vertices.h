@@ -1,0 +1,40 @@
+// Vertices that open the flat "caps" the sliver pass cannot reach.
+//
+// Where the surface folds by a few degrees (a faceted sphere, a tessellated
+// cylinder), the Delaunay tetrahedralization may fill the fold with a flat
+// tetrahedron whose four vertices are surface vertices and two of whose faces
+// are the facets beside the fold edge. Case A would remove it by flipping the
+// fold edge, which cuts the fold off the surface; flips inside the region do
+// not reach a tetrahedron held by two facets; its surface vertices do not
+// move off a curved face. A vertex inside the region, in the cap's
+// circumsphere, destroys it in the Delaunay sense: the two facets then meet
+// that vertex instead, and the sliver pass may move it (it is an interior
+// vertex). TetGen's refinement reaches the same tetrahedra by inserting
+// circumcentres.
+#pragma once
+
+#include <vector>
+
+#include "delaunay/delaunay_tetrahedralization.h"
+#include "mesh/mesh.h"
+
+namespace vd {
+
+// For every tetrahedron of m with a dihedral angle under sliver_angle_deg and
+// two faces on the surface whose normals differ by more than ridge_angle_deg
+// (case A would refuse it), a point inward of the middle of the fold edge,
+// 0.35 of its length deep, or of the cap's centroid, or less deep (0.2, 0.1,
+// 0.05), the first that lies in the cap's circumsphere; kept when it is in the
+// cap's region (located in dt, whose vertices are m.points) and not closer to
+// another vertex of the cap's neighbourhood than a tenth of the fold edge.
+// One point per fold edge.
+std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt, double sliver_angle_deg,
+                                      double ridge_angle_deg);
+
+// Inserts each point into dt and m.points, one by one, unless it would make a
+// surface facet stop being a face of dt (a point near a concave fold can):
+// then it is taken out again. The surface stays as it is, so no recovery
+// (with its flips across folds) is needed. Returns how many went in.
+int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<Vec3>& points);
+
+}  // namespace vd
