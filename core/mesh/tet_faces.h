@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 
 namespace vd {
 
@@ -21,5 +22,24 @@ inline std::array<int, 3> sorted_triple(std::array<int, 3> k) {
   std::sort(k.begin(), k.end());
   return k;
 }
+
+// The same for a tetrahedron's four vertex ids.
+inline std::array<int, 4> sorted_quad(std::array<int, 4> k) {
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+// Hashes of those keys for unordered maps.
+struct TripleHash {
+  size_t operator()(const std::array<int, 3>& k) const {
+    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
+  }
+};
+struct QuadHash {
+  size_t operator()(const std::array<int, 4>& k) const {
+    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u) ^
+           (size_t(k[3]) * 2654435761u);
+  }
+};
 
 }  // namespace vd

@@ -9,6 +9,7 @@
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "mesh/error.h"
 #include "mesh/parallel.h"
+#include "mesh/tet_faces.h"
 #include "surface/face_patches.h"
 #include "surface/size_refinement.h"
 #include "surface/validate_surface.h"
@@ -71,32 +72,21 @@ void accumulate(DelaunayzationResult& total, const DelaunayzationResult& pass) {
   total.missing = pass.missing;
 }
 
-struct QuadHash {
-  size_t operator()(const std::array<int, 4>& k) const {
-    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u) ^
-           (size_t(k[3]) * 2654435761u);
-  }
-};
-
 // Region of a point: the region of the tetrahedron that contains it.
 class RegionLocator {
  public:
   RegionLocator(const Mesh& m, const DelaunayTetrahedralization& dt) : dt_(dt) {
     region_.reserve(m.tets.size());
-    for (const Tetrahedron& t : m.tets) region_.emplace(sorted(t.v), t.region);
+    for (const Tetrahedron& t : m.tets) region_.emplace(sorted_quad(t.v), t.region);
   }
   int operator()(const Vec3& p) const {
     const auto cell = dt_.locate(p);
     if (cell[0] < 0) return 0;
-    auto it = region_.find(sorted(cell));
+    auto it = region_.find(sorted_quad(cell));
     return it == region_.end() ? 0 : it->second;
   }
 
  private:
-  static std::array<int, 4> sorted(std::array<int, 4> v) {
-    std::sort(v.begin(), v.end());
-    return v;
-  }
   const DelaunayTetrahedralization& dt_;
   std::unordered_map<std::array<int, 4>, int, QuadHash> region_;
 };

@@ -13,23 +13,6 @@
 namespace vd {
 namespace {
 
-struct TripleHash {
-  size_t operator()(const std::array<int, 3>& k) const {
-    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
-  }
-};
-struct QuadHash {
-  size_t operator()(const std::array<int, 4>& k) const {
-    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u) ^
-           (size_t(k[3]) * 2654435761u);
-  }
-};
-
-std::array<int, 4> sorted_quad(std::array<int, 4> v) {
-  std::sort(v.begin(), v.end());
-  return v;
-}
-
 struct Cap {
   int tet;
   Vec3 point;

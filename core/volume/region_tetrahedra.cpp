@@ -15,11 +15,6 @@
 namespace vd {
 namespace {
 
-struct TripleHash {
-  size_t operator()(const std::array<int, 3>& k) const {
-    return (size_t(k[0]) * 73856093u) ^ (size_t(k[1]) * 19349663u) ^ (size_t(k[2]) * 83492791u);
-  }
-};
 
 // Is x on the front side of facet t (where its normal points)? Exact.
 bool on_front_side(const std::vector<Vec3>& p, const Triangle& t, int x) {
