@@ -14,7 +14,6 @@ bool has(const std::array<int, 3>& f, int v) { return f[0] == v || f[1] == v || 
 FacetWitnesses::FacetWitnesses(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles,
                                const FacetApexes& apexes)
     : points_(points), facets_of_(points.size()) {
-  grid_.build(points);
   double edge_sum = 0;
   for (const Triangle& t : triangles)
     for (int e = 0; e < 3; ++e) edge_sum += norm(points[t.v[(e + 1) % 3]] - points[t.v[e]]);
@@ -103,6 +102,12 @@ bool FacetWitnesses::allows(const Vec3& p, int moving) const {
 }
 
 bool FacetWitnesses::reshape_allows(int v, const Vec3& p) {
+  // Built at the first surface move: most runs have none, and the grid of
+  // every vertex was a third of this class's set-up.
+  if (!grid_built_) {
+    grid_.build(points_);
+    grid_built_ = true;
+  }
   const Vec3 from = grid_.position(v);
   grid_.update(v, p);
   bool ok = true;
@@ -117,7 +122,7 @@ bool FacetWitnesses::reshape_allows(int v, const Vec3& p) {
 }
 
 void FacetWitnesses::moved(int v, const Vec3& p) {
-  grid_.update(v, p);
+  if (grid_built_) grid_.update(v, p);  // else built from the moved points when first needed
   tighten(p, v);
   for (int id : facets_of_[v]) {
     facets_[id].above = facets_[id].below = {Bound::equatorial, Vec3{}};

@@ -80,6 +80,7 @@ class FacetWitnesses {
 
   const std::vector<Vec3>& points_;
   PointGrid grid_;  // the current positions, for the reshaped facets' spheres
+  bool grid_built_ = false;
   double cell_ = 1.0;
   std::vector<Facet> facets_;
   std::vector<std::vector<int>> facets_of_;  // per vertex
