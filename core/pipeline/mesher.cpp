@@ -161,6 +161,11 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   timer.start("volume");
   report.regions = build_region_tetrahedra(m, dt);
 
+  // For the cap vertices and the sliver pass. Case A moves the surface off
+  // the input on curved faces; with cases B and C it gains little above a
+  // fraction of a degree (slivers_test).
+  SliverOptions sliver_options = options.slivers;
+  sliver_options.ridge_angle_deg = std::min(sliver_options.ridge_angle_deg, options.delaunayzation.flip_angle_deg);
   if (options.interior) {
     // The size field and the region lookup are a phase of their own: they
     // do not look at the cancel flag, and a Cancel during "interior
@@ -181,13 +186,18 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     const std::vector<Vec3> interior =
         generate_interior_vertices(m, size, locate_or_cancel, iopt, report.interior);
     report.interior_vertices = static_cast<long>(interior.size());
+    // Vertices from..end are in dt now: the oracle is told, and none may
+    // have fallen onto an existing one.
+    auto added_to_dt = [&](int from, const char* what) {
+      for (int id = from; id < static_cast<int>(m.points.size()); ++id) oracle->vertex_added(id);
+      if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
+        throw std::runtime_error(std::string(what) + " coincides with another vertex");
+    };
     const int first = static_cast<int>(m.points.size());
     m.points.insert(m.points.end(), interior.begin(), interior.end());
     if (!m.point_size.empty()) m.point_size.resize(m.points.size(), 0.0);
     dt.insert(m.points, first, options.cancel);
-    for (int id = first; id < static_cast<int>(m.points.size()); ++id) oracle->vertex_added(id);
-    if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
-      throw std::runtime_error("an interior vertex coincides with another vertex");
+    added_to_dt(first, "an interior vertex");
     recover("delaunayzation with interior vertices");
     timer.start("volume with interior vertices");
     const bool from_tags = report.regions.regions_from_tags;  // the first pass set the tags
@@ -197,15 +207,12 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
       // Flat tetrahedra held by two facets over a fold: the sliver pass
       // cannot reach them, a vertex inside the region can.
       timer.start("cap vertices");
-      SliverOptions so = options.slivers;
-      so.ridge_angle_deg = std::min(so.ridge_angle_deg, options.delaunayzation.flip_angle_deg);
-      const std::vector<Vec3> caps = cap_breaking_points(m, dt, so.sliver_angle_deg, so.ridge_angle_deg);
+      const std::vector<Vec3> caps =
+          cap_breaking_points(m, dt, sliver_options.sliver_angle_deg, sliver_options.ridge_angle_deg);
       const int first_cap = static_cast<int>(m.points.size());
       const int kept = caps.empty() ? 0 : insert_cap_vertices(m, dt, caps);
       if (kept > 0) {
-        for (int id = first_cap; id < static_cast<int>(m.points.size()); ++id) oracle->vertex_added(id);
-        if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
-          throw std::runtime_error("a cap vertex coincides with another vertex");
+        added_to_dt(first_cap, "a cap vertex");
         report.interior.cap_points = kept;
         report.interior_vertices += kept;
         report.output_vertices = static_cast<int>(m.points.size());
@@ -219,12 +226,8 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   }
   if (options.remove_slivers) {
     timer.start("slivers");
-    SliverOptions so = options.slivers;
-    // Case A moves the surface off the input on curved faces; with cases B
-    // and C it gains little above a fraction of a degree (slivers_test).
-    so.ridge_angle_deg = std::min(so.ridge_angle_deg, options.delaunayzation.flip_angle_deg);
     report.slivers = remove_slivers(
-        m, so, [&dt](int a, int b, int c) { return dt.facet_apexes(a, b, c); }, &report.quality,
+        m, sliver_options, [&dt](int a, int b, int c) { return dt.facet_apexes(a, b, c); }, &report.quality,
         [&dt_owner] { dt_owner.reset(); });  // nothing below looks at dt
     report.output_facets = static_cast<int>(m.triangles.size());
   } else {

@@ -7,20 +7,28 @@
 
 namespace vd {
 
+namespace {
+
+// Unit normals of the faces opposite vertices 0..3 of p, each turned away
+// from its opposite vertex (whatever the tetrahedron's orientation); a
+// degenerate face gives the zero vector.
+void outward_unit_normals(const Vec3 (&p)[4], Vec3 (&n)[4]) {
+  for (int i = 0; i < 4; ++i) {
+    int k[3], c = 0;
+    for (int j = 0; j < 4; ++j)
+      if (j != i) k[c++] = j;
+    Vec3 nf = cross(p[k[1]] - p[k[0]], p[k[2]] - p[k[0]]);
+    if (dot(nf, p[i] - p[k[0]]) > 0) nf = -1.0 * nf;
+    n[i] = normalized(nf);
+  }
+}
+
+}  // namespace
+
 std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const Vec3 p[4] = {a, b, c, d};
-  // Outward-agnostic face normals: normal of the face opposite vertex i.
-  auto face_normal = [&](int i) {
-    int k[3], c2 = 0;
-    for (int j = 0; j < 4; ++j)
-      if (j != i) k[c2++] = j;
-    Vec3 n = cross(p[k[1]] - p[k[0]], p[k[2]] - p[k[0]]);
-    // Orient it away from the opposite vertex.
-    if (dot(n, p[i] - p[k[0]]) > 0) n = -1.0 * n;
-    return normalized(n);
-  };
   Vec3 n[4];
-  for (int i = 0; i < 4; ++i) n[i] = face_normal(i);
+  outward_unit_normals(p, n);
   // The dihedral angle at the edge shared by faces i and j is pi minus the
   // angle between their outward normals.
   std::array<double, 6> out{};
@@ -33,26 +41,39 @@ std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Ve
   return out;
 }
 
-double smallest_dihedral_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  // Face normals pointing away from the opposite vertex whatever the
-  // tetrahedron's orientation: flip all when it is negative.
+double smallest_dihedral_score(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const Vec3 ab = b - a, ac = c - a, ad = d - a;
-  const double sign = dot(cross(ab, ac), ad) < 0 ? -1.0 : 1.0;
-  Vec3 n[4] = {cross(ac, ab), cross(ab, ad), cross(ad, ac), cross(c - b, d - b)};
+  if (dot(cross(ab, ac), ad) <= 0) return -2.0;
+  // Outward normals of the faces opposite d, c, b and a of a positive tetrahedron.
+  const Vec3 n[4] = {cross(ac, ab), cross(ab, ad), cross(ad, ac), cross(c - b, d - b)};
   double len[4];
   for (int i = 0; i < 4; ++i) {
-    n[i] = sign * n[i];
     len[i] = norm(n[i]);
+    if (!(len[i] > 0)) return -2.0;
   }
-  // The smallest angle has the smallest cosine between outward normals; a
-  // degenerate face counts as 90 degrees, as in dihedral_angles_deg.
+  // The dihedral angle at an edge is pi minus the angle between the outward
+  // normals of its two faces: the smallest angle has the smallest cosine.
   double lowest = 1.0;
   for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j) {
-      const double l = len[i] * len[j];
-      lowest = std::min(lowest, l > 0 ? dot(n[i], n[j]) / l : 0.0);
-    }
-  return 180.0 - std::acos(std::clamp(lowest, -1.0, 1.0)) * 180.0 / M_PI;
+    for (int j = i + 1; j < 4; ++j) lowest = std::min(lowest, dot(n[i], n[j]) / (len[i] * len[j]));
+  return std::clamp(lowest, -1.0, 1.0);
+}
+
+double dihedral_degrees_of_score(double score) {
+  return score < -1.0 ? -1.0 : 180.0 - std::acos(score) * 180.0 / M_PI;
+}
+
+double dihedral_score_of_degrees(double deg) { return deg < 0 ? -2.0 : -std::cos(deg * M_PI / 180.0); }
+
+double smallest_dihedral_if_positive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return dihedral_degrees_of_score(smallest_dihedral_score(a, b, c, d));
+}
+
+double smallest_dihedral_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  // Either orientation: the same tetrahedron listed positively. A flat one
+  // (no positive listing in floating point) has a zero angle.
+  const bool negative = dot(cross(b - a, c - a), d - a) < 0;
+  return std::max(0.0, negative ? smallest_dihedral_if_positive(a, c, b, d) : smallest_dihedral_if_positive(a, b, c, d));
 }
 
 double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
@@ -96,12 +117,7 @@ void summarize_into(const Mesh& m, long begin, long end, const BinEdges& edges, 
     // The same normals as dihedral_angles_deg, so that the extremes agree
     // with it to the last bit.
     Vec3 n[4];
-    for (int f = 0; f < 4; ++f) {
-      const Vec3 &a = p[f == 0 ? 1 : 0], &b = p[f <= 1 ? 2 : 1], &c = p[f <= 2 ? 3 : 2];
-      Vec3 nf = cross(b - a, c - a);
-      if (dot(nf, p[f] - a) > 0) nf = -1.0 * nf;
-      n[f] = normalized(nf);
-    }
+    outward_unit_normals(p, n);
     double lo = 1, hi = -1;
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) {

@@ -12,8 +12,18 @@ namespace vd {
 
 // The six dihedral angles of (a, b, c, d), in degrees.
 std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
-// The smallest of them, with one acos instead of six.
+// The smallest of them, with one acos instead of six (0 for a flat one).
 double smallest_dihedral_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+// The same for a positive (a, b, c, d), or a negative value when its
+// floating-point volume is not positive.
+double smallest_dihedral_if_positive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+// Cosine between the outward normals of the two faces at the smallest
+// dihedral angle of a positive (a, b, c, d) (-2 when not positive): it orders
+// tetrahedra as their smallest angle does, without the acos. Converted both
+// ways by the two functions after it.
+double smallest_dihedral_score(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+double dihedral_degrees_of_score(double score);
+double dihedral_score_of_degrees(double deg);
 double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
 struct QualitySummary {

@@ -15,7 +15,6 @@
 namespace vd {
 namespace {
 
-
 // Is x on the front side of facet t (where its normal points)? Exact.
 bool on_front_side(const std::vector<Vec3>& p, const Triangle& t, int x) {
   return orientation(p[t.v[0]], p[t.v[1]], p[t.v[2]], p[x]) > 0;

@@ -12,44 +12,10 @@
 #include "geometry/predicates.h"
 #include "mesh/parallel.h"
 #include "mesh/tet_faces.h"
+#include "quality/tet_quality.h"
 #include "volume/facet_witnesses.h"
 
 namespace vd {
-
-namespace {
-
-// Cosine between the outward normals of the two faces at the smallest
-// dihedral angle: the angle is 180 - acos of it, so it orders tetrahedra as
-// their smallest angle does, without the acos. -2 when not positive.
-double smallest_dihedral_score(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  const Vec3 ab = b - a, ac = c - a, ad = d - a;
-  if (dot(cross(ab, ac), ad) <= 0) return -2.0;
-  // Outward normals of the faces opposite d, c, b and a of a positive tetrahedron.
-  const Vec3 n[4] = {cross(ac, ab), cross(ab, ad), cross(ad, ac), cross(c - b, d - b)};
-  double len[4];
-  for (int i = 0; i < 4; ++i) {
-    len[i] = norm(n[i]);
-    if (!(len[i] > 0)) return -2.0;
-  }
-  // The dihedral angle at an edge is pi minus the angle between the outward
-  // normals of its two faces: the smallest angle has the smallest cosine.
-  double lowest = 1.0;
-  for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j) lowest = std::min(lowest, dot(n[i], n[j]) / (len[i] * len[j]));
-  return std::clamp(lowest, -1.0, 1.0);
-}
-
-double degrees_of_score(double score) {
-  return score < -1.0 ? -1.0 : 180.0 - std::acos(score) * 180.0 / M_PI;
-}
-
-double score_of_degrees(double deg) { return deg < 0 ? -2.0 : -std::cos(deg * M_PI / 180.0); }
-
-}  // namespace
-
-double smallest_dihedral_if_positive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  return degrees_of_score(smallest_dihedral_score(a, b, c, d));
-}
 
 namespace {
 
@@ -408,7 +374,7 @@ bool remove_edge(const TetComplex& c, int a, int b, Replacement& r) {
   // quality: no triangulation at or under that is ever taken, so values
   // there may stay low without changing what is taken.
   const double old_quality = min_quality(c, tets);
-  const double floor_score = score_of_degrees(old_quality);
+  const double floor_score = dihedral_score_of_degrees(old_quality);
   constexpr double kOpen = std::numeric_limits<double>::infinity();
   std::vector<double> best(n * n, kOpen);
   std::vector<int> split(n * n, -1);
@@ -427,7 +393,7 @@ bool remove_edge(const TetComplex& c, int a, int b, Replacement& r) {
   r.kind = n == 3 ? Replacement::flip_32 : Replacement::edge_removal;
   r.old_tets = tets;
   r.old_quality = old_quality;
-  r.new_quality = degrees_of_score(best[n - 1]);
+  r.new_quality = dihedral_degrees_of_score(best[n - 1]);
   r.new_tets.clear();
   if (!(r.new_quality > 0)) return false;
   std::vector<std::pair<int, int>> todo{{0, n - 1}};
@@ -662,7 +628,7 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
   const std::vector<Vec3>& directions = plane ? in_plane : all_directions;
   auto place = [&](const Vec3& y) { return plane ? plane->onto(y) : y; };
   Vec3 x = c.point(v);
-  double q = score_of_degrees(old_quality);
+  double q = dihedral_score_of_degrees(old_quality);
   centroid = place(centroid);
   const double qc = quality_at(centroid, q);
   if (qc > q) x = centroid, q = qc;
@@ -679,7 +645,7 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
     else step *= 0.5;
   }
   to = x;
-  return degrees_of_score(q);
+  return dihedral_degrees_of_score(q);
 }
 
 // Case C for tetrahedron t: the best accepted move of one of its vertices

@@ -31,8 +31,4 @@ namespace vd {
 void improve_slivers(Mesh& m, const SliverOptions& options, const FacetApexes& apexes, SliverStats& stats,
                      const std::function<void()>& apexes_done = {});
 
-// Smallest dihedral angle in degrees of (a, b, c, d), or a negative value
-// when its floating-point volume is not positive. One acos per call.
-double smallest_dihedral_if_positive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
-
 }  // namespace vd

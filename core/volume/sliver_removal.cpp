@@ -50,10 +50,6 @@ SmallestAngles smallest_angles(const Mesh& m, double sliver_angle_deg) {
   return all;
 }
 
-}  // namespace
-
-namespace {
-
 // Case A over the given slivers (indices into m.tets).
 void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<size_t>& slivers,
                              SliverStats& stats) {
