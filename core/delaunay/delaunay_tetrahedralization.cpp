@@ -86,11 +86,29 @@ std::vector<int> DelaunayTetrahedralization::insert_one(const Vec3& p, int id, i
   return neighbours(id);
 }
 
-void DelaunayTetrahedralization::remove(int id) {
-  impl_->last_located = DT::Cell_handle();  // the removal may delete it
-  std::vector<DT::Cell_handle>().swap(impl_->numbered);
-  impl_->dt.remove(impl_->at(id));
-  impl_->handle[static_cast<size_t>(id)] = DT::Vertex_handle();
+bool DelaunayTetrahedralization::faces_taken_by(const Vec3& p, std::vector<std::array<int, 3>>& faces) const {
+  faces.clear();
+  const DT& dt = impl_->dt;
+  const CGALPoint q = to_cgal(p);
+  DT::Locate_type type;
+  int li, lj;
+  DT::Cell_handle c = dt.locate(q, type, li, lj, impl_->last_located);
+  impl_->last_located = c;
+  if (type == DT::VERTEX || type == DT::OUTSIDE_CONVEX_HULL || type == DT::OUTSIDE_AFFINE_HULL) return false;
+  std::vector<DT::Facet> inner;
+  dt.find_conflicts(q, c, CGAL::Emptyset_iterator(), CGAL::Emptyset_iterator(), std::back_inserter(inner));
+  for (const DT::Facet& f : inner) {
+    std::array<int, 3> v;
+    bool finite = true;
+    for (int k = 0, n = 0; k < 4; ++k) {
+      if (k == f.second) continue;
+      const DT::Vertex_handle x = f.first->vertex(k);
+      finite = finite && !dt.is_infinite(x);
+      v[n++] = finite ? x->info() : -1;
+    }
+    if (finite) faces.push_back(v);
+  }
+  return true;
 }
 
 int DelaunayTetrahedralization::number_of_vertices() const {

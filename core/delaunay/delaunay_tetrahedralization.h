@@ -29,9 +29,10 @@ class DelaunayTetrahedralization {
   // face that appeared or disappeared with it has all its vertices among them
   // and `id`.
   std::vector<int> insert_one(const Vec3& p, int id, int hint = -1);
-  // Takes vertex `id` out again (the tetrahedralization of the others is
-  // unique, so it is as before the insertion); its id may be given anew.
-  void remove(int id);
+  // The finite faces that inserting p would take away: those between two
+  // tetrahedra whose circumspheres hold p (exact). Nothing is changed.
+  // False, with `faces` empty, when p is a vertex or outside the convex hull.
+  bool faces_taken_by(const Vec3& p, std::vector<std::array<int, 3>>& faces) const;
 
   int number_of_vertices() const;
   // Vertex ids of the finite tetrahedron containing p (exact point location),

@@ -106,31 +106,20 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
 }
 
 int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<Vec3>& points) {
-  std::vector<std::vector<int>> facets_at(m.points.size());
-  for (size_t f = 0; f < m.triangles.size(); ++f)
-    for (int v : m.triangles[f].v) facets_at[v].push_back(static_cast<int>(f));
-  std::vector<int> mark(m.points.size() + points.size(), -1);
+  std::unordered_set<std::array<int, 3>, TripleHash> surface;
+  surface.reserve(m.triangles.size());
+  for (const Triangle& t : m.triangles) surface.insert(sorted_triple(t.v));
   int kept = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    const int id = static_cast<int>(m.points.size());
-    const std::vector<int> neighbours = dt.insert_one(points[i], id);
-    // Only faces whose vertices are all new neighbours can have gone.
-    for (int n : neighbours) mark[n] = static_cast<int>(i);
-    bool keeps = true;
-    for (int n : neighbours) {
-      if (n >= static_cast<int>(facets_at.size())) continue;
-      for (int f : facets_at[n]) {
-        const auto& v = m.triangles[f].v;
-        if (mark[v[0]] == static_cast<int>(i) && mark[v[1]] == static_cast<int>(i) &&
-            mark[v[2]] == static_cast<int>(i) && !dt.has_facet(v[0], v[1], v[2]))
-          keeps = false;
-      }
-    }
-    if (!keeps) {
-      dt.remove(id);
-      continue;
-    }
-    m.points.push_back(points[i]);
+  std::vector<std::array<int, 3>> taken;
+  for (const Vec3& p : points) {
+    // Asked before inserting: a point inserted and taken out again left
+    // CGAL's cells in an order that depended on memory addresses, so the
+    // same run wrote its tetrahedra in another order each time.
+    bool keeps = dt.faces_taken_by(p, taken);
+    for (const auto& f : taken) keeps = keeps && !surface.count(sorted_triple(f));
+    if (!keeps) continue;
+    dt.insert_one(p, static_cast<int>(m.points.size()));
+    m.points.push_back(p);
     if (!m.point_size.empty()) m.point_size.push_back(0.0);
     ++kept;
   }

@@ -33,8 +33,8 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
 
 // Inserts each point into dt and m.points, one by one, unless it would make a
 // surface facet stop being a face of dt (a point near a concave fold can):
-// then it is taken out again. The surface stays as it is, so no recovery
-// (with its flips across folds) is needed. Returns how many went in.
+// that is asked of dt's conflict zone first. The surface stays as it is, so
+// no recovery (with its flips across folds) is needed. Returns how many went in.
 int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<Vec3>& points);
 
 }  // namespace vd

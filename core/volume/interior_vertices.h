@@ -29,6 +29,7 @@ struct InteriorStats {
   long offset_points = 0, lattice_points = 0;
   long candidates = 0, rejected_outside = 0, rejected_near_vertex = 0, rejected_near_surface = 0;
   long cap_points = 0;  // added after the tetrahedra, to open flat caps (volume/cap_vertices.h)
+  long cap_points_refused = 0;  // not added: a surface facet would have stopped being Delaunay
 };
 
 // `region_at(p)` gives the region containing p (0 outside). Returns the new
