@@ -29,7 +29,10 @@ const char* kMeshHelp =
     "                          CAD input: bounding box diagonal / 25, reported)\n"
     "  --deflection D          CAD: chord height of the face tessellation\n                          (default: size / 10, at most the thinnest solid's 2V/A / 50)\n"
     "  --angular-deflection DEG  CAD: largest angle between the normals along a facet of a curved face\n"
-    "                          (default 20; 10 halves the chords: caxif_as1-oc-214.stp 0.83 % -> 0.27 % volume error)\n"
+    "                          (default 20; the starting value under --volume-tolerance)\n"
+    "  --volume-tolerance PCT  CAD, automatic chord height: tessellate again, with chord height and angle\n"
+    "                          made smaller, while a solid's volume is off the CAD volume by more than\n"
+    "                          PCT % (default 0.4; at most 4 tessellations; 0: once)\n"
     "  --planar-splits         CAD: split vertices at chord mid-points (the paper) instead of on the CAD geometry\n"
     "  --gradation G           largest growth of the size per unit distance (default 0.3)\n"
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
@@ -97,23 +100,28 @@ MeshResult mesh_surface_file(const std::string& path, const MeshOptions& opt, Me
   return mesh_surface(input, opt, partial);
 }
 
-MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool splits_on_geometry, double deflection,
-                         double angle_deg, MeshResult* partial) {
+MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool splits_on_geometry,
+                         const cad::TessellationOptions& tessellation, MeshResult* partial) {
   cad::CadMeshOptions copt;
   copt.mesh = opt;
   copt.splits_on_geometry = splits_on_geometry;
-  copt.tessellation.deflection = deflection;
-  copt.tessellation.angle_deg = angle_deg;
+  copt.tessellation = tessellation;
   if (opt.progress) opt.progress("read CAD");
   const cad::CadModel model = cad::CadModel::read(path);
   return cad::mesh_cad(model, copt, partial);
 }
 
-// OpenCASCADE's angular deflection, in degrees.
-double angular_deflection(Args& args) {
-  const double deg = args.number("--angular-deflection", cad::TessellationOptions{}.angle_deg);
-  if (!(deg > 0 && deg <= 90)) throw UsageError("--angular-deflection must be in (0, 90]");
-  return deg;
+// The CAD tessellation options of `mesh` and `convert`.
+cad::TessellationOptions tessellation_options(Args& args) {
+  cad::TessellationOptions t;
+  t.size = args.number("--size", 0.0);
+  t.deflection = args.number("--deflection", 0.0);
+  t.angle_deg = args.number("--angular-deflection", t.angle_deg);
+  t.volume_tolerance = args.number("--volume-tolerance", 100 * t.volume_tolerance) / 100;
+  if (!(t.deflection >= 0)) throw UsageError("--deflection must not be negative");
+  if (!(t.angle_deg > 0 && t.angle_deg <= 90)) throw UsageError("--angular-deflection must be in (0, 90]");
+  if (!(t.volume_tolerance >= 0)) throw UsageError("--volume-tolerance must not be negative");
+  return t;
 }
 
 int element_order(Args& args) {
@@ -155,8 +163,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   wopt.binary = args.flag("--binary");
   const bool quiet = args.flag("--quiet");
   const bool planar_splits = args.flag("--planar-splits");
-  const double deflection = args.number("--deflection", 0.0);
-  const double angle_deg = angular_deflection(args);
+  const cad::TessellationOptions tessellation = tessellation_options(args);
   const auto pos = args.positionals();
   if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh mesh --help)");
   if (output.empty()) throw UsageError("missing -o OUTPUT");
@@ -175,7 +182,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   MeshResult partial;
   try {
     const MeshResult result = cad::CadModel::is_cad_file(pos[0])
-                                  ? mesh_cad_file(pos[0], opt, !planar_splits, deflection, angle_deg, &partial)
+                                  ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, &partial)
                                   : mesh_surface_file(pos[0], opt, &partial);
     write_result(result.mesh, output, wopt);
     if (!report_path.empty()) write_text(report_path, report_json(result.report));
@@ -194,21 +201,16 @@ int convert_command(const std::vector<std::string>& raw) {
   wopt.msh_version = static_cast<int>(args.integer("--msh-version", 41));
   if (wopt.msh_version != 22 && wopt.msh_version != 41) throw UsageError("--msh-version must be 22 or 41");
   const std::string from = args.value("--from"), to = args.value("--to");
-  const double size = args.number("--size", 0.0), deflection = args.number("--deflection", 0.0);
-  const double angle_deg = angular_deflection(args);
+  const cad::TessellationOptions topt = tessellation_options(args);
   const std::string order = args.value("--order");
   const auto pos = args.positionals();
   if (pos.size() != 2)
     throw UsageError(
         "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--size H] [--deflection D] "
-        "[--angular-deflection DEG]");
+        "[--angular-deflection DEG] [--volume-tolerance PCT]");
   io::format_for(pos[1], to);
   if (from.empty() && cad::CadModel::is_cad_file(pos[0])) {
     // CAD to a surface format: the tagged tessellation the mesher would start from.
-    cad::TessellationOptions topt;
-    topt.size = size;
-    topt.deflection = deflection;
-    topt.angle_deg = angle_deg;
     const Mesh surface = cad::CadModel::read(pos[0]).tessellate(topt);
     io::write_mesh(surface, pos[1], wopt, to);
     return 0;

@@ -13,7 +13,10 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   MeshOptions mopt = options.mesh;
   mopt.size.uniform = stats.size;
   const auto geometry = model.geometry();
-  if (options.splits_on_geometry) mopt.delaunayzation.geometry = geometry.get();
+  if (options.splits_on_geometry) {
+    mopt.delaunayzation.geometry = geometry.get();
+    mopt.delaunayzation.max_flip_offset = stats.deflection;
+  }
 
   CadInputReport cad;
   cad.used = true;
@@ -24,6 +27,9 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   cad.size = stats.size;
   cad.size_chosen = stats.size_chosen;
   cad.deflection = stats.deflection;
+  cad.angle_deg = stats.angle_deg;
+  cad.tessellation_rounds = stats.rounds;
+  cad.tessellation_volume_error = stats.volume_error;
   cad.occ_triangles = stats.occ_triangles;
   cad.refine_splits = stats.refine_splits;
   cad.refine_flips = stats.refine_flips;

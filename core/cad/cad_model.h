@@ -24,6 +24,12 @@ struct TessellationOptions {
   double size = 0;              // target edge length; 0: chosen from the part (report says which)
   double deflection = 0;        // chord height of OpenCASCADE's mesher; 0: min(size / 10, min over solids 2V/A / 50)
   double angle_deg = 20;        // angular deflection of OpenCASCADE's mesher
+  // With the automatic chord height: while a solid's tessellated volume is
+  // off its CAD volume by more than this fraction, tessellate again with the
+  // chord height and the angle made smaller (at most kMaxTessellationRounds
+  // tessellations, kMaxFacetGrowth times the facets; stops when the error
+  // does not shrink with the chords). 0: tessellate once.
+  double volume_tolerance = 0.004;
   bool refine = true;           // split edges longer than `size`, new vertices on the CAD geometry
   bool flips = true;            // improve triangle shape by flips inside each face
   const std::atomic<bool>* cancel = nullptr;  // raised: stop with CancelledError (mesh/cancel.h)
@@ -32,7 +38,10 @@ struct TessellationOptions {
 struct TessellationStats {
   double size = 0;              // the size used (given or chosen)
   bool size_chosen = false;
-  double deflection = 0;        // the chord height used
+  double deflection = 0;        // the chord height used (of the last round)
+  double angle_deg = 0;         // the angular deflection used (of the last round)
+  int rounds = 1;               // tessellations made (volume_tolerance)
+  double volume_error = 0;      // the largest relative volume error of a solid's tessellation
   int occ_triangles = 0;        // from OpenCASCADE's mesher, before refinement
   int refine_splits = 0;
   int refine_flips = 0;
@@ -42,6 +51,10 @@ struct TessellationStats {
   int collapsed_edges = 0;      // edges far below the chord height collapsed (OpenCASCADE's near-duplicate nodes)       // pairs of one face's triangles on the same nodes, facing away from each other
   double seconds_tessellate = 0, seconds_refine = 0;
 };
+
+constexpr int kMaxTessellationRounds = 4;
+constexpr double kMaxFacetGrowth = 6;  // the last round's facets / the first's, at most about
+constexpr double kMaxRoundFacets = 1e6;  // no further round expected to give more facets
 
 using GeometryCheck = ReferenceMeasure;  // cad = reference
 
@@ -83,6 +96,8 @@ class CadModel {
   struct Impl;
 
  private:
+  // Largest |tessellated / CAD - 1| over the solids (cad_volume per solid, 0: unknown).
+  double worst_volume_error(const Mesh& surface, const std::vector<double>& cad_volume) const;
   explicit CadModel(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

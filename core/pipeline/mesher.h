@@ -62,7 +62,10 @@ struct CadInputReport {
   int solids = 0, faces = 0, interface_faces = 0;
   double size = 0;                 // edge length of the tessellation and the interior
   bool size_chosen = false;        // from the part's dimensions (no --size)
-  double deflection = 0;           // chord height of the face tessellation
+  double deflection = 0;           // chord height of the face tessellation (its last round)
+  double angle_deg = 0;            // angular deflection of the face tessellation (its last round)
+  int tessellation_rounds = 1;     // tessellations made to meet the volume tolerance
+  double tessellation_volume_error = 0;  // largest |tessellated / CAD volume - 1| of a solid
   int occ_triangles = 0, refine_splits = 0, refine_flips = 0, border_splits = 0, collapsed_edges = 0, surface_facets = 0;
   std::vector<ReferenceMeasure> volumes, areas;
 };

@@ -63,7 +63,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"lattice_points\": " << r.interior.lattice_points << ", \"candidates\": " << r.interior.candidates
     << ", \"rejected_outside\": " << r.interior.rejected_outside << ", \"rejected_near_vertex\": "
     << r.interior.rejected_near_vertex << ", \"rejected_near_surface\": " << r.interior.rejected_near_surface
-    << ", \"cap_points\": " << r.interior.cap_points
+    << ", \"cap_points\": " << r.interior.cap_points << ", \"cap_points_refused\": " << r.interior.cap_points_refused
     << ", \"smallest_size\": " << exact(r.smallest_size) << "},\n";
   const auto& sl = r.slivers;
   s << "  \"slivers\": {\"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
@@ -112,6 +112,8 @@ std::string report_json(const MeshReport& r) {
     s << "  \"cad\": {\"units\": \"" << c.units << "\", \"solids\": " << c.solids << ", \"faces\": " << c.faces
       << ", \"interface_faces\": " << c.interface_faces << ", \"size\": " << exact(c.size)
       << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << exact(c.deflection)
+      << ", \"angular_deflection_deg\": " << exact(c.angle_deg) << ", \"tessellation_rounds\": " << c.tessellation_rounds
+      << ", \"tessellation_volume_error\": " << exact(c.tessellation_volume_error)
       << ", \"occ_triangles\": " << c.occ_triangles
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
       << ", \"border_splits\": " << c.border_splits << ", \"collapsed_edges\": " << c.collapsed_edges
@@ -139,11 +141,13 @@ std::string report_table(const MeshReport& r) {
     row("CAD", std::to_string(c.solids) + " solids, " + std::to_string(c.faces) + " faces, " +
                    std::to_string(c.interface_faces) + " interfaces; units " + c.units);
     row("size", num(c.size) + (c.size_chosen ? " (chosen: bounding box diagonal / 25)" : " (given)") +
-                    ", chord height " + num(c.deflection));
+                    ", chord height " + num(c.deflection) + ", angle " + num(c.angle_deg) + " deg");
     row("tessellation", std::to_string(c.occ_triangles) + " OpenCASCADE triangles, " +
                             std::to_string(c.collapsed_edges) + " short edges collapsed, " +
                             std::to_string(c.refine_splits) + " splits, " + std::to_string(c.refine_flips) +
-                            " flips, " + std::to_string(c.border_splits) + " border slivers split -> " + std::to_string(c.surface_facets) + " facets");
+                            " flips, " + std::to_string(c.border_splits) + " border slivers split -> " + std::to_string(c.surface_facets) + " facets; " +
+                            std::to_string(c.tessellation_rounds) + (c.tessellation_rounds > 1 ? " rounds" : " round") +
+                            ", volume within " + num(100 * c.tessellation_volume_error) + " %");
     double worst = 0;
     std::string which;
     for (const auto& v : c.volumes) {

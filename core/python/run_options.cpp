@@ -80,6 +80,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
         at most the thinnest solid's mean thickness 2V/A / 50)
     planar_splits (bool, False): split vertices at chord mid-points instead of on the CAD geometry
     angular_deflection (float, 20): OpenCASCADE's angular deflection (deg) on curved faces
+    volume_tolerance (float, 0.4): with the automatic chord height, tessellate again finer
+        while a solid's volume is off by more than this many per cent (0: once)
 )";
 
 RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
@@ -87,7 +89,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       "size",     "gradation",  "interior",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
       "order",    "progress",   "cancel",      "threads"};
-  static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection"};
+  static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection", "volume_tolerance"};
   RunOptions run;
   MeshOptions& opt = run.cad.mesh;
   opt.size.uniform = 0;
@@ -139,6 +141,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
     } else if (name == "deflection") run.cad.tessellation.deflection = number(value, name);
     else if (name == "planar_splits") run.cad.splits_on_geometry = !boolean(value, name);
     else if (name == "angular_deflection") run.cad.tessellation.angle_deg = number(value, name);
+    else if (name == "volume_tolerance") run.cad.tessellation.volume_tolerance = number(value, name) / 100;
   }
   // The command line's checks, with the option names of this module.
   check(opt.size.uniform >= 0, "option size: must not be negative");
@@ -151,6 +154,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   check(run.cad.tessellation.deflection >= 0, "option deflection: must not be negative");
   check(run.cad.tessellation.angle_deg > 0 && run.cad.tessellation.angle_deg <= 90,
         "option angular_deflection: must be in (0, 90]");
+  check(run.cad.tessellation.volume_tolerance >= 0, "option volume_tolerance: must not be negative");
   check(opt.delaunayzation.max_passes >= 0, "option max_passes: must not be negative");
   return run;
 }

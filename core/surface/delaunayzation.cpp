@@ -161,6 +161,7 @@ class Delaunayzer {
       // end (226,800 added vertices, the guard).
       const bool fold_ok = opt_.geometry != nullptr || ridge_acceptable(t, t2);
       if (!convex_in_average_plane(t, t2, A, B) || !fold_ok || !ridge_acceptable(A, B)) continue;
+      if (opt_.max_flip_offset > 0 && diagonal_distance(p, q, r, s) > opt_.max_flip_offset) continue;
       const int before = delaunay_[b] + delaunay_[b2];
       const bool dA = query(A), dB = query(B);
       const int after = dA + dB;
@@ -190,6 +191,17 @@ class Delaunayzer {
     if (a_old1 <= 0 || a_old2 <= 0 || quad <= 0) return false;
     const double share = 0.02;
     return a_new1 > share * quad && a_new2 > share * quad;
+  }
+
+  // How far a flip moves the surface: between the old diagonal pq and the
+  // new one rs. On a curved CAD face every flip cuts into the solid or
+  // adds to it; caxif_as1-oc-214.stp's pins lost 0.85 % of their volume
+  // to 7,057 flips where the tessellation itself lost 0.38 %.
+  double diagonal_distance(int p, int q, int r, int s) const {
+    const Vec3 &P = m_.points[p], &Q = m_.points[q], &R = m_.points[r], &S = m_.points[s];
+    const Vec3 n = cross(Q - P, S - R);
+    const double len = norm(n);
+    return len > 0 ? std::abs(dot(R - P, n)) / len : 0.0;
   }
 
   bool ridge_acceptable(const Triangle& A, const Triangle& B) const {

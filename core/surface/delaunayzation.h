@@ -18,6 +18,9 @@ class SurfaceGeometry;
 struct DelaunayzationOptions {
   bool flips = true;
   double flip_angle_deg = 20.0;  // largest angle between the normals of a flipped pair
+  // >0: a flip may move the surface by at most this (the distance between
+  // the quadrilateral's two diagonals). CAD input sets the chord height.
+  double max_flip_offset = 0;
   // Guards: the paper gives no termination proof.
   int max_passes = 200;
   int max_added_vertices = -1;   // <0: 20 x input vertices + 1000

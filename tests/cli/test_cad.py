@@ -99,9 +99,11 @@ check(len(errors) == 3 and errors[2] < 0.001, "short cylinder at size 0.25: volu
 # --angular-deflection: at size 2 the disc's circles are OpenCASCADE's
 # chords alone; 10 degrees instead of 20 halves them, and the volume lost
 # to them drops about fourfold (an inscribed polygon loses about t^2/6).
+# One tessellation each (--volume-tolerance 0): the tolerance would make
+# both finer.
 by_angle = {}
 for angle in ("20", "10"):
-    code, rep, _, err = mesh(disc, "--size", "2", "--angular-deflection", angle, "--quiet")
+    code, rep, _, err = mesh(disc, "--size", "2", "--angular-deflection", angle, "--volume-tolerance", "0", "--quiet")
     check(code == 0, "disc at --angular-deflection %s meshes (exit %s: %s)" % (angle, code, err.strip()[-200:]))
     if code == 0:
         v = rep["cad"]["volumes"][0]
@@ -111,6 +113,20 @@ if len(by_angle) == 2:
     check(e10 < e20 / 3 and f10 > f20,
           "disc: --angular-deflection 10 loses %.4f %% of the volume with %d facets, 20 loses %.4f %% with %d"
           % (100 * e10, f10, 100 * e20, f20))
+# --volume-tolerance (default 0.4 %): at 0.2 % the same disc is tessellated
+# again, finer, until its volume is within the tolerance.
+code, rep, _, err = mesh(disc, "--size", "2", "--volume-tolerance", "0.2", "--quiet")
+check(code == 0, "disc at the default volume tolerance meshes (exit %s: %s)" % (code, err.strip()[-200:]))
+if code == 0 and "20" in by_angle:
+    c, v = rep["cad"], rep["cad"]["volumes"][0]
+    final = abs(v["mesh"] - v["cad"]) / v["cad"]
+    check(by_angle["20"][0] > 0.002 and c["tessellation_rounds"] > 1 and c["tessellation_volume_error"] <= 0.002
+          and final < 0.0025 and c["angular_deflection_deg"] < 20,
+          "disc: one tessellation loses %.3f %%; %d tessellations (last at %.1f deg) lose %.3f %%, the mesh %.3f %%"
+          % (100 * by_angle["20"][0], c["tessellation_rounds"], c["angular_deflection_deg"],
+             100 * c["tessellation_volume_error"], 100 * final))
+code, _, _, err = mesh(disc, "--volume-tolerance", "-1")
+check(code == 2 and "--volume-tolerance" in err, "--volume-tolerance -1 is a usage error (exit %s)" % code)
 code, _, _, err = mesh(disc, "--angular-deflection", "0")
 check(code == 2 and "--angular-deflection" in err, "--angular-deflection 0 is a usage error (exit %s)" % code)
 

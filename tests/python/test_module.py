@@ -306,8 +306,8 @@ class Cad(unittest.TestCase):
     def test_angular_deflection(self):
         # The hole's circle (radius 4, edges under the size 2) is cut by the
         # angular deflection alone: 10 degrees gives it more facets than 20.
-        fine, _ = vdmesh.mesh_cad(path=self.path, size=2, interior=False, angular_deflection=10)
-        coarse, _ = vdmesh.mesh_cad(path=self.path, size=2, interior=False, angular_deflection=20)
+        fine, _ = vdmesh.mesh_cad(path=self.path, size=2, interior=False, angular_deflection=10, volume_tolerance=0)
+        coarse, _ = vdmesh.mesh_cad(path=self.path, size=2, interior=False, angular_deflection=20, volume_tolerance=0)
         self.assertGreater(len(fine.triangles), len(coarse.triangles))
         with self.assertRaisesRegex(ValueError, "angular_deflection"):
             vdmesh.mesh_cad(path=self.path, angular_deflection=0)
