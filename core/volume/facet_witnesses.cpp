@@ -142,9 +142,10 @@ void FacetWitnesses::tighten(const Vec3& p, int moving) {
   });
 }
 
-FacetWitnesses::Cell FacetWitnesses::cell_of(const Vec3& p) const {
-  return {static_cast<std::int64_t>(std::floor(p.x / cell_)), static_cast<std::int64_t>(std::floor(p.y / cell_)),
-          static_cast<std::int64_t>(std::floor(p.z / cell_))};
+FacetWitnesses::Cell FacetWitnesses::cell_of(const Vec3& p, int level) const {
+  const double size = cell_ * kLevelScale[level];
+  return {static_cast<std::int64_t>(std::floor(p.x / size)), static_cast<std::int64_t>(std::floor(p.y / size)),
+          static_cast<std::int64_t>(std::floor(p.z / size))};
 }
 
 // Calls visit(facet) for every facet whose balls may hold p, until it returns false.
@@ -159,10 +160,13 @@ void FacetWitnesses::for_each_near(const Vec3& p, Visit visit) {
   };
   for (int id : large_)
     if (near(facets_[id]) && !visit(facets_[id])) return;
-  auto it = cells_.find(cell_of(p));
-  if (it == cells_.end()) return;
-  for (int id : it->second)
-    if (near(facets_[id]) && !visit(facets_[id])) return;
+  for (int level = 0; level < kLevels; ++level) {
+    if (cells_[level].empty()) continue;
+    auto it = cells_[level].find(cell_of(p, level));
+    if (it == cells_[level].end()) continue;
+    for (int id : it->second)
+      if (near(facets_[id]) && !visit(facets_[id])) return;
+  }
 }
 
 // (Re)computes facet id's balls from its bounds and lists it in the cells
@@ -171,29 +175,34 @@ void FacetWitnesses::spread(int id) {
   Facet& f = facets_[id];
   const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
   const Bound* bounds[2] = {&f.above, &f.below};
-  bool large = false;
+  double largest = -1;
   for (int i = 0; i < 2; ++i) {
     switch (bounds[i]->kind) {
       case Bound::none: f.reach[i] = Ball{Vec3{}, -1.0}; break;
       case Bound::point: f.reach[i] = circumsphere(a, b, c, bounds[i]->at); break;
       case Bound::equatorial: f.reach[i] = equatorial_sphere(a, b, c); break;
     }
-    // Balls spanning many cells (and flat tetrahedra, radius +inf) are
-    // looked at for every point instead of being spread over cells.
-    large = large || !(f.reach[i].radius < 3.0 * cell_);
+    largest = std::isnan(f.reach[i].radius) ? INFINITY : std::max(largest, f.reach[i].radius);
   }
-  if (large) {
-    if (std::find(large_.begin(), large_.end(), id) == large_.end()) large_.push_back(id);
+  // The big facets beside a finely tessellated part (the box around
+  // gmsh_ellipses.brep's plates) were all in one list that every point
+  // looked through: a fifth of that run. Now only flat tetrahedras'
+  // (radius +inf) and the very largest balls are.
+  int level = 0;
+  while (level < kLevels && !(largest < 3.0 * cell_ * kLevelScale[level])) ++level;
+  if (level == kLevels) {
+    if (in_large_.size() < facets_.size()) in_large_.resize(facets_.size(), 0);
+    if (!in_large_[id]) large_.push_back(id), in_large_[id] = 1;
     return;
   }
   for (const Ball& ball : f.reach) {
     if (ball.radius < 0) continue;
     const double r = ball.radius * (1 + 1e-6) + 1e-12 * cell_;
-    const Cell lo = cell_of(ball.centre - Vec3{r, r, r}), hi = cell_of(ball.centre + Vec3{r, r, r});
+    const Cell lo = cell_of(ball.centre - Vec3{r, r, r}, level), hi = cell_of(ball.centre + Vec3{r, r, r}, level);
     for (auto x = lo[0]; x <= hi[0]; ++x)
       for (auto y = lo[1]; y <= hi[1]; ++y)
         for (auto z = lo[2]; z <= hi[2]; ++z) {
-          std::vector<int>& list = cells_[{x, y, z}];
+          std::vector<int>& list = cells_[level][{x, y, z}];
           if (list.empty() || list.back() != id) list.push_back(id);
         }
   }

@@ -71,7 +71,7 @@ class FacetWitnesses {
     }
   };
 
-  Cell cell_of(const Vec3& p) const;
+  Cell cell_of(const Vec3& p, int level) const;
   void narrow_to_equatorial(Facet& f) const;
   template <class Visit>
   void for_each_near(const Vec3& p, Visit visit);
@@ -84,8 +84,15 @@ class FacetWitnesses {
   double cell_ = 1.0;
   std::vector<Facet> facets_;
   std::vector<std::vector<int>> facets_of_;  // per vertex
+  // Balls of radius under 3 cell sizes are listed in the cells they cover;
+  // level k's cells are kLevelScale[k] times level 0's, and a facet goes to
+  // the first level its balls fit. Larger (or flat, infinite) ones are in
+  // large_ and looked at for every point.
+  static constexpr int kLevels = 6;
+  static constexpr std::array<double, kLevels> kLevelScale = {1, 4, 16, 64, 256, 1024};
   std::vector<int> large_;
-  std::unordered_map<Cell, std::vector<int>, CellHash> cells_;
+  std::vector<char> in_large_;  // per facet
+  std::array<std::unordered_map<Cell, std::vector<int>, CellHash>, kLevels> cells_;
 };
 
 }  // namespace vd
