@@ -68,6 +68,8 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   }
   double angle_deg = options.angle_deg;
   double seconds_tessellate = 0, seconds_refine = 0, first_facets = 0, previous_worst = 0;
+  Mesh best;  // the previous round's surface
+  TessellationStats best_stats;
   try {
     for (int round = 1;; ++round) {
       TessellationStats pass = stats;
@@ -97,12 +99,21 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       const double shrink = std::max(0.8 * options.volume_tolerance / worst, facets / (kMaxFacetGrowth * first_facets));
       const bool converging = round == 1 || worst < 0.7 * previous_worst;
       const bool affordable = facets / shrink <= kMaxRoundFacets;
+      pass.volume_error = worst;
+      if (round > 1 && worst >= previous_worst) {
+        // Finer and no better: the previous round stands.
+        best_stats.seconds_tessellate = seconds_tessellate;
+        best_stats.seconds_refine = seconds_refine;
+        if (stats_out) *stats_out = best_stats;
+        return best;
+      }
       if (!automatic || !(options.volume_tolerance > 0) || worst <= options.volume_tolerance ||
           round == kMaxTessellationRounds || !converging || shrink > 0.8 || !affordable) {
-        pass.volume_error = worst;
         if (stats_out) *stats_out = pass;
         return std::move(s.mesh);
       }
+      best = std::move(s.mesh);
+      best_stats = pass;
       previous_worst = worst;
       deflection *= shrink;
       angle_deg *= std::sqrt(shrink);
