@@ -13,7 +13,7 @@ bool has(const std::array<int, 3>& f, int v) { return f[0] == v || f[1] == v || 
 
 FacetWitnesses::FacetWitnesses(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles,
                                const FacetApexes& apexes)
-    : points_(points), facets_of_(points.size()) {
+    : points_(points), facets_of_(points.size()), in_large_(triangles.size(), 0) {
   double edge_sum = 0;
   for (const Triangle& t : triangles)
     for (int e = 0; e < 3; ++e) edge_sum += norm(points[t.v[(e + 1) % 3]] - points[t.v[e]]);
@@ -186,12 +186,11 @@ void FacetWitnesses::spread(int id) {
   }
   // The big facets beside a finely tessellated part (the box around
   // gmsh_ellipses.brep's plates) were all in one list that every point
-  // looked through: a fifth of that run. Now only flat tetrahedras'
+  // looked through: a fifth of that run. Now only flat tetrahedra's
   // (radius +inf) and the very largest balls are.
   int level = 0;
   while (level < kLevels && !(largest < 3.0 * cell_ * kLevelScale[level])) ++level;
   if (level == kLevels) {
-    if (in_large_.size() < facets_.size()) in_large_.resize(facets_.size(), 0);
     if (!in_large_[id]) large_.push_back(id), in_large_[id] = 1;
     return;
   }
