@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
 
 #include "mesh/cancel.h"
 
@@ -16,8 +17,13 @@ namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Vb = CGAL::Triangulation_vertex_base_with_info_3<int, K>;
 // Cells carry an int so that number_cells() numbers them without a hash map
-// of handles (that map was a tenth of a run at 865k tetrahedra).
-using Cb = CGAL::Triangulation_cell_base_with_info_3<int, K>;
+// of handles (that map was a tenth of a run at 865k tetrahedra), or a region
+// label (label_cells). New cells start at -1: a plain int would start
+// indeterminate, and labelled_cells() must tell a cell no one labelled.
+struct CellTag {
+  int value = -1;
+};
+using Cb = CGAL::Triangulation_cell_base_with_info_3<CellTag, K>;
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
 using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
 using CGALPoint = K::Point_3;
@@ -159,12 +165,42 @@ int DelaunayTetrahedralization::number_cells() const {
   auto& numbered = impl_->numbered;
   numbered.clear();
   numbered.reserve(dt.number_of_finite_cells());
-  for (auto c : dt.all_cell_handles()) c->info() = -1;
+  for (auto c : dt.all_cell_handles()) c->info().value = -1;
   for (auto c : dt.finite_cell_handles()) {
-    c->info() = static_cast<int>(numbered.size());
+    c->info().value = static_cast<int>(numbered.size());
     numbered.push_back(c);
   }
   return static_cast<int>(numbered.size());
+}
+
+void DelaunayTetrahedralization::label_cells(const std::vector<int>& labels) {
+  auto& numbered = impl_->numbered;
+  if (labels.size() != numbered.size()) throw std::logic_error("label_cells: one label per numbered tetrahedron");
+  for (auto c : impl_->dt.all_cell_handles()) c->info().value = 0;  // the infinite ones keep it
+  for (size_t t = 0; t < numbered.size(); ++t) numbered[t]->info().value = labels[t];
+  std::vector<DT::Cell_handle>().swap(numbered);
+}
+
+int DelaunayTetrahedralization::label_at(const Vec3& p) const {
+  DT::Cell_handle c = impl_->dt.locate(to_cgal(p), impl_->last_located);
+  impl_->last_located = c;
+  return c->info().value;
+}
+
+void DelaunayTetrahedralization::label_star(int vertex, int label) {
+  std::vector<DT::Cell_handle> star;
+  impl_->dt.incident_cells(impl_->at(vertex), std::back_inserter(star));
+  for (auto c : star) c->info().value = impl_->dt.is_infinite(c) ? 0 : label;
+}
+
+std::vector<Tetrahedron> DelaunayTetrahedralization::labelled_cells() const {
+  std::vector<Tetrahedron> out;
+  for (auto c : impl_->dt.finite_cell_handles()) {
+    if (c->info().value < 0) throw std::logic_error("labelled_cells: a tetrahedron has no label");
+    if (c->info().value > 0)
+      out.push_back({{c->vertex(0)->info(), c->vertex(1)->info(), c->vertex(2)->info(), c->vertex(3)->info()}, c->info().value});
+  }
+  return out;
 }
 
 std::array<int, 4> DelaunayTetrahedralization::cell(int t) const {
@@ -174,7 +210,27 @@ std::array<int, 4> DelaunayTetrahedralization::cell(int t) const {
 }
 
 int DelaunayTetrahedralization::cell_across(int t, int i) const {
-  return impl_->numbered[static_cast<size_t>(t)]->neighbor(i)->info();
+  return impl_->numbered[static_cast<size_t>(t)]->neighbor(i)->info().value;
+}
+
+void DelaunayTetrahedralization::flood(int seed, int id, const std::vector<std::uint8_t>& walls,
+                                       std::vector<int>& component) const {
+  const auto& numbered = impl_->numbered;
+  std::vector<int> stack{seed};
+  component[static_cast<size_t>(seed)] = id;
+  while (!stack.empty()) {
+    const int t = stack.back();
+    stack.pop_back();
+    const DT::Cell_handle c = numbered[static_cast<size_t>(t)];
+    const std::uint8_t wall = walls[static_cast<size_t>(t)];
+    for (int i = 0; i < 4; ++i) {
+      if (wall & (1u << i)) continue;
+      const int u = c->neighbor(i)->info().value;
+      if (u < 0 || component[static_cast<size_t>(u)] >= 0) continue;
+      component[static_cast<size_t>(u)] = id;
+      stack.push_back(u);
+    }
+  }
 }
 
 std::vector<std::array<int, 2>> DelaunayTetrahedralization::hull_faces() const {
@@ -183,7 +239,7 @@ std::vector<std::array<int, 2>> DelaunayTetrahedralization::hull_faces() const {
   for (auto c : dt.all_cell_handles()) {
     if (!dt.is_infinite(c)) continue;
     const DT::Cell_handle inside = c->neighbor(c->index(dt.infinite_vertex()));
-    out.push_back({inside->info(), inside->index(c)});
+    out.push_back({inside->info().value, inside->index(c)});
   }
   return out;
 }

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -59,6 +60,26 @@ class DelaunayTetrahedralization {
   // The faces on the convex hull as (tetrahedron, face index), numbered as
   // by the last number_cells().
   std::vector<std::array<int, 2>> hull_faces() const;
+  // Gives `id` to seed and to every numbered tetrahedron reached from it
+  // across faces not marked in `walls` (bit i of walls[t]: face i of t) and
+  // still at component[t] < 0. Here rather than over cell_across, because
+  // the walk is memory-bound and the calls were a tenth of a run.
+  void flood(int seed, int id, const std::vector<std::uint8_t>& walls, std::vector<int>& component) const;
+
+  // Region labels kept in the tetrahedra themselves, so that point location
+  // answers a region and the tetrahedra of a later insertion inherit one
+  // without the regions being built again. label_cells gives numbered
+  // tetrahedron t the label labels[t] (those beyond the hull 0) and ends the
+  // numbering. Any insertion leaves the new tetrahedra unlabelled (-1)
+  // until label_star labels those around the new vertex.
+  void label_cells(const std::vector<int>& labels);
+  // The label of the tetrahedron containing p (exact), 0 outside the hull.
+  int label_at(const Vec3& p) const;
+  void label_star(int vertex, int label);
+  // The finite tetrahedra with a label above 0, as tetrahedra of that region,
+  // in the order number_cells() would give. Throws std::logic_error when a
+  // tetrahedron is unlabelled.
+  std::vector<Tetrahedron> labelled_cells() const;
 
  private:
   struct Impl;

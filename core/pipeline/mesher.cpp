@@ -72,25 +72,6 @@ void accumulate(DelaunayzationResult& total, const DelaunayzationResult& pass) {
   total.missing = pass.missing;
 }
 
-// Region of a point: the region of the tetrahedron that contains it.
-class RegionLocator {
- public:
-  RegionLocator(const Mesh& m, const DelaunayTetrahedralization& dt) : dt_(dt) {
-    region_.reserve(m.tets.size());
-    for (const Tetrahedron& t : m.tets) region_.emplace(sorted_quad(t.v), t.region);
-  }
-  int operator()(const Vec3& p) const {
-    const auto cell = dt_.locate(p);
-    if (cell[0] < 0) return 0;
-    auto it = region_.find(sorted_quad(cell));
-    return it == region_.end() ? 0 : it->second;
-  }
-
- private:
-  const DelaunayTetrahedralization& dt_;
-  std::unordered_map<std::array<int, 4>, int, QuadHash> region_;
-};
-
 }  // namespace
 
 MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial) {
@@ -175,13 +156,13 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     report.smallest_size = size.smallest();
     InteriorOptions iopt = options.interior_options;
     iopt.seed = options.seed;
-    const RegionLocator locate(m, dt);
     timer.start("interior vertices");
-    // Every candidate is located once: the place to look at the cancel flag.
+    // Every candidate is located once (its region is the label of the
+    // tetrahedron it falls in): the place to look at the cancel flag.
     CancelPoll poll(options.cancel, 256);
     auto locate_or_cancel = [&](const Vec3& p) {
       poll();
-      return locate(p);
+      return dt.label_at(p);
     };
     const std::vector<Vec3> interior =
         generate_interior_vertices(m, size, locate_or_cancel, iopt, report.interior);
@@ -218,10 +199,9 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
         report.interior_vertices += kept;
         report.output_vertices = static_cast<int>(m.points.size());
         // Every facet is still a Delaunay face (insert_cap_vertices kept it
-        // so): no recovery, only the tetrahedra again.
+        // so): no recovery, and the new tetrahedra took their region's label.
         timer.start("volume with cap vertices");
-        report.regions = build_region_tetrahedra(m, dt);
-        report.regions.regions_from_tags = from_tags;
+        m.tets = dt.labelled_cells();
       }
     }
   }

@@ -81,22 +81,10 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
   }
   if (caps.empty()) return {};
 
-  // The regions of the tetrahedra around the caps' vertices, to check where
-  // each point lands without a table of every tetrahedron.
-  std::vector<char> near_cap(m.points.size(), 0);
-  for (const Cap& c : caps)
-    for (int v : m.tets[c.tet].v) near_cap[v] = 1;
-  std::unordered_map<std::array<int, 4>, int, QuadHash> region_of;
-  for (const Tetrahedron& t : m.tets)
-    if (near_cap[t.v[0]] || near_cap[t.v[1]] || near_cap[t.v[2]] || near_cap[t.v[3]])
-      region_of.emplace(sorted_quad(t.v), t.region);
-
   std::vector<Vec3> out;
   for (const Cap& c : caps) {
+    if (dt.label_at(c.point) != m.tets[c.tet].region) continue;
     const std::array<int, 4> cell = dt.locate(c.point);
-    if (cell[0] < 0) continue;
-    const auto it = region_of.find(sorted_quad(cell));
-    if (it == region_of.end() || it->second != m.tets[c.tet].region) continue;
     bool clear = true;
     for (int v : cell) clear = clear && norm(m.points[v] - c.point) > 0.1 * c.fold_length;
     for (const Vec3& q : out) clear = clear && norm(q - c.point) > 0.1 * c.fold_length;
@@ -118,7 +106,11 @@ int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vect
     bool keeps = dt.faces_taken_by(p, taken);
     for (const auto& f : taken) keeps = keeps && !surface.count(sorted_triple(f));
     if (!keeps) continue;
+    // Its conflict zone crosses no facet: one region, whose label the new
+    // tetrahedra take.
+    const int region = dt.label_at(p);
     dt.insert_one(p, static_cast<int>(m.points.size()));
+    dt.label_star(static_cast<int>(m.points.size()), region);
     m.points.push_back(p);
     if (!m.point_size.empty()) m.point_size.push_back(0.0);
     ++kept;

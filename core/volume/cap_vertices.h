@@ -27,14 +27,17 @@ namespace vd {
 // 0.05, 0.02, 0.01, 0.005), the first that lies in the cap's circumsphere; kept when it is in the
 // cap's region (located in dt, whose vertices are m.points) and not closer to
 // another vertex of the cap's neighbourhood than a tenth of the fold edge.
-// One point per fold edge.
+// One point per fold edge. Pre: dt's tetrahedra carry their region labels
+// (build_region_tetrahedra leaves them so).
 std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt, double sliver_angle_deg,
                                       double ridge_angle_deg);
 
 // Inserts each point into dt and m.points, one by one, unless it would make a
 // surface facet stop being a face of dt (a point near a concave fold can):
 // that is asked of dt's conflict zone first. The surface stays as it is, so
-// no recovery (with its flips across folds) is needed. Returns how many went in.
+// no recovery (with its flips across folds) is needed, and the new tetrahedra
+// take the label of their region (dt.labelled_cells() gives them). Returns
+// how many went in.
 int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<Vec3>& points);
 
 }  // namespace vd

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "geometry/point_grid.h"
 #include "surface/face_patches.h"
@@ -110,30 +111,61 @@ class Acceptor {
 // size 0.0395 had 919k tetrahedra, 140k of them slivers before the sliver
 // pass (24.5 s in all), against 494k and 5.8k at size 0.05; now 540k and 10k
 // (3.8 s).
-void octree_points(const Vec3& lo, double side, int depth, const SizeField& size, const InteriorOptions& o,
-                   const std::function<void(const Vec3&)>& emit) {
-  const Vec3 centre = lo + (0.5 * side) * Vec3{1, 1, 1};
-  if (side > 2.0 * size.at(centre) && depth < o.max_octree_depth) {
-    const double half = 0.5 * side;
-    for (int k = 0; k < 2; ++k)
-      for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i)
-          octree_points(lo + half * Vec3{double(i), double(j), double(k)}, half, depth + 1, size, o, emit);
-    return;
+//
+// Nodes and points live on an integer lattice (the root's side is
+// 2^(depth+1) units), so an edge mid-point shared by up to four leaves is
+// the same key from each and is offered once (21 bits per axis: depth at
+// most 19): the copies were two thirds of
+// the candidates, each jittered and looked up only to be turned away.
+class OctreeLattice {
+ public:
+  OctreeLattice(const Vec3& lo, double side, const SizeField& size, const InteriorOptions& o,
+                const std::function<void(const Vec3&)>& emit)
+      : lo_(lo), depth_(std::clamp(o.max_octree_depth, 0, 19)), size_(size), emit_(emit) {
+    const std::int64_t units = std::int64_t(1) << (depth_ + 1);
+    unit_ = side / static_cast<double>(units);
+    visit({0, 0, 0}, units, 0);
   }
-  emit(centre);
-  for (int axis = 0; axis < 3; ++axis) {
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b) {
-        Vec3 p = lo;
-        p[axis] += 0.5 * side;
-        p[u] += a * side;
-        p[v] += b * side;
-        emit(p);
-      }
+
+ private:
+  using Key = std::array<std::int64_t, 3>;
+  Vec3 at(const Key& k) const {
+    return lo_ + unit_ * Vec3{double(k[0]), double(k[1]), double(k[2])};
   }
-}
+  void offer(const Key& k) {
+    const std::uint64_t packed = (std::uint64_t(k[0]) << 42) | (std::uint64_t(k[1]) << 21) | std::uint64_t(k[2]);
+    if (seen_.insert(packed).second) emit_(at(k));
+  }
+  void visit(const Key& lo, std::int64_t side, int depth) {
+    const std::int64_t half = side / 2;
+    const Key centre{lo[0] + half, lo[1] + half, lo[2] + half};
+    if (static_cast<double>(side) * unit_ > 2.0 * size_.at(at(centre)) && depth < depth_) {
+      for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+          for (int i = 0; i < 2; ++i) visit({lo[0] + i * half, lo[1] + j * half, lo[2] + k * half}, half, depth + 1);
+      return;
+    }
+    offer(centre);
+    for (int axis = 0; axis < 3; ++axis) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) {
+          Key p = lo;
+          p[axis] += half;
+          p[u] += a * side;
+          p[v] += b * side;
+          offer(p);
+        }
+    }
+  }
+
+  Vec3 lo_;
+  int depth_;
+  double unit_ = 1;
+  const SizeField& size_;
+  const std::function<void(const Vec3&)>& emit_;
+  std::unordered_set<std::uint64_t> seen_;
+};
 
 }  // namespace
 
@@ -186,7 +218,8 @@ std::vector<Vec3> generate_interior_vertices(const Mesh& m, const SizeField& siz
     for (int v : t.v)
       for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], m.points[v][i]), hi[i] = std::max(hi[i], m.points[v][i]);
   const double side = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) * 1.001;
-  octree_points(lo, side, 0, size, o, [&](const Vec3& p) { acceptor.offer(p, -1); });
+  const std::function<void(const Vec3&)> offer = [&](const Vec3& p) { acceptor.offer(p, -1); };
+  OctreeLattice(lo, side, size, o, offer);
   stats.lattice_points = static_cast<long>(acceptor.accepted().size()) - stats.offset_points;
   return std::move(acceptor.accepted());
 }

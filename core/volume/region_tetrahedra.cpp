@@ -26,7 +26,7 @@ double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return dot(cross(b - a, c - a), d - a) / 6.0;
 }
 
-RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& dt) {
+RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   const int n = dt.number_cells();
   std::unordered_map<std::array<int, 3>, int, TripleHash> facet_of;
   facet_of.reserve(m.triangles.size() * 2);
@@ -34,13 +34,20 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
     const auto& v = m.triangles[f].v;
     facet_of.emplace(sorted_triple(v), static_cast<int>(f));
   }
-  // The facet each tetrahedron face lies on (-1: none), looked up once: the
-  // passes below ask three times per face, and the hash look-ups were a
-  // fifth of a surface-only run. A face with a vertex on no facet is no facet.
+  // Which faces of each tetrahedron lie on a facet, one bit per face: a
+  // byte per tetrahedron where a table of facet numbers took sixteen (52 MB
+  // at 3.5M tetrahedra, at the run's peak). The few tetrahedra on the
+  // surface look their facets up again below. A face with a vertex on no
+  // facet is no facet.
   std::vector<char> on_facet(m.points.size(), 0);
   for (const Triangle& t : m.triangles)
     for (int v : t.v) on_facet[static_cast<size_t>(v)] = 1;
-  std::vector<std::array<int, 4>> facet_at(static_cast<size_t>(n), {-1, -1, -1, -1});
+  std::vector<std::uint8_t> walls(static_cast<size_t>(n), 0);
+  std::vector<int> on_surface;  // tetrahedra with a face on a facet
+  auto facet_at = [&](const std::array<int, 4>& tet, int i) {
+    auto it = facet_of.find(sorted_triple(face_opposite(tet, i)));
+    return it == facet_of.end() ? -1 : it->second;
+  };
   for (int t = 0; t < n; ++t) {
     const auto tet = dt.cell(t);
     int touching = 0;
@@ -48,63 +55,46 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
     if (touching < 3) continue;
     for (int i = 0; i < 4; ++i) {
       if (touching == 3 && on_facet[static_cast<size_t>(tet[i])]) continue;  // i is one of the three
-      auto it = facet_of.find(sorted_triple(face_opposite(tet, i)));
-      if (it != facet_of.end()) facet_at[static_cast<size_t>(t)][i] = it->second;
+      if (facet_at(tet, i) >= 0) walls[static_cast<size_t>(t)] |= static_cast<std::uint8_t>(1u << i);
     }
+    if (walls[static_cast<size_t>(t)]) on_surface.push_back(t);
   }
-  auto face_facet = [&](int tet, int i) { return facet_at[static_cast<size_t>(tet)][i]; };
 
   // Components of tetrahedra joined across non-facet faces; component 0 is
   // the one reached from infinity through a non-facet hull face.
   std::vector<int> comp(n, -1);
   int components = 0;
-  std::vector<int> stack;
-  auto flood = [&](int seed, int id) {
-    comp[seed] = id;
-    stack.push_back(seed);
-    while (!stack.empty()) {
-      const int t = stack.back();
-      stack.pop_back();
-      for (int i = 0; i < 4; ++i) {
-        const int u = dt.cell_across(t, i);
-        if (u < 0 || comp[u] >= 0 || face_facet(t, i) >= 0) continue;
-        comp[u] = id;
-        stack.push_back(u);
-      }
-    }
-  };
   const int outside = components++;
   for (const auto& [t, i] : dt.hull_faces())
-    if (comp[t] < 0 && face_facet(t, i) < 0) flood(t, outside);
+    if (comp[t] < 0 && !(walls[static_cast<size_t>(t)] & (1u << i))) dt.flood(t, outside, walls, comp);
   // Other components in the order of their lowest bounding facet, so that the
-  // numbering depends on the input, not on CGAL's cell order.
+  // numbering depends on the input, not on CGAL's cell order. For every
+  // facet, the component on each side.
   std::vector<std::pair<int, int>> seeds;  // (lowest facet, tet)
-  {
-    std::vector<int> lowest(n, INT32_MAX);
-    for (int t = 0; t < n; ++t)
-      for (int i = 0; i < 4; ++i) {
-        const int f = face_facet(t, i);
-        if (f >= 0) lowest[t] = std::min(lowest[t], f);
-      }
-    for (int t = 0; t < n; ++t)
-      if (lowest[t] != INT32_MAX) seeds.emplace_back(lowest[t], t);
-    std::sort(seeds.begin(), seeds.end());
-  }
-  for (const auto& [f, t] : seeds)
-    if (comp[t] < 0) flood(t, components++);
-  for (int t = 0; t < n; ++t)
-    if (comp[t] < 0) flood(t, components++);  // enclosed without touching a facet: impossible, but safe
-
-  // For every facet, the component on each side.
-  std::vector<std::array<int, 2>> sides(m.triangles.size(), {-2, -2});  // [front, back]
-  for (int t = 0; t < n; ++t)
+  std::vector<std::array<int, 3>> faces_on_surface;  // (tet, face, facet)
+  for (int t : on_surface) {
+    const auto tet = dt.cell(t);
+    int lowest = INT32_MAX;
     for (int i = 0; i < 4; ++i) {
-      const int f = face_facet(t, i);
-      if (f < 0) continue;
-      const bool front = on_front_side(m.points, m.triangles[f], dt.cell(t)[i]);
-      sides[f][front ? 0 : 1] = comp[t];
-      if (dt.cell_across(t, i) < 0) sides[f][front ? 1 : 0] = outside;  // hull facet: infinity beyond
+      if (!(walls[static_cast<size_t>(t)] & (1u << i))) continue;
+      const int f = facet_at(tet, i);
+      faces_on_surface.push_back({t, i, f});
+      lowest = std::min(lowest, f);
     }
+    seeds.emplace_back(lowest, t);
+  }
+  std::sort(seeds.begin(), seeds.end());
+  for (const auto& [f, t] : seeds)
+    if (comp[t] < 0) dt.flood(t, components++, walls, comp);
+  for (int t = 0; t < n; ++t)
+    if (comp[t] < 0) dt.flood(t, components++, walls, comp);  // enclosed without touching a facet: impossible, but safe
+
+  std::vector<std::array<int, 2>> sides(m.triangles.size(), {-2, -2});  // [front, back]
+  for (const auto& [t, i, f] : faces_on_surface) {
+    const bool front = on_front_side(m.points, m.triangles[f], dt.cell(t)[i]);
+    sides[f][front ? 0 : 1] = comp[t];
+    if (dt.cell_across(t, i) < 0) sides[f][front ? 1 : 0] = outside;  // hull facet: infinity beyond
+  }
 
   RegionStats stats;
   std::vector<int> region_of(components, kUnknownRegion);
@@ -160,6 +150,8 @@ RegionStats build_region_tetrahedra(Mesh& m, const DelaunayTetrahedralization& d
     seen_region[r] = true;
   }
   stats.regions = static_cast<int>(std::count(seen_region.begin(), seen_region.end(), true));
+  for (int& c : comp) c = region_of[c];
+  dt.label_cells(comp);
   return stats;
 }
 

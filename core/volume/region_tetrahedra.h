@@ -21,8 +21,9 @@ struct RegionStats {
 // against the components (InputError on a contradiction); otherwise regions
 // are numbered 1.. by their lowest bounding facet and the facets' front/back
 // are set. Facets with the exterior on both sides are refused (InputError:
-// an open surface that bounds nothing).
-RegionStats build_region_tetrahedra(Mesh& surface, const DelaunayTetrahedralization& dt);
+// an open surface that bounds nothing). Leaves each tetrahedron of dt
+// labelled with its region (0 for the exterior; see label_cells).
+RegionStats build_region_tetrahedra(Mesh& surface, DelaunayTetrahedralization& dt);
 
 // Signed volume of tetrahedron (a, b, c, d): positive when positively oriented.
 double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
