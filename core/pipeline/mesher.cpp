@@ -156,16 +156,11 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     report.smallest_size = size.smallest();
     InteriorOptions iopt = options.interior_options;
     iopt.seed = options.seed;
+    iopt.cancel = options.cancel;
     timer.start("interior vertices");
-    // Every candidate is located once (its region is the label of the
-    // tetrahedron it falls in): the place to look at the cancel flag.
-    CancelPoll poll(options.cancel, 256);
-    auto locate_or_cancel = [&](const Vec3& p) {
-      poll();
-      return dt.label_at(p);
-    };
-    const std::vector<Vec3> interior =
-        generate_interior_vertices(m, size, locate_or_cancel, iopt, report.interior);
+    // A point's region is the label of the tetrahedron it falls in.
+    const std::vector<Vec3> interior = generate_interior_vertices(
+        m, size, [&dt](const Vec3& p) { return dt.label_at(p); }, iopt, report.interior);
     report.interior_vertices = static_cast<long>(interior.size());
     // Vertices from..end are in dt now: the oracle is told, and none may
     // have fallen onto an existing one.

@@ -7,6 +7,7 @@
 #include <unordered_set>
 
 #include "geometry/point_grid.h"
+#include "mesh/cancel.h"
 #include "surface/face_patches.h"
 
 namespace vd {
@@ -59,25 +60,32 @@ class Acceptor {
  public:
   Acceptor(const Mesh& m, const SizeField& size, const std::function<int(const Vec3&)>& region_at,
            const InteriorOptions& o, InteriorStats& stats, double facet_cell)
-      : size_(size), region_at_(region_at), o_(o), stats_(stats), facets_(m, facet_cell), rng_(o.seed) {
+      : size_(size), region_at_(region_at), o_(o), stats_(stats), facets_(m, facet_cell), rng_(o.seed),
+        poll_(o.cancel, 256) {
     grid_.build(m.points);
   }
 
   // Tries p; `expected` region (>0) or -1 for any non-exterior region.
-  void offer(Vec3 p, int expected) {
+  // `known` (>0) is p's region when the caller knows it (the lattice in a
+  // box no facet reaches), so that p need not be located.
+  void offer(Vec3 p, int expected, int known = -1) {
+    poll_();
     ++stats_.candidates;
     const double h = size_.at(p);
     std::normal_distribution<double> g(0.0, o_.jitter * h / std::sqrt(3.0));
-    p = p + Vec3{g(rng_), g(rng_), g(rng_)};
-    // The vertex gap first: it turns away two thirds of the lattice (each
-    // edge mid-point is offered by the four leaves around the edge) for
-    // less than a point location costs.
+    Vec3 shift{g(rng_), g(rng_), g(rng_)};
+    // At most half the surface gap: a known region stays true, as a point
+    // jittered across a facet lands nearer to it than the gap.
+    const double longest = 0.5 * o_.min_surface_gap * h, length = norm(shift);
+    if (length > longest) shift = (longest / length) * shift;
+    p = p + shift;
+    // The vertex gap before the region: it costs less than a point location.
     grid_.in_ball(p, o_.min_vertex_gap * h, near_);
     if (!near_.empty()) {
       ++stats_.rejected_near_vertex;
       return;
     }
-    const int r = region_at_(p);
+    const int r = known > 0 ? known : region_at_(p);
     if (r <= 0 || (expected > 0 && r != expected)) {
       ++stats_.rejected_outside;
       return;
@@ -101,6 +109,7 @@ class Acceptor {
   std::vector<int> near_;
   std::vector<Vec3> accepted_;
   std::mt19937_64 rng_;
+  CancelPoll poll_;
 };
 
 // Octree leaves no larger than 2 h at their centre; each leaf offers its
@@ -115,37 +124,73 @@ class Acceptor {
 // Nodes and points live on an integer lattice (the root's side is
 // 2^(depth+1) units), so an edge mid-point shared by up to four leaves is
 // the same key from each and is offered once (21 bits per axis: depth at
-// most 19): the copies were two thirds of
-// the candidates, each jittered and looked up only to be turned away.
+// most 19): the copies were two thirds of the candidates.
+//
+// Each node carries the facets whose bounding boxes meet it. A node that
+// none meets lies in one region, found by locating its centre once: outside
+// the model the whole subtree is skipped (half the bounding cube of a
+// sphere), inside it its points need no location of their own.
 class OctreeLattice {
  public:
-  OctreeLattice(const Vec3& lo, double side, const SizeField& size, const InteriorOptions& o,
-                const std::function<void(const Vec3&)>& emit)
-      : lo_(lo), depth_(std::clamp(o.max_octree_depth, 0, 19)), size_(size), emit_(emit) {
+  using Offer = std::function<void(const Vec3& p, int known_region)>;
+  OctreeLattice(const Mesh& m, const Vec3& lo, double side, const SizeField& size, const InteriorOptions& o,
+                const std::function<int(const Vec3&)>& region_at, const Offer& offer)
+      : lo_(lo), depth_(std::clamp(o.max_octree_depth, 0, 19)), size_(size), region_at_(region_at), offer_(offer) {
     const std::int64_t units = std::int64_t(1) << (depth_ + 1);
     unit_ = side / static_cast<double>(units);
-    visit({0, 0, 0}, units, 0);
+    boxes_.reserve(m.triangles.size());
+    std::vector<int> all(m.triangles.size());
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+      Box b{m.points[m.triangles[f].v[0]], m.points[m.triangles[f].v[0]]};
+      for (int v : m.triangles[f].v)
+        for (int i = 0; i < 3; ++i) b.lo[i] = std::min(b.lo[i], m.points[v][i]), b.hi[i] = std::max(b.hi[i], m.points[v][i]);
+      boxes_.push_back(b);
+      all[f] = static_cast<int>(f);
+    }
+    visit({0, 0, 0}, units, 0, all, -1);
   }
 
  private:
   using Key = std::array<std::int64_t, 3>;
+  struct Box {
+    Vec3 lo, hi;
+  };
   Vec3 at(const Key& k) const {
     return lo_ + unit_ * Vec3{double(k[0]), double(k[1]), double(k[2])};
   }
-  void offer(const Key& k) {
+  void offer(const Key& k, int region) {
     const std::uint64_t packed = (std::uint64_t(k[0]) << 42) | (std::uint64_t(k[1]) << 21) | std::uint64_t(k[2]);
-    if (seen_.insert(packed).second) emit_(at(k));
+    if (seen_.insert(packed).second) offer_(at(k), region);
   }
-  void visit(const Key& lo, std::int64_t side, int depth) {
+  // Facets of `from` whose boxes meet the closed node box.
+  std::vector<int> meeting(const std::vector<int>& from, const Key& lo, std::int64_t side) const {
+    const Vec3 a = at(lo), b = at({lo[0] + side, lo[1] + side, lo[2] + side});
+    std::vector<int> out;
+    for (int f : from) {
+      const Box& x = boxes_[static_cast<size_t>(f)];
+      if (x.lo.x <= b.x && x.hi.x >= a.x && x.lo.y <= b.y && x.hi.y >= a.y && x.lo.z <= b.z && x.hi.z >= a.z)
+        out.push_back(f);
+    }
+    return out;
+  }
+  // `region` > -1: every point of the node is in that region.
+  void visit(const Key& lo, std::int64_t side, int depth, const std::vector<int>& facets, int region) {
     const std::int64_t half = side / 2;
     const Key centre{lo[0] + half, lo[1] + half, lo[2] + half};
+    if (region < 0 && facets.empty()) {
+      region = region_at_(at(centre));
+      if (region == 0) return;
+    }
     if (static_cast<double>(side) * unit_ > 2.0 * size_.at(at(centre)) && depth < depth_) {
       for (int k = 0; k < 2; ++k)
         for (int j = 0; j < 2; ++j)
-          for (int i = 0; i < 2; ++i) visit({lo[0] + i * half, lo[1] + j * half, lo[2] + k * half}, half, depth + 1);
+          for (int i = 0; i < 2; ++i) {
+            const Key child{lo[0] + i * half, lo[1] + j * half, lo[2] + k * half};
+            visit(child, half, depth + 1, region < 0 ? meeting(facets, child, half) : facets, region);
+          }
       return;
     }
-    offer(centre);
+    offer(centre, region);
     for (int axis = 0; axis < 3; ++axis) {
       const int u = (axis + 1) % 3, v = (axis + 2) % 3;
       for (int a = 0; a < 2; ++a)
@@ -154,7 +199,7 @@ class OctreeLattice {
           p[axis] += half;
           p[u] += a * side;
           p[v] += b * side;
-          offer(p);
+          offer(p, region);
         }
     }
   }
@@ -163,7 +208,9 @@ class OctreeLattice {
   int depth_;
   double unit_ = 1;
   const SizeField& size_;
-  const std::function<void(const Vec3&)>& emit_;
+  const std::function<int(const Vec3&)>& region_at_;
+  const Offer& offer_;
+  std::vector<Box> boxes_;
   std::unordered_set<std::uint64_t> seen_;
 };
 
@@ -218,8 +265,8 @@ std::vector<Vec3> generate_interior_vertices(const Mesh& m, const SizeField& siz
     for (int v : t.v)
       for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], m.points[v][i]), hi[i] = std::max(hi[i], m.points[v][i]);
   const double side = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) * 1.001;
-  const std::function<void(const Vec3&)> offer = [&](const Vec3& p) { acceptor.offer(p, -1); };
-  OctreeLattice(lo, side, size, o, offer);
+  const OctreeLattice::Offer offer = [&](const Vec3& p, int region) { acceptor.offer(p, -1, region); };
+  OctreeLattice(m, lo, side, size, o, region_at, offer);
   stats.lattice_points = static_cast<long>(acceptor.accepted().size()) - stats.offset_points;
   return std::move(acceptor.accepted());
 }

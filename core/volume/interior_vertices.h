@@ -7,6 +7,7 @@
 // spoil the surface's Delaunayhood. About 1% jitter.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -23,6 +24,7 @@ struct InteriorOptions {
   double jitter = 0.01;           // x h
   std::uint64_t seed = 1;
   int max_octree_depth = 14;
+  const std::atomic<bool>* cancel = nullptr;  // looked at every few hundred candidates
 };
 
 struct InteriorStats {

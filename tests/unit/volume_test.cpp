@@ -1,13 +1,16 @@
 // Interior vertices and the tetrahedra per region (paper §2, §6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 
 #include "mesh/shapes.h"
 #include "pipeline/mesher.h"
 #include "quality/conformity.h"
 #include "volume/interior_vertices.h"
+#include "volume/size_field.h"
 
 namespace vd {
 namespace {
@@ -73,6 +76,50 @@ TEST(Volume, SameSeedSameMeshWithInteriorVertices) {
   ASSERT_EQ(a.mesh.tets.size(), b.mesh.tets.size());
   for (size_t i = 0; i < a.mesh.tets.size(); ++i) ASSERT_EQ(a.mesh.tets[i].v, b.mesh.tets[i].v);
   for (size_t i = 0; i < a.mesh.points.size(); ++i) ASSERT_EQ(a.mesh.points[i].z, b.mesh.points[i].z);
+}
+
+TEST(Volume, LatticeLocatesOnlyNearTheSurfaceAndKeepsItsGaps) {
+  // A cube with a cubic cavity, facets of the size asked for: the cavity and
+  // the outside are region 0. The region is given exactly here, and every
+  // call is counted.
+  constexpr double h = 0.2;
+  Mesh in = shapes::box({0, 0, 0}, {4, 4, 4}, 20);
+  Mesh cavity = shapes::box({1.5, 1.5, 1.5}, {2.5, 2.5, 2.5}, 5);
+  for (Triangle& t : cavity.triangles) std::swap(t.front, t.back);  // region 1 outside it
+  shapes::append(in, cavity);
+  auto inside = [](const Vec3& p) {
+    const bool in_cube = p.x > 0 && p.x < 4 && p.y > 0 && p.y < 4 && p.z > 0 && p.z < 4;
+    const bool in_cavity = std::abs(p.x - 2) <= 0.5 && std::abs(p.y - 2) <= 0.5 && std::abs(p.z - 2) <= 0.5;
+    return in_cube && !in_cavity;
+  };
+  long calls = 0;
+  const std::function<int(const Vec3&)> region_at = [&](const Vec3& p) {
+    ++calls;
+    return inside(p) ? 1 : 0;
+  };
+  SizeFieldOptions so;
+  so.uniform = h;
+  const SizeField size(in, so);
+  InteriorOptions o;
+  InteriorStats stats;
+  const std::vector<Vec3> pts = generate_interior_vertices(in, size, region_at, o, stats);
+  ASSERT_GT(pts.size(), 5000u);
+  for (const Vec3& p : pts) {
+    ASSERT_TRUE(inside(p)) << p.x << " " << p.y << " " << p.z;
+    for (const Triangle& t : in.triangles)
+      ASSERT_GE(point_triangle_distance(p, in.points[t.v[0]], in.points[t.v[1]], in.points[t.v[2]]),
+                o.min_surface_gap * h * (1 - 1e-9));
+  }
+  std::cout << "[cavity h=0.2] " << pts.size() << " points, " << stats.candidates << " candidates, " << calls
+            << " locations\n";
+  // Octree nodes clear of the surface are located once, not point by point.
+  EXPECT_LT(calls, stats.candidates / 3) << calls << " locations for " << stats.candidates << " candidates";
+  // Each lattice point is offered once: nothing lands on a copy of itself.
+  std::vector<Vec3> sorted = pts;
+  std::sort(sorted.begin(), sorted.end(), [](const Vec3& a, const Vec3& b) { return a.x < b.x; });
+  for (size_t i = 0; i < sorted.size(); ++i)
+    for (size_t j = i + 1; j < sorted.size() && sorted[j].x - sorted[i].x < o.min_vertex_gap * h; ++j)
+      ASSERT_GE(norm(sorted[j] - sorted[i]), o.min_vertex_gap * h * (1 - 1e-9));
 }
 
 TEST(Volume, PointTriangleDistance) {
