@@ -78,6 +78,13 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
       caps.push_back({static_cast<int>(ti), *p, length});
       break;
     }
+    // Else the centroid itself, inside the cap: when the circumsphere's
+    // centre lies outside the region, the ball may reach inward less than
+    // the shallowest depth above. The cylinder head's flattest caps were
+    // such (smallest angle 0.12 -> 0.76 deg).
+    if ((caps.empty() || caps.back().tet != static_cast<int>(ti)) &&
+        side_of_circumsphere(p0, p1, p2, p3, centroid) == SphereSide::inside)
+      caps.push_back({static_cast<int>(ti), centroid, length});
   }
   if (caps.empty()) return {};
 

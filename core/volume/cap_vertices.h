@@ -24,7 +24,8 @@ namespace vd {
 // two faces on the surface whose normals differ by more than ridge_angle_deg
 // (case A would refuse it), a point inward of the middle of the fold edge,
 // 0.35 of its length deep, or of the cap's centroid, or less deep (0.2, 0.1,
-// 0.05, 0.02, 0.01, 0.005), the first that lies in the cap's circumsphere; kept when it is in the
+// 0.05, 0.02, 0.01, 0.005), the first that lies in the cap's circumsphere,
+// else the cap's centroid; kept when it is in the
 // cap's region (located in dt, whose vertices are m.points) and not closer to
 // another vertex of the cap's neighbourhood than a tenth of the fold edge.
 // One point per fold edge. Pre: dt's tetrahedra carry their region labels
