@@ -43,11 +43,7 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   for (const Triangle& t : m.triangles)
     for (int v : t.v) on_facet[static_cast<size_t>(v)] = 1;
   std::vector<std::uint8_t> walls(static_cast<size_t>(n), 0);
-  std::vector<int> on_surface;  // tetrahedra with a face on a facet
-  auto facet_at = [&](const std::array<int, 4>& tet, int i) {
-    auto it = facet_of.find(sorted_triple(face_opposite(tet, i)));
-    return it == facet_of.end() ? -1 : it->second;
-  };
+  std::vector<std::array<int, 3>> faces_on_surface;  // (tet, face, facet), by tet
   for (int t = 0; t < n; ++t) {
     const auto tet = dt.cell(t);
     int touching = 0;
@@ -55,9 +51,11 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
     if (touching < 3) continue;
     for (int i = 0; i < 4; ++i) {
       if (touching == 3 && on_facet[static_cast<size_t>(tet[i])]) continue;  // i is one of the three
-      if (facet_at(tet, i) >= 0) walls[static_cast<size_t>(t)] |= static_cast<std::uint8_t>(1u << i);
+      const auto it = facet_of.find(sorted_triple(face_opposite(tet, i)));
+      if (it == facet_of.end()) continue;
+      walls[static_cast<size_t>(t)] |= static_cast<std::uint8_t>(1u << i);
+      faces_on_surface.push_back({t, i, it->second});
     }
-    if (walls[static_cast<size_t>(t)]) on_surface.push_back(t);
   }
 
   // Components of tetrahedra joined across non-facet faces; component 0 is
@@ -71,17 +69,9 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   // numbering depends on the input, not on CGAL's cell order. For every
   // facet, the component on each side.
   std::vector<std::pair<int, int>> seeds;  // (lowest facet, tet)
-  std::vector<std::array<int, 3>> faces_on_surface;  // (tet, face, facet)
-  for (int t : on_surface) {
-    const auto tet = dt.cell(t);
-    int lowest = INT32_MAX;
-    for (int i = 0; i < 4; ++i) {
-      if (!(walls[static_cast<size_t>(t)] & (1u << i))) continue;
-      const int f = facet_at(tet, i);
-      faces_on_surface.push_back({t, i, f});
-      lowest = std::min(lowest, f);
-    }
-    seeds.emplace_back(lowest, t);
+  for (const auto& [t, i, f] : faces_on_surface) {
+    if (seeds.empty() || seeds.back().second != t) seeds.emplace_back(f, t);
+    seeds.back().first = std::min(seeds.back().first, f);
   }
   std::sort(seeds.begin(), seeds.end());
   for (const auto& [f, t] : seeds)
