@@ -2,6 +2,7 @@
 // then positionals (an option left over is a usage error).
 #pragma once
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <string>
@@ -22,6 +23,8 @@ class Args {
       }
     return false;
   }
+  // Is `name` on the line (not consumed)?
+  bool has(const std::string& name) const { return std::find(a_.begin(), a_.end(), name) != a_.end(); }
   std::string value(const std::string& name, const std::string& fallback = "") {
     for (size_t i = 0; i < a_.size(); ++i)
       if (a_[i] == name) {

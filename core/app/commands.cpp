@@ -29,7 +29,9 @@ const char* kMeshHelp =
     "                          CAD input: bounding box diagonal / 25, reported)\n"
     "  --deflection D          CAD: chord height of the face tessellation\n                          (default: size / 10, at most the thinnest solid's 2V/A / 50)\n"
     "  --angular-deflection DEG  CAD: largest angle between the normals along a facet of a curved face\n"
-    "                          (default 20; the starting value under --volume-tolerance)\n"
+    "                          (default 20; the starting value under --volume-tolerance; without it,\n"
+    "                          --deflection, --max-passes and --max-added, a recovery that stops at\n"
+    "                          its guards is tried again on tessellations at 30, then 40)\n"
     "  --volume-tolerance PCT  CAD, automatic chord height: tessellate again, with chord height and angle\n"
     "                          made smaller, while a solid's volume is off the CAD volume by more than\n"
     "                          PCT % (default 0.4; at most 4 tessellations; 0: once)\n"
@@ -101,8 +103,9 @@ MeshResult mesh_surface_file(const std::string& path, const MeshOptions& opt, Me
 }
 
 MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool splits_on_geometry,
-                         const cad::TessellationOptions& tessellation, MeshResult* partial) {
+                         const cad::TessellationOptions& tessellation, bool retry_tessellation, MeshResult* partial) {
   cad::CadMeshOptions copt;
+  if (!retry_tessellation) copt.retry_angles_deg.clear();
   copt.mesh = opt;
   copt.splits_on_geometry = splits_on_geometry;
   copt.tessellation = tessellation;
@@ -138,6 +141,9 @@ int mesh_command(const std::vector<std::string>& raw) {
     std::fputs(kMeshHelp, stdout);
     return 0;
   }
+  // A tessellation or a guard given by hand is kept when recovery stops.
+  const bool retry_tessellation = !args.has("--angular-deflection") && !args.has("--deflection") &&
+                                  !args.has("--max-passes") && !args.has("--max-added");
   MeshOptions opt;
   const std::string output = args.value("-o", args.value("--output"));
   opt.oracle = args.value("--oracle", "dt");
@@ -182,7 +188,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   MeshResult partial;
   try {
     const MeshResult result = cad::CadModel::is_cad_file(pos[0])
-                                  ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, &partial)
+                                  ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, retry_tessellation, &partial)
                                   : mesh_surface_file(pos[0], opt, &partial);
     write_result(result.mesh, output, wopt);
     if (!report_path.empty()) write_text(report_path, report_json(result.report));

@@ -1,12 +1,27 @@
 #include "cad/cad_mesher.h"
 
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "mesh/error.h"
+
 namespace vd::cad {
 
-MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshResult* partial) {
-  if (options.mesh.progress) options.mesh.progress("tessellate CAD faces");
-  TessellationOptions topt = options.tessellation;
-  topt.size = options.mesh.size.uniform;
-  topt.cancel = options.mesh.cancel;
+namespace {
+
+std::string format_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+
+}  // namespace
+
+namespace {
+
+MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& options, const TessellationOptions& topt,
+                             int retries, MeshResult* partial) {
   TessellationStats stats;
   const Mesh surface = model.tessellate(topt, &stats);
 
@@ -35,6 +50,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   cad.refine_flips = stats.refine_flips;
   cad.border_splits = stats.border_splits;
   cad.collapsed_edges = stats.collapsed_edges;
+  cad.recovery_retries = retries;
   cad.surface_facets = static_cast<int>(surface.triangles.size());
   const std::vector<std::pair<std::string, double>> cad_seconds = {
       {"read CAD", model.seconds_read},
@@ -57,6 +73,34 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   result.report.cad = cad;
   result.report.seconds.insert(result.report.seconds.begin(), cad_seconds.begin(), cad_seconds.end());
   return result;
+}
+
+}  // namespace
+
+MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshResult* partial) {
+  TessellationOptions topt = options.tessellation;
+  topt.size = options.mesh.size.uniform;
+  topt.cancel = options.mesh.cancel;
+  std::vector<double> angles = {topt.angle_deg};
+  if (topt.deflection == 0)
+    angles.insert(angles.end(), options.retry_angles_deg.begin(), options.retry_angles_deg.end());
+  double given_up = 0;  // seconds spent on tessellations whose recovery stopped
+  for (size_t attempt = 0;; ++attempt) {
+    topt.angle_deg = angles[attempt];
+    if (options.mesh.progress)
+      options.mesh.progress(attempt == 0 ? "tessellate CAD faces"
+                                         : "tessellate CAD faces again at " + format_number(topt.angle_deg) + " deg");
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      MeshResult result = mesh_tessellation(model, options, topt, static_cast<int>(attempt), partial);
+      if (attempt > 0)
+        result.report.seconds.insert(result.report.seconds.begin(), {"tessellations recovery gave up on", given_up});
+      return result;
+    } catch (const RecoveryError&) {
+      if (attempt + 1 >= angles.size()) throw;
+      given_up += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  }
 }
 
 }  // namespace vd::cad

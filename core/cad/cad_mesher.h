@@ -4,6 +4,8 @@
 // against OpenCASCADE's volumes and areas.
 #pragma once
 
+#include <vector>
+
 #include "cad/cad_model.h"
 #include "pipeline/mesher.h"
 
@@ -13,6 +15,13 @@ struct CadMeshOptions {
   MeshOptions mesh;                 // mesh.size.uniform: the size (0: chosen from the part)
   TessellationOptions tessellation; // its size is taken from mesh.size.uniform
   bool splits_on_geometry = true;   // false: the paper's planar mid-points
+  // When recovery stops at its guards (RecoveryError) on an automatic chord
+  // height, tessellate again at these angular deflections, in turn: the
+  // failures seen come from OpenCASCADE's triangles along one seam (the
+  // fusee's tangent seam: exit 4 at 20 deg, meshed at 25, 30 and 40 deg).
+  // Empty: fail at once (the command line empties it when the angle, the
+  // chord height or the guard is given).
+  std::vector<double> retry_angles_deg = {30, 40};
 };
 
 MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshResult* partial = nullptr);

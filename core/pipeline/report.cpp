@@ -113,6 +113,7 @@ std::string report_json(const MeshReport& r) {
       << ", \"interface_faces\": " << c.interface_faces << ", \"size\": " << exact(c.size)
       << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << exact(c.deflection)
       << ", \"angular_deflection_deg\": " << exact(c.angle_deg) << ", \"tessellation_rounds\": " << c.tessellation_rounds
+      << ", \"recovery_retries\": " << c.recovery_retries
       << ", \"tessellation_volume_error\": " << exact(c.tessellation_volume_error)
       << ", \"occ_triangles\": " << c.occ_triangles
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
@@ -147,7 +148,11 @@ std::string report_table(const MeshReport& r) {
                             std::to_string(c.refine_splits) + " splits, " + std::to_string(c.refine_flips) +
                             " flips, " + std::to_string(c.border_splits) + " border slivers split -> " + std::to_string(c.surface_facets) + " facets; " +
                             std::to_string(c.tessellation_rounds) + (c.tessellation_rounds > 1 ? " rounds" : " round") +
-                            ", volume within " + num(100 * c.tessellation_volume_error) + " %");
+                            ", volume within " + num(100 * c.tessellation_volume_error) + " %" +
+                            (c.recovery_retries ? "; tessellated again " + std::to_string(c.recovery_retries) +
+                                                      (c.recovery_retries > 1 ? " times" : " time") +
+                                                      " after recovery stopped"
+                                                : ""));
     double worst = 0;
     std::string which;
     for (const auto& v : c.volumes) {

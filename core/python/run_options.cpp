@@ -79,7 +79,9 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     deflection (float, 0): chord height of the face tessellation (0: size / 10,
         at most the thinnest solid's mean thickness 2V/A / 50)
     planar_splits (bool, False): split vertices at chord mid-points instead of on the CAD geometry
-    angular_deflection (float, 20): OpenCASCADE's angular deflection (deg) on curved faces
+    angular_deflection (float, 20): OpenCASCADE's angular deflection (deg) on curved faces;
+        unless it, deflection, max_passes or max_added is given, a recovery that stops at
+        its guards is tried again on tessellations at 30 and then 40 deg
     volume_tolerance (float, 0.4): with the automatic chord height, tessellate again finer
         while a solid's volume is off by more than this many per cent (0: once)
 )";
@@ -121,8 +123,13 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       check(t >= 0 && t <= 1024, "option threads: must be in [0, 1024]");
       opt.threads = static_cast<int>(t);
     } else if (name == "shift") opt.shift = number(value, name);
-    else if (name == "max_passes") opt.delaunayzation.max_passes = static_cast<int>(integer(value, name));
-    else if (name == "max_added") opt.delaunayzation.max_added_vertices = static_cast<int>(integer(value, name));
+    else if (name == "max_passes") {
+      opt.delaunayzation.max_passes = static_cast<int>(integer(value, name));
+      run.cad.retry_angles_deg.clear();  // a guard given by hand decides
+    } else if (name == "max_added") {
+      opt.delaunayzation.max_added_vertices = static_cast<int>(integer(value, name));
+      run.cad.retry_angles_deg.clear();
+    }
     else if (name == "order") {
       const long long order = integer(value, name);
       check(order == 1 || order == 2, "option order: must be 1 or 2");
@@ -138,9 +145,15 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
           throw py::type_error("option cancel: expected a vdmesh.CancelToken, got " + type_name(value));
         run.token = value.cast<const CancelToken&>().flag;
       }
-    } else if (name == "deflection") run.cad.tessellation.deflection = number(value, name);
+    } else if (name == "deflection") {
+      run.cad.tessellation.deflection = number(value, name);
+      run.cad.retry_angles_deg.clear();  // a tessellation given by hand is kept
+    }
     else if (name == "planar_splits") run.cad.splits_on_geometry = !boolean(value, name);
-    else if (name == "angular_deflection") run.cad.tessellation.angle_deg = number(value, name);
+    else if (name == "angular_deflection") {
+      run.cad.tessellation.angle_deg = number(value, name);
+      run.cad.retry_angles_deg.clear();
+    }
     else if (name == "volume_tolerance") run.cad.tessellation.volume_tolerance = number(value, name) / 100;
   }
   // The command line's checks, with the option names of this module.
