@@ -4,12 +4,14 @@
 #include <chrono>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "mesh/error.h"
 #include "mesh/parallel.h"
 #include "mesh/tet_faces.h"
+#include "surface/edge_map.h"
 #include "surface/face_patches.h"
 #include "surface/size_refinement.h"
 #include "surface/validate_surface.h"
@@ -93,12 +95,18 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   m.face_names = input.face_names;
   const std::vector<int> kept = drop_unused_points(m);
   report.unused_input_vertices = static_cast<int>(std::count(kept.begin(), kept.end(), -1));
-  if (options.validate) validate_surface(m);
-  if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg);
+  // One edge map while the facets stay as they are (it was built five times,
+  // a seventh of a surface-only run).
+  std::optional<EdgeMap> edges(m.triangles);
+  if (options.validate) validate_surface(m, &*edges);
+  if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
   report.size_splits = refine_surface_to_size(m, options.size.uniform).splits;
+  if (report.size_splits > 0) edges.reset();
 
   timer.start("random shift");
-  if (options.shift > 0) report.shift = random_shift(m, {options.shift, options.seed, options.sharp_angle_deg});
+  if (options.shift > 0)
+    report.shift = random_shift(m, {options.shift, options.seed, options.sharp_angle_deg}, edges ? &*edges : nullptr);
+  edges.reset();
 
   timer.start("tetrahedralize");
   // Owned apart so that the sliver pass can free it once it is done with it.

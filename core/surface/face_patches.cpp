@@ -1,6 +1,7 @@
 #include "surface/face_patches.h"
 
 #include <cmath>
+#include <optional>
 
 #include "surface/edge_map.h"
 
@@ -14,8 +15,9 @@ double facet_area(const std::vector<Vec3>& p, const Triangle& t) {
   return 0.5 * norm(cross(p[t.v[1]] - p[t.v[0]], p[t.v[2]] - p[t.v[0]]));
 }
 
-int assign_face_patches(Mesh& m, double sharp_angle_deg) {
-  const EdgeMap edges(m.triangles);
+int assign_face_patches(Mesh& m, double sharp_angle_deg, const EdgeMap* given) {
+  std::optional<EdgeMap> own;
+  const EdgeMap& edges = given ? *given : own.emplace(m.triangles);
   const double cos_limit = std::cos(sharp_angle_deg * M_PI / 180.0);
   std::vector<Vec3> normal(m.triangles.size());
   for (size_t f = 0; f < m.triangles.size(); ++f) normal[f] = facet_normal(m.points, m.triangles[f]);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "mesh/mesh.h"
+#include "surface/edge_map.h"
 
 namespace vd {
 
@@ -11,7 +12,9 @@ constexpr double kDefaultSharpAngleDeg = 40.0;
 
 // Sets Triangle::face to 1..P for every facet (patch order: by lowest facet
 // index). Returns the number of patches.
-int assign_face_patches(Mesh& surface, double sharp_angle_deg = kDefaultSharpAngleDeg);
+// `edges`, when given, is the surface's edge map (built here otherwise).
+int assign_face_patches(Mesh& surface, double sharp_angle_deg = kDefaultSharpAngleDeg,
+                        const EdgeMap* edges = nullptr);
 
 // Unit normal of facet t (right-hand rule); zero for a degenerate facet.
 Vec3 facet_normal(const std::vector<Vec3>& points, const Triangle& t);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "surface/edge_map.h"
@@ -33,13 +34,14 @@ Vec3 random_unit(std::mt19937_64& rng) {
 
 }  // namespace
 
-ShiftStats random_shift(Mesh& m, const ShiftOptions& options) {
+ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* given) {
   ShiftStats stats;
   const size_t n = m.points.size();
   std::vector<std::vector<int>> vertex_facets(n);
   for (size_t f = 0; f < m.triangles.size(); ++f)
     for (int v : m.triangles[f].v) vertex_facets[v].push_back(static_cast<int>(f));
-  const EdgeMap edges(m.triangles);
+  std::optional<EdgeMap> own;
+  const EdgeMap& edges = given ? *given : own.emplace(m.triangles);
 
   // Local size: mean length of the incident surface edges, else the given size.
   const std::vector<double> size = surface_vertex_sizes(m, edges);

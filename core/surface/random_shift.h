@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mesh/mesh.h"
+#include "surface/edge_map.h"
 
 namespace vd {
 
@@ -29,6 +30,7 @@ struct ShiftStats {
 
 // Shifts m.points in place. Vertices of m.triangles are surface vertices;
 // the others (interior vertices) move freely.
-ShiftStats random_shift(Mesh& m, const ShiftOptions& options);
+// `edges`, when given, is the edge map of m.triangles (built here otherwise).
+ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* edges = nullptr);
 
 }  // namespace vd

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "mesh/error.h"
@@ -164,12 +165,13 @@ std::vector<std::pair<int, int>> find_self_intersections(const Mesh& m, size_t l
   return found;
 }
 
-SurfaceCheck validate_surface(const Mesh& surface) {
+SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* given) {
   SurfaceCheck out;
   check_indices_and_coordinates(surface);
   check_degenerate(surface);
   check_duplicates(surface);
-  const EdgeMap edges(surface.triangles);
+  std::optional<EdgeMap> own;
+  const EdgeMap& edges = given ? *given : own.emplace(surface.triangles);
   check_orientation(surface, edges, out);
   const auto crossings = find_self_intersections(surface);
   if (!crossings.empty()) {

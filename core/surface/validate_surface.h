@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mesh/mesh.h"
+#include "surface/edge_map.h"
 
 namespace vd {
 
@@ -22,7 +23,8 @@ struct SurfaceCheck {
 // coordinates, degenerate facets (repeated vertex or collinear vertices),
 // duplicate facets, inconsistent orientation across a manifold edge (or tags
 // that contradict it), and self-intersections (exact predicates).
-SurfaceCheck validate_surface(const Mesh& surface);
+// `edges`, when given, is the surface's edge map (built here otherwise).
+SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* edges = nullptr);
 
 // Only the self-intersection part: pairs of intersecting facets (at most
 // `limit` of them).
