@@ -27,7 +27,8 @@ struct SurfaceCheck {
 SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* edges = nullptr);
 
 // Only the self-intersection part: pairs of intersecting facets (at most
-// `limit` of them).
+// `limit` of them, the smallest of those found; the same on any number of
+// threads).
 std::vector<std::pair<int, int>> find_self_intersections(const Mesh& surface, size_t limit = 20);
 
 }  // namespace vd

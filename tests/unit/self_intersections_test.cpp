@@ -1,0 +1,50 @@
+// The self-intersection search of surface validation splits large surfaces
+// at the median box centre (two halves, then the pairs across the cut). The
+// pairs it finds must not depend on where the cut falls or on the threads.
+#include <gtest/gtest.h>
+
+#include "mesh/parallel.h"
+#include "mesh/shapes.h"
+#include "surface/validate_surface.h"
+
+namespace vd {
+namespace {
+
+// Two overlapping unit spheres of 5,120 facets each, centres `d` apart along
+// x (rotate: along y instead, by an exact quarter turn about z).
+Mesh two_spheres(bool along_y) {
+  Mesh m = shapes::icosphere({-0.6, 0, 0}, 1.0, 4);
+  shapes::append(m, shapes::icosphere({0.6, 0, 0}, 1.0, 4));
+  if (along_y)
+    for (Vec3& p : m.points) p = Vec3{-p.y, p.x, p.z};
+  return m;
+}
+
+TEST(SelfIntersections, SamePairsWhereverTheCutFallsAndOnAnyThreads) {
+  constexpr size_t kAll = 1u << 30;
+  set_thread_count(1);
+  const auto side_by_side = find_self_intersections(two_spheres(false), kAll);
+  set_thread_count(2);
+  const auto side_by_side_2 = find_self_intersections(two_spheres(false), kAll);
+  // Along y the cut at the median x runs through both spheres, along x it
+  // runs between their centres, through the circle where they cross.
+  const auto stacked = find_self_intersections(two_spheres(true), kAll);
+  set_thread_count(0);
+  ASSERT_GT(side_by_side.size(), 100u);
+  EXPECT_EQ(side_by_side, side_by_side_2);
+  EXPECT_EQ(side_by_side, stacked);
+  for (const auto& [a, b] : side_by_side) {
+    EXPECT_LT(a, 5120) << "a pair within one sphere";
+    EXPECT_GE(b, 5120) << "a pair within one sphere";
+  }
+}
+
+TEST(SelfIntersections, ALimitGivesTrueExamples) {
+  const auto all = find_self_intersections(two_spheres(false), 1u << 30);
+  const auto few = find_self_intersections(two_spheres(false), 10);
+  ASSERT_EQ(few.size(), 10u);
+  for (const auto& p : few) EXPECT_TRUE(std::binary_search(all.begin(), all.end(), p));
+}
+
+}  // namespace
+}  // namespace vd
