@@ -131,10 +131,12 @@ std::string report_table(const MeshReport& r) {
   std::ostringstream s;
   const auto& o = r.oracle_stats;
   const auto& q = r.quality;
-  char line[256];
+  // No fixed buffer: the seconds row of a CAD run is longer than 256
+  // characters, and it was cut, newline and all.
   auto row = [&](const char* name, const std::string& value) {
-    std::snprintf(line, sizeof line, "  %-28s %s\n", name, value.c_str());
-    s << line;
+    std::string label = name;
+    if (label.size() < 28) label.resize(28, ' ');
+    s << "  " << label << " " << value << "\n";
   };
   s << "vdmesh report\n";
   if (r.cad.used) {

@@ -18,6 +18,11 @@ if code == 0:
     check(report["quality"]["inverted"] == 0, "no inverted tetrahedra")
     check(report["counts"]["tetrahedra"] > 0, "tetrahedra in the report")
     check("vdmesh report" in stdout, "report table printed")
+    # Every row whole: the seconds row, longer than 256 characters, was cut
+    # (its closing bracket and newline lost) by a fixed buffer.
+    seconds_rows = [line for line in stdout.splitlines() if line.strip().startswith("seconds")]
+    check(len(seconds_rows) == 1 and seconds_rows[0].endswith(")") and "slivers" in seconds_rows[0],
+          "the seconds row is whole: " + (seconds_rows[0][-80:] if seconds_rows else "missing"))
     code, info, _ = run("info", os.path.join(out, "b.vtu"))
     check(code == 0 and "volume 2000" in info, "info reads the mesh back with volume 2000: " + info.strip()[:400])
 
