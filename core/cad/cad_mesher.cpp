@@ -16,10 +16,6 @@ std::string format_number(double x) {
   return text;
 }
 
-}  // namespace
-
-namespace {
-
 MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& options, const TessellationOptions& topt,
                              int retries, MeshResult* partial) {
   TessellationStats stats;

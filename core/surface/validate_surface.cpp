@@ -160,13 +160,12 @@ std::vector<std::pair<int, int>> find_self_intersections(const Mesh& m, size_t l
   std::vector<Box> left, right, left_reach, right_reach;
   if (boxes.size() >= 4096) {
     auto centre = [](const Box& b) { return b.min_coord(0) + b.max_coord(0); };
-    std::vector<Box> sorted = boxes;
-    const auto middle = sorted.begin() + static_cast<long>(sorted.size() / 2);
-    std::nth_element(sorted.begin(), middle, sorted.end(), [&](const Box& a, const Box& b) {
+    const auto middle = boxes.begin() + static_cast<long>(boxes.size() / 2);
+    std::nth_element(boxes.begin(), middle, boxes.end(), [&](const Box& a, const Box& b) {
       return centre(a) < centre(b) || (centre(a) == centre(b) && a.info() < b.info());
     });
-    left.assign(sorted.begin(), middle);
-    right.assign(middle, sorted.end());
+    left.assign(boxes.begin(), middle);
+    right.assign(middle, boxes.end());
     double right_lo = std::numeric_limits<double>::infinity(), left_hi = -right_lo;
     for (const Box& b : right) right_lo = std::min(right_lo, b.min_coord(0));
     for (const Box& b : left) left_hi = std::max(left_hi, b.max_coord(0));

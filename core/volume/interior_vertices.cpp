@@ -13,16 +13,26 @@
 namespace vd {
 namespace {
 
+struct Box {
+  Vec3 lo, hi;
+};
+
+// The bounding box of facet t.
+Box facet_box(const Mesh& m, const Triangle& t) {
+  Box b{m.points[t.v[0]], m.points[t.v[0]]};
+  for (int v : t.v)
+    for (int i = 0; i < 3; ++i) b.lo[i] = std::min(b.lo[i], m.points[v][i]), b.hi[i] = std::max(b.hi[i], m.points[v][i]);
+  return b;
+}
+
 // Facets hashed into a uniform grid by their bounding boxes, to find the
 // facets near a point.
 class FacetGrid {
  public:
   FacetGrid(const Mesh& m, double cell) : m_(m), cell_(cell) {
     for (size_t f = 0; f < m.triangles.size(); ++f) {
-      Vec3 lo = m.points[m.triangles[f].v[0]], hi = lo;
-      for (int v : m.triangles[f].v)
-        for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], m.points[v][i]), hi[i] = std::max(hi[i], m.points[v][i]);
-      const auto a = key(lo), b = key(hi);
+      const Box box = facet_box(m, m.triangles[f]);
+      const auto a = key(box.lo), b = key(box.hi);
       for (long k = a[2]; k <= b[2]; ++k)
         for (long j = a[1]; j <= b[1]; ++j)
           for (long i = a[0]; i <= b[0]; ++i) cells_[pack({i, j, k})].push_back(static_cast<int>(f));
@@ -141,10 +151,7 @@ class OctreeLattice {
     boxes_.reserve(m.triangles.size());
     std::vector<int> all(m.triangles.size());
     for (size_t f = 0; f < m.triangles.size(); ++f) {
-      Box b{m.points[m.triangles[f].v[0]], m.points[m.triangles[f].v[0]]};
-      for (int v : m.triangles[f].v)
-        for (int i = 0; i < 3; ++i) b.lo[i] = std::min(b.lo[i], m.points[v][i]), b.hi[i] = std::max(b.hi[i], m.points[v][i]);
-      boxes_.push_back(b);
+      boxes_.push_back(facet_box(m, m.triangles[f]));
       all[f] = static_cast<int>(f);
     }
     visit({0, 0, 0}, units, 0, all, -1);
@@ -152,9 +159,6 @@ class OctreeLattice {
 
  private:
   using Key = std::array<std::int64_t, 3>;
-  struct Box {
-    Vec3 lo, hi;
-  };
   Vec3 at(const Key& k) const {
     return lo_ + unit_ * Vec3{double(k[0]), double(k[1]), double(k[2])};
   }

@@ -36,9 +36,9 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   }
   // Which faces of each tetrahedron lie on a facet, one bit per face: a
   // byte per tetrahedron where a table of facet numbers took sixteen (52 MB
-  // at 3.5M tetrahedra, at the run's peak). The few tetrahedra on the
-  // surface look their facets up again below. A face with a vertex on no
-  // facet is no facet.
+  // at 3.5M tetrahedra, at the run's peak); the faces on the surface, a
+  // few, are listed with their facets. A face with a vertex on no facet is
+  // no facet.
   std::vector<char> on_facet(m.points.size(), 0);
   for (const Triangle& t : m.triangles)
     for (int v : t.v) on_facet[static_cast<size_t>(v)] = 1;
