@@ -38,6 +38,9 @@ const char* kMeshHelp =
     "  --planar-splits         CAD: split vertices at chord mid-points (the paper) instead of on the CAD geometry\n"
     "  --gradation G           largest growth of the size per unit distance (default 0.3)\n"
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
+    "  --surface-grading R     with interior vertices: split surface edges longer than R x the surface's\n"
+    "                          graded size (its shortest edges, grown by the gradation), with flips inside\n"
+    "                          faces; at least 1, default 2; 0: off\n"
     "  --sliver-angle DEG      boundary slivers under this dihedral angle are removed (default 10)\n"
     "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
     "  --order 1|2             element order (default 1); 2: 10-node tetrahedra, and on CAD input the\n"
@@ -150,6 +153,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   opt.size.uniform = args.number("--size", 0.0);
   opt.size.gradation = args.number("--gradation", opt.size.gradation);
   opt.interior = !args.flag("--no-interior");
+  opt.surface_grading = args.number("--surface-grading", opt.surface_grading);
   opt.slivers.sliver_angle_deg = args.number("--sliver-angle", opt.slivers.sliver_angle_deg);
   opt.remove_slivers = !args.flag("--keep-slivers");
   opt.oracle_options.lp_limit = static_cast<int>(args.integer("--lp-limit", -1));
@@ -175,6 +179,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   if (output.empty()) throw UsageError("missing -o OUTPUT");
   if (opt.size.uniform < 0) throw UsageError("--size must be positive");
   if (opt.size.gradation <= 0) throw UsageError("--gradation must be positive");
+  if (!(opt.surface_grading == 0 || opt.surface_grading >= 1)) throw UsageError("--surface-grading must be 0 or at least 1");
   if (opt.shift < 0 || opt.shift > 0.1) throw UsageError("--shift must be in [0, 0.1]");
   if (opt.delaunayzation.flip_angle_deg < 0 || opt.delaunayzation.flip_angle_deg > 180)
     throw UsageError("--flip-angle must be in [0, 180]");

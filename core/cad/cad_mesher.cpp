@@ -23,6 +23,9 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
 
   MeshOptions mopt = options.mesh;
   mopt.size.uniform = stats.size;
+  // The tessellation was refined on the CAD geometry (cad_refine.cpp); the
+  // graded splits of faceted input would put points on the chords.
+  mopt.surface_grading = 0;
   const auto geometry = model.geometry();
   if (options.splits_on_geometry) {
     mopt.delaunayzation.geometry = geometry.get();

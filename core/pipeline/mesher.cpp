@@ -100,7 +100,23 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   std::optional<EdgeMap> edges(m.triangles);
   if (options.validate) validate_surface(m, &*edges);
   if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
-  report.size_splits = refine_surface_to_size(m, options.size.uniform).splits;
+  {
+    // Needles and caps on the input make every tetrahedron on them flat; the
+    // graded refinement (volume meshing only: the paper's surface recovery
+    // stays as it is) grades the edges down to the shortest edges around.
+    GradedSizes graded;
+    const bool grade = options.interior && options.surface_grading > 0 && options.delaunayzation.flips;
+    if (grade || options.size.uniform > 0 || !m.point_size.empty()) timer.start("surface refinement");
+    if (grade) {
+      graded.gradation = options.size.gradation;
+      graded.factor = options.surface_grading;
+      graded.flip_ridge_deg = options.delaunayzation.flip_angle_deg;
+      graded.size = graded_edge_sizes(m, graded.gradation);
+    }
+    const SizeRefinementStats refined = refine_surface_to_size(m, options.size.uniform, grade ? &graded : nullptr);
+    report.size_splits = refined.splits;
+    report.size_flips = refined.flips;
+  }
   if (report.size_splits > 0) edges.reset();
 
   timer.start("random shift");

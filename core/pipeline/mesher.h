@@ -36,6 +36,9 @@ struct MeshOptions {
   bool validate = true;
   bool interior = true;              // interior vertices (paper §2); --no-interior turns them off
   SizeFieldOptions size;             // --size H, gradation
+  // --surface-grading R: with interior vertices and flips, surface edges
+  // longer than R times the graded surface size are split (0: off; R >= 1).
+  double surface_grading = 2.0;
   InteriorOptions interior_options;
   bool remove_slivers = true;
   SliverOptions slivers;             // --sliver-angle
@@ -77,7 +80,8 @@ struct MeshReport {
   int output_vertices = 0, output_facets = 0;
   int added_surface_vertices = 0, added_surface_facets = 0;
   int face_patches_assigned = 0;     // > 0 when face ids came from sharp edges
-  int size_splits = 0;               // surface edges split down to the given size
+  int size_splits = 0;               // surface edges split down to the given or graded size
+  int size_flips = 0;                // flips inside faces between those splits
   std::vector<long> tets_per_region; // index = region id (0 unused)
   std::string oracle;
   OracleStats oracle_stats;

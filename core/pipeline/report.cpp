@@ -46,7 +46,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"output_vertices\": " << r.output_vertices << ", \"output_facets\": " << r.output_facets
     << ", \"added_surface_vertices\": " << r.added_surface_vertices
     << ", \"added_surface_facets\": " << r.added_surface_facets
-    << ", \"face_patches_assigned\": " << r.face_patches_assigned << ", \"size_splits\": " << r.size_splits << ", \"tetrahedra\": " << q.tets
+    << ", \"face_patches_assigned\": " << r.face_patches_assigned << ", \"size_splits\": " << r.size_splits << ", \"size_flips\": " << r.size_flips << ", \"tetrahedra\": " << q.tets
     << ", \"tets_per_region\": " << json_array(r.tets_per_region) << ", \"regions\": " << r.regions.regions
     << ", \"regions_from_tags\": " << (r.regions.regions_from_tags ? "true" : "false") << "},\n";
   s << "  \"oracle\": {\"name\": \"" << r.oracle << "\", \"queries\": " << o.queries << ", \"delaunay\": " << o.delaunay
@@ -175,7 +175,8 @@ std::string report_table(const MeshReport& r) {
                    (r.unused_input_vertices ? " (" + std::to_string(r.unused_input_vertices) +
                                                   " vertices no facet uses dropped)"
                                             : std::string()));
-  if (r.size_splits > 0) row("split to the size", std::to_string(r.size_splits) + " surface edges");
+  if (r.size_splits > 0)
+    row("split to the size", std::to_string(r.size_splits) + " surface edges, " + std::to_string(r.size_flips) + " flips");
   row("added on the surface", std::to_string(r.added_surface_vertices) + " vertices, " +
                                   std::to_string(r.added_surface_facets) + " facets");
   row("interior vertices", std::to_string(r.interior_vertices));

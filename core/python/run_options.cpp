@@ -57,6 +57,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
         graded; CAD input: bounding-box diagonal / 25 (reported)
     gradation (float, 0.3): largest growth of the size per unit distance
     interior (bool, True): interior vertices; False is --no-interior
+    surface_grading (float, 2): with interior vertices, surface edges longer than this
+        times the surface's graded size are split (flips inside faces between); 0: off
     sliver_angle (float, 10): boundary slivers under this dihedral angle (deg) are removed
     keep_slivers (bool, False): no sliver removal
     oracle (str, "dt"): facet Delaunayhood test, "dt", "lp" or "sphere"
@@ -88,7 +90,7 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
 
 RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   static const std::set<std::string> kCommon = {
-      "size",     "gradation",  "interior",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit",
+      "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
       "order",    "progress",   "cancel",      "threads"};
   static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection", "volume_tolerance"};
@@ -105,6 +107,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
     if (name == "size") opt.size.uniform = number(value, name);
     else if (name == "gradation") opt.size.gradation = number(value, name);
     else if (name == "interior") opt.interior = boolean(value, name);
+    else if (name == "surface_grading") opt.surface_grading = number(value, name);
     else if (name == "sliver_angle") opt.slivers.sliver_angle_deg = number(value, name);
     else if (name == "keep_slivers") opt.remove_slivers = !boolean(value, name);
     else if (name == "oracle") {
@@ -159,6 +162,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   // The command line's checks, with the option names of this module.
   check(opt.size.uniform >= 0, "option size: must not be negative");
   check(opt.size.gradation > 0, "option gradation: must be positive");
+  check(opt.surface_grading == 0 || opt.surface_grading >= 1, "option surface_grading: must be 0 or at least 1");
   check(opt.shift >= 0 && opt.shift <= 0.1, "option shift: must be in [0, 0.1]");
   check(opt.delaunayzation.flip_angle_deg >= 0 && opt.delaunayzation.flip_angle_deg <= 180,
         "option flip_angle: must be in [0, 180]");

@@ -7,7 +7,16 @@
 // first, in every facet that shares it. The mid-point lies on the input
 // facets, so the surface keeps its exact shape (CAD input is refined on the
 // CAD geometry instead, in core/cad).
+//
+// With interior vertices the surface's own graded size bounds the edges too
+// (--surface-grading): a needle or a cap on the input makes every tetrahedron
+// on it flat, whatever the interior vertices do. Its long edges are split
+// until the edges near its short edge are about that short, growing away
+// from it by the gradation, with flips inside faces towards the Delaunay
+// criterion before each pass: splits alone cut a needle into more needles.
 #pragma once
+
+#include <vector>
 
 #include "mesh/mesh.h"
 
@@ -16,11 +25,28 @@ namespace vd {
 struct SizeRefinementStats {
   int splits = 0;      // edges split
   int passes = 0;
+  int flips = 0;
 };
 
 // `size` > 0: the largest edge length everywhere; per-vertex sizes in
 // m.point_size (when given, > 0) lower it locally (mean of the two ends).
 // Nothing to do when neither is given.
-SizeRefinementStats refine_surface_to_size(Mesh& m, double size);
+// `graded` (one per point of m, or empty): sizes that also bound the edges
+// (an edge is split when longer than `graded_factor` times the mean of its
+// ends'); a mid-point gets the smaller of its ends' sizes grown by
+// `gradation` times its distance to them.
+struct GradedSizes {
+  std::vector<double> size;
+  double gradation = 0.3;
+  double factor = 2.0;
+  double flip_ridge_deg = 0;  // > 0: flips inside faces before each pass
+};
+SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* graded = nullptr);
+
+// The surface's own size at each vertex: its shortest edge, limited by its
+// neighbours' sizes grown by `gradation` times the distance along the edges
+// (Dijkstra over the edge graph), so that a short edge asks for small edges
+// around it and the sizes grow smoothly away from it.
+std::vector<double> graded_edge_sizes(const Mesh& m, double gradation);
 
 }  // namespace vd

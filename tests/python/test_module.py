@@ -372,6 +372,8 @@ class BadInput(unittest.TestCase):
             vdmesh.mesh_surface(pts, tris, oracle="foo")
         with self.assertRaisesRegex(TypeError, "interior"):
             vdmesh.mesh_surface(pts, tris, interior="no")
+        with self.assertRaisesRegex(ValueError, "surface_grading: must be 0 or at least 1"):
+            vdmesh.mesh_surface(pts, tris, surface_grading=0.5)
 
     def test_bad_files(self):
         d = tempfile.mkdtemp(prefix="vdmesh-py-bad-")

@@ -9,6 +9,7 @@
 #include "mesh/shapes.h"
 #include "pipeline/mesher.h"
 #include "quality/conformity.h"
+#include "surface/size_refinement.h"
 #include "volume/interior_vertices.h"
 #include "volume/size_field.h"
 
@@ -68,6 +69,64 @@ TEST(Volume, NoInteriorPointOutsideTheSolid) {
     EXPECT_TRUE(p.x > -eps && p.x < 4 + eps && p.y > -eps && p.y < 4 + eps && p.z > -eps && p.z < 1 + eps)
         << "vertex " << v << " outside";
   }
+}
+
+// The graded surface size is the fixpoint Dijkstra reaches: at each vertex
+// the smaller of its shortest edge and its neighbours' sizes grown by the
+// gradation along the edge between.
+TEST(Volume, GradedSurfaceSizesGrowFromTheShortestEdges) {
+  const Mesh in = shapes::box_with_hole({0, 0, 0}, {10, 10, 1}, 0.9);
+  const double g = 0.3;
+  const std::vector<double> h = graded_edge_sizes(in, g);
+  std::vector<double> expected(in.points.size(), 1e300);
+  for (const Triangle& t : in.triangles)
+    for (int e = 0; e < 3; ++e)
+      expected[t.v[e]] = std::min(expected[t.v[e]], norm(in.points[t.v[e]] - in.points[t.v[(e + 1) % 3]]));
+  for (const Triangle& t : in.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const int a = t.v[e], b = t.v[(e + 1) % 3];
+      expected[a] = std::min(expected[a], h[b] + g * norm(in.points[a] - in.points[b]));
+    }
+  double smallest = 1e300, largest = 0;
+  for (size_t v = 0; v < h.size(); ++v) {
+    EXPECT_NEAR(h[v], expected[v], 1e-12) << "vertex " << v;
+    smallest = std::min(smallest, h[v]), largest = std::max(largest, h[v]);
+  }
+  // The shortest edge sets the size everywhere: the corners of the 10 x 10
+  // plate get it plus 0.3 x (distance along the edges), not 10.
+  const double shortest = *std::min_element(expected.begin(), expected.end());
+  EXPECT_NEAR(smallest, shortest, 1e-12);
+  EXPECT_LT(shortest, 1.0);
+  EXPECT_LT(largest, 2.5);
+}
+
+// A 10 x 10 x 1 plate with a 9 x 9 hole, given as long needles: every
+// tetrahedron on a needle is flat. The graded refinement splits the needles
+// on the input facets (the shape stays exact) and flips inside the faces.
+TEST(Volume, GradedSurfaceRefinementOpensNeedleFacets) {
+  const Mesh in = shapes::box_with_hole({0, 0, 0}, {10, 10, 1}, 0.9);
+  MeshOptions off;
+  off.surface_grading = 0;
+  const MeshResult plain = mesh_surface(in, off);
+  const MeshResult graded = mesh_surface(in, MeshOptions{});
+  for (const MeshResult* r : {&plain, &graded}) {
+    const ConformityReport c = check_conformity(r->mesh);
+    EXPECT_TRUE(c.ok()) << c.summary();
+    EXPECT_NEAR(c.region_volume[1], 100.0 - 81.0, 1e-9);
+  }
+  // Every vertex stays on the plate's boundary planes or inside it.
+  for (const Vec3& p : graded.mesh.points) {
+    EXPECT_TRUE(p.x > -1e-12 && p.x < 10 + 1e-12 && p.z > -1e-12 && p.z < 1 + 1e-12);
+  }
+  std::cout << "[needle plate] without grading: " << plain.mesh.tets.size() << " tets, min dihedral "
+            << plain.report.quality.min_dihedral_deg << ", under 10 deg " << plain.report.quality.below_10_deg
+            << "; graded: " << graded.report.size_splits << " splits, " << graded.report.size_flips << " flips, "
+            << graded.mesh.tets.size() << " tets, min dihedral " << graded.report.quality.min_dihedral_deg
+            << ", under 10 deg " << graded.report.quality.below_10_deg << "\n";
+  EXPECT_GT(graded.report.size_splits, 0);
+  EXPECT_GT(graded.report.size_flips, 0);
+  EXPECT_GT(graded.report.quality.min_dihedral_deg, plain.report.quality.min_dihedral_deg);
+  EXPECT_LT(graded.report.quality.below_10_deg, plain.report.quality.below_10_deg);
 }
 
 TEST(Volume, SameSeedSameMeshWithInteriorVertices) {
