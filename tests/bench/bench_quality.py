@@ -14,6 +14,12 @@ dihedral bound added (-q1.414/10 aV), once more with V rescaled when the count
 is off by more than 25 %. Tetrahedra, smallest dihedral angle and the share
 under 10 degrees are recomputed here with numpy from both meshers' files.
 
+The issue exempts tetrahedra "next to input facet angles under 20 degrees"
+from the 0.1 % target. Here such a tetrahedron has a vertex on an input facet
+(within 1e-6 of the bounding diagonal of its plane and inside it) that has a
+corner under 20 degrees or meets another facet along an edge at under 20
+degrees; the table gives the share under 10 degrees with and without them.
+
 Without --all the inputs that time out at 120 s on the 2-core machine (bunny,
 armadillo, cheese, surface-large) and the CAD files are left out.
 """
@@ -134,6 +140,78 @@ def quality(pts, tets):
             "pct10": 100.0 * float((lowest < 10).mean()), "inverted": int((vol <= 0).sum())}
 
 
+def read_smesh(path):
+    """Points and facets (0-based) of a .smesh with its nodes inline, as compare writes it."""
+    with open(path) as f:
+        lines = [ln.split("#")[0].split() for ln in f]
+    lines = [ln for ln in lines if ln]
+    n = int(lines[0][0])
+    ids = [int(r[0]) for r in lines[1:1 + n]]
+    pts = np.array([[float(x) for x in r[1:4]] for r in lines[1:1 + n]])
+    m = int(lines[1 + n][0])
+    facets = np.array([[int(x) for x in r[1:4]] for r in lines[2 + n:2 + n + m] if r[0] == "3"], dtype=np.int64)
+    return pts, facets - min(ids)
+
+
+def small_angle_facets(pts, facets, limit_deg=20.0):
+    """Facets with a corner under the limit, or meeting another facet along an edge at under it."""
+    a, b, c = (pts[facets[:, k]] for k in range(3))
+
+    def corner(x, y, z):
+        u, v = y - x, z - x
+        cos = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
+        return np.degrees(np.arccos(np.clip(cos, -1, 1)))
+    small = np.minimum(np.minimum(corner(a, b, c), corner(b, c, a)), corner(c, a, b)) < limit_deg
+    around = {}
+    for f, t in enumerate(facets):
+        for e in range(3):
+            around.setdefault(tuple(sorted((t[e], t[(e + 1) % 3]))), []).append(f)
+    for (p, q), fs in around.items():
+        axis = pts[q] - pts[p]
+        axis = axis / np.linalg.norm(axis)
+        wings = []
+        for f in fs:
+            o = [v for v in facets[f] if v != p and v != q][0]
+            w = pts[o] - pts[p]
+            w = w - np.dot(w, axis) * axis
+            wings.append(w / np.linalg.norm(w))
+        for i in range(len(fs)):
+            for j in range(i + 1, len(fs)):
+                if np.degrees(np.arccos(np.clip(np.dot(wings[i], wings[j]), -1, 1))) < limit_deg:
+                    small[fs[i]] = small[fs[j]] = True
+    return small
+
+
+def near_small_angles(input_smesh, pts, tets):
+    """Per tetrahedron: has it a vertex on an input facet with an angle under 20 degrees?"""
+    ipts, ifacets = read_smesh(input_smesh)
+    marked = ifacets[small_angle_facets(ipts, ifacets)]
+    tol = 1e-6 * np.linalg.norm(ipts.max(axis=0) - ipts.min(axis=0))
+    on = np.zeros(len(pts), dtype=bool)
+    order = np.argsort(pts[:, 0])
+    xs = pts[order, 0]
+    for t in marked:
+        a, b, c = ipts[t]
+        lo, hi = np.minimum(np.minimum(a, b), c) - tol, np.maximum(np.maximum(a, b), c) + tol
+        cand = order[np.searchsorted(xs, lo[0]):np.searchsorted(xs, hi[0], side="right")]
+        cand = cand[np.all((pts[cand] >= lo) & (pts[cand] <= hi), axis=1)]
+        if len(cand) == 0:
+            continue
+        n = np.cross(b - a, c - a)
+        area2 = np.dot(n, n)
+        if area2 == 0:
+            continue
+        x = pts[cand] - a
+        close = np.abs(x @ n) <= tol * np.sqrt(area2)
+        # Barycentric coordinates in the plane, with a tolerance of tol along the edges.
+        u = np.einsum("ij,j->i", np.cross(x, c - a), n) / area2
+        v = np.einsum("ij,j->i", np.cross(b - a, x), n) / area2
+        slack = tol / np.sqrt(area2) * max(np.linalg.norm(b - a), np.linalg.norm(c - a), np.linalg.norm(c - b))
+        inside = (u >= -slack) & (v >= -slack) & (u + v <= 1 + slack)
+        on[cand[close & inside]] = True
+    return on[tets].any(axis=1)
+
+
 def run_tetgen(smesh, switches, timeout):
     """TetGen on a copy of compare's .smesh; (quality dict or None, seconds, note)."""
     base = smesh[:-len(".smesh")] + "-" + re.sub(r"[^A-Za-z0-9.]", "_", switches)
@@ -186,7 +264,14 @@ def bench_one(binary, name, path, work, timeout):
         row["note"] = "vdmesh: " + v.get("status", "?")
         return row
     row["slivers"] = v["report"]["slivers"]
-    row["vdmesh"] = quality(*read_tetgen(os.path.join(keep, "quality-vdmesh")))
+    vpts, vtets = read_tetgen(os.path.join(keep, "quality-vdmesh"))
+    row["vdmesh"] = quality(vpts, vtets)
+    near = near_small_angles(os.path.join(keep, "quality-tetgen.smesh"), vpts, vtets)
+    lowest = dihedral_angles(vpts, vtets).min(axis=0)
+    away = lowest[~near]
+    row["vdmesh"]["near_small_input_angles"] = int(near.sum())
+    row["vdmesh"]["under10_away"] = int((away < 10).sum())
+    row["vdmesh"]["pct10_away"] = 100.0 * float((away < 10).sum()) / max(1, len(lowest))
     row["tetgen_q"] = {"label": t.get("label"), "tets": t.get("tetrahedra"), "min": t.get("min_dihedral_deg")}
     # TetGen with the 10-degree bound, at compare's volume bound, rescaled once.
     smesh = os.path.join(keep, "quality-tetgen.smesh")
@@ -214,11 +299,12 @@ def fmt_row(r):
         return "| %s | %s | %s | | | | | | |" % (r["input"], r.get("facets", "-"), r.get("note", "-"))
     s, v, t = r["slivers"], r["vdmesh"], r["tetgen10"]
     tq = t["q"]
-    return "| %s | %d | %d | %.2f / %.2f | %d / %d (%.2f %%) | %s | %s | %s | %s | %s | %.1f / %s |" % (
+    return "| %s | %d | %d | %.2f / %.2f | %d / %d (%.2f %%) | %d (%.2f %%) | %s | %s | %s | %s | %s | %.1f / %s |" % (
         r["input"], r["facets"], v["tets"], s["min_dihedral_before_deg"], v["min"],
-        s["tets_below_10_deg_before"], v["under10"], v["pct10"], r["vdmesh_status"],
+        s["tets_below_10_deg_before"], v["under10"], v["pct10"], v["under10_away"], v["pct10_away"],
+        r["vdmesh_status"],
         tq["tets"] if tq else t["note"], "%.2f" % tq["min"] if tq else "-", "%.2f %%" % tq["pct10"] if tq else "-",
-        "yes" if tq and v["min"] >= tq["min"] and v["pct10"] < 0.1 else "no",
+        "yes" if tq and v["min"] >= tq["min"] and v["pct10_away"] < 0.1 else "no",
         r["vdmesh_seconds"], "%.1f" % t["seconds"] if tq else "-")
 
 
@@ -251,9 +337,9 @@ def main():
         datetime.date.today().isoformat(), header, len(rows), (time.time() - started) / 60, timeout,
         os.path.join(work, "bench_quality.json")), "",
         "| input | facets | vdmesh tets | vdmesh min dihedral before / after sliver pass | vdmesh tets < 10 deg "
-        "before / after (% after) | vdmesh checks | tetgen -q1.414/10 tets | tetgen min dihedral | "
+        "before / after (% after) | of those, away from input angles < 20 deg (% of all) | vdmesh checks | tetgen -q1.414/10 tets | tetgen min dihedral | "
         "tetgen % < 10 deg | issue target met | s vdmesh / tetgen |",
-        "|---|---|---|---|---|---|---|---|---|---|---|"]
+        "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     lines += [fmt_row(r) for r in rows]
     text = "\n".join(lines) + "\n"
     print(text)
