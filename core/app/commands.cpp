@@ -41,7 +41,8 @@ const char* kMeshHelp =
     "  --surface-grading R     with interior vertices: split surface edges longer than R x the surface's\n"
     "                          graded size (its shortest edges, grown by the gradation), with flips inside\n"
     "                          faces; at least 1, default 2; 0: off\n"
-    "  --sliver-angle DEG      boundary slivers under this dihedral angle are removed (default 10)\n"
+    "  --sliver-angle DEG      tetrahedra under this dihedral angle are slivers, removed or improved\n"
+    "                          (default 20; CAD input 10)\n"
     "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
     "  --order 1|2             element order (default 1); 2: 10-node tetrahedra, and on CAD input the\n"
     "                          mid-edge nodes of the surface on the CAD faces and edges\n"
@@ -189,6 +190,9 @@ int mesh_command(const std::vector<std::string>& raw) {
     opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s...\n", phase.c_str()); };
   else if (!quiet)
     opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s\n", phase.c_str()); };
+
+  if (cad::CadModel::is_cad_file(pos[0]) && !args.has("--sliver-angle"))
+    opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
 
   MeshResult partial;
   try {

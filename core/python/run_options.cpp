@@ -59,7 +59,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     interior (bool, True): interior vertices; False is --no-interior
     surface_grading (float, 2): with interior vertices, surface edges longer than this
         times the surface's graded size are split (flips inside faces between); 0: off
-    sliver_angle (float, 10): boundary slivers under this dihedral angle (deg) are removed
+    sliver_angle (float, 20; mesh_cad 10): tetrahedra under this dihedral angle (deg)
+        are slivers, removed or improved
     keep_slivers (bool, False): no sliver removal
     oracle (str, "dt"): facet Delaunayhood test, "dt", "lp" or "sphere"
     lp_limit (int, -1): largest LP the lp oracle solves (-1: no limit)
@@ -97,6 +98,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   RunOptions run;
   MeshOptions& opt = run.cad.mesh;
   opt.size.uniform = 0;
+  if (cad_input) opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;  // unless given below
   for (const auto& [key, value] : kwargs) {
     const std::string name = key.cast<std::string>();
     if (!kCommon.count(name) && !(cad_input && kCad.count(name))) {

@@ -480,7 +480,12 @@ SlidePlanes slide_planes(const Mesh& m) {
       if (d[(k + 1) % 3] == 0 && d[(k + 2) % 3] == 0 && d[k] != 0) return k;
     return -1;
   };
-  const double min_cos = std::cos(1e-6 * M_PI / 180.0);
+  // Facets of one plane: normals within 1e-13 rad (by the sine, which keeps
+  // its digits where the cosine is 1). A vertex sliding by d leaves a facet's
+  // plane by d times that angle; at 1e-6 deg (1.7e-8 rad), as before, moves
+  // on the anchor at a 20 deg sliver angle took facets 1e-9 of an edge off
+  // their planes.
+  const double max_sine = 1e-13;
   for (size_t v = 0; v < around.size(); ++v) {
     const std::vector<int>& fs = around[v];
     if (fs.size() < 3) continue;
@@ -505,7 +510,7 @@ SlidePlanes slide_planes(const Mesh& m) {
         } else {
           const Triangle& l = m.triangles[fs[leader[g]]];
           if (t.face == l.face && t.front == l.front && t.back == l.back &&
-              dot(n, normalized(area_vector(l))) >= min_cos)
+              dot(n, normalized(area_vector(l))) > 0 && norm(cross(n, normalized(area_vector(l)))) <= max_sine)
             group[i] = g;
         }
       }

@@ -27,7 +27,7 @@
 namespace vd {
 
 struct SliverOptions {
-  double sliver_angle_deg = 10.0;  // tetrahedra with a smaller dihedral angle are slivers
+  double sliver_angle_deg = 20.0;  // tetrahedra with a smaller dihedral angle are slivers
   // Case A: largest angle between the two new facets. Small, because on a
   // curved face the new facets leave the input surface by about this angle
   // times their size, and B and C clear most slivers without it.
