@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "cad/cad_impl.h"
+#include "surface/edge_map.h"
 
 namespace vd::cad {
 namespace {
@@ -68,21 +69,9 @@ class Geometry {
 };
 
 // Edge -> facets, rebuilt once per pass (sorted pairs: compact and fast).
-struct EdgeFacets {
-  std::vector<std::pair<std::uint64_t, int>> pairs;
-  explicit EdgeFacets(const Mesh& m) {
-    pairs.reserve(3 * m.triangles.size());
-    for (size_t f = 0; f < m.triangles.size(); ++f)
-      for (int i = 0; i < 3; ++i)
-        pairs.emplace_back(edge_key(m.triangles[f].v[i], m.triangles[f].v[(i + 1) % 3]), static_cast<int>(f));
-    std::sort(pairs.begin(), pairs.end());
-  }
-  std::vector<int> facets(std::uint64_t key) const {
-    std::vector<int> out;
-    auto it = std::lower_bound(pairs.begin(), pairs.end(), std::make_pair(key, -1));
-    for (; it != pairs.end() && it->first == key; ++it) out.push_back(it->second);
-    return out;
-  }
+// The facets' adjacency as sorted pairs, in the mesh's own terms.
+struct EdgeFacets : EdgeFacetPairs {
+  explicit EdgeFacets(const Mesh& m) : EdgeFacetPairs(m.triangles) {}
 };
 
 constexpr double kFlipRidgeDeg = 20.0;

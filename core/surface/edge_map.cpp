@@ -54,6 +54,27 @@ const FacetList& EdgeMap::facets(int a, int b) const {
   return it == map_.end() ? none : it->second;
 }
 
+EdgeFacetPairs::EdgeFacetPairs(const std::vector<Triangle>& facets) {
+  pairs.reserve(3 * facets.size());
+  for (size_t f = 0; f < facets.size(); ++f)
+    for (int i = 0; i < 3; ++i)
+      pairs.emplace_back(edge_key(facets[f].v[i], facets[f].v[(i + 1) % 3]), static_cast<int>(f));
+  std::sort(pairs.begin(), pairs.end());
+}
+
+std::vector<int> EdgeFacetPairs::facets(std::uint64_t key) const {
+  std::vector<int> out;
+  for (auto it = std::lower_bound(pairs.begin(), pairs.end(), std::make_pair(key, -1));
+       it != pairs.end() && it->first == key; ++it)
+    out.push_back(it->second);
+  return out;
+}
+
+bool EdgeFacetPairs::contains(std::uint64_t key) const {
+  const auto it = std::lower_bound(pairs.begin(), pairs.end(), std::make_pair(key, -1));
+  return it != pairs.end() && it->first == key;
+}
+
 std::vector<double> surface_vertex_sizes(const Mesh& m, const EdgeMap& edges) {
   std::vector<double> sum(m.points.size(), 0.0);
   std::vector<int> count(m.points.size(), 0);

@@ -57,6 +57,17 @@ class EdgeMap {
   std::unordered_map<std::uint64_t, FacetList> map_;
 };
 
+// Every (edge, facet) pair of a surface, sorted by edge key: an edge's
+// facets are one run, in facet order. For passes that rebuild the adjacency
+// after each round of changes, where a hash map of vectors (EdgeMap) costs
+// an allocation per edge.
+struct EdgeFacetPairs {
+  std::vector<std::pair<std::uint64_t, int>> pairs;
+  explicit EdgeFacetPairs(const std::vector<Triangle>& facets);
+  std::vector<int> facets(std::uint64_t key) const;
+  bool contains(std::uint64_t key) const;
+};
+
 // Local size at each vertex: the mean length of its surface edges, replaced
 // by the input's point size where one is given (> 0); 0 for a vertex on no
 // edge and without a size.

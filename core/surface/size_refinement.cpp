@@ -42,16 +42,8 @@ int flip_towards_delaunay(Mesh& m, double ridge_deg) {
   const double cos_limit = std::cos(ridge_deg * M_PI / 180.0);
   int total = 0;
   for (int pass = 0; pass < 8; ++pass) {
-    std::vector<std::pair<std::uint64_t, int>> pairs;
-    pairs.reserve(3 * m.triangles.size());
-    for (size_t f = 0; f < m.triangles.size(); ++f)
-      for (int e = 0; e < 3; ++e)
-        pairs.emplace_back(edge_key(m.triangles[f].v[e], m.triangles[f].v[(e + 1) % 3]), static_cast<int>(f));
-    std::sort(pairs.begin(), pairs.end());
-    auto on_surface = [&](int a, int b) {
-      const auto it = std::lower_bound(pairs.begin(), pairs.end(), std::make_pair(edge_key(a, b), -1));
-      return it != pairs.end() && it->first == edge_key(a, b);
-    };
+    const EdgeFacetPairs adjacency(m.triangles);
+    const auto& pairs = adjacency.pairs;
     std::vector<char> touched(m.triangles.size(), 0);
     std::unordered_set<std::uint64_t> made;
     int flipped = 0;
@@ -69,7 +61,7 @@ int flip_towards_delaunay(Mesh& m, double ridge_deg) {
       const int p = t1.v[k], q = t1.v[(k + 1) % 3], r = t1.v[(k + 2) % 3];
       if (!has_directed_edge(t2, q, p)) continue;
       const int s = opposite_vertex(t2, p, q);
-      if (r == s || on_surface(r, s) || made.count(edge_key(r, s))) continue;
+      if (r == s || adjacency.contains(edge_key(r, s)) || made.count(edge_key(r, s))) continue;
       const auto& P = m.points;
       if (angle_at(P[r], P[p], P[q]) + angle_at(P[s], P[q], P[p]) <= M_PI * (1 + 1e-9)) continue;
       const Vec3 o1 = area_of(m, p, q, r), o2 = area_of(m, q, p, s);
@@ -138,15 +130,11 @@ SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* gr
   for (bool again = true; again; ++stats.passes) {
     again = false;
     if (graded && graded->flip_ridge_deg > 0) stats.flips += flip_towards_delaunay(m, graded->flip_ridge_deg);
-    // Every (edge, facet) pair, sorted: an edge's facets are one run, in
-    // facet order. A hash map of vectors, one allocation per edge and pass,
-    // was most of this phase: 0.53 -> 0.13 s on a sphere split to 125k facets.
-    std::vector<std::pair<std::uint64_t, int>> pairs;
-    pairs.reserve(3 * m.triangles.size());
-    for (size_t f = 0; f < m.triangles.size(); ++f)
-      for (int e = 0; e < 3; ++e)
-        pairs.emplace_back(edge_key(m.triangles[f].v[e], m.triangles[f].v[(e + 1) % 3]), static_cast<int>(f));
-    std::sort(pairs.begin(), pairs.end());
+    // Sorted pairs, not an EdgeMap: a hash map of vectors, one allocation per
+    // edge and pass, was most of this phase (0.53 -> 0.13 s on a sphere
+    // split to 125k facets).
+    const EdgeFacetPairs adjacency(m.triangles);
+    const auto& pairs = adjacency.pairs;
     struct LongEdge {
       double length;
       std::uint64_t key;
