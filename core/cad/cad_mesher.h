@@ -18,8 +18,14 @@ namespace vd::cad {
 // gmsh_ellipses.brep: 36 -> 131 s, 0.10 -> 0.06 deg).
 constexpr double kCadSliverAngleDeg = 10.0;
 
+inline MeshOptions cad_mesh_defaults() {
+  MeshOptions o;
+  o.slivers.sliver_angle_deg = kCadSliverAngleDeg;
+  return o;
+}
+
 struct CadMeshOptions {
-  MeshOptions mesh;                 // mesh.size.uniform: the size (0: chosen from the part)
+  MeshOptions mesh = cad_mesh_defaults();  // mesh.size.uniform: the size (0: chosen from the part)
   TessellationOptions tessellation; // its size is taken from mesh.size.uniform
   bool splits_on_geometry = true;   // false: the paper's planar mid-points
   // When recovery stops at its guards (RecoveryError) on an automatic chord
