@@ -66,7 +66,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"cap_points\": " << r.interior.cap_points << ", \"cap_points_refused\": " << r.interior.cap_points_refused
     << ", \"smallest_size\": " << exact(r.smallest_size) << "},\n";
   const auto& sl = r.slivers;
-  s << "  \"slivers\": {\"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
+  s << "  \"slivers\": {\"angle_deg\": " << exact(sl.angle_deg) << ", \"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
     << ", \"flips_23\": " << sl.flips_23 << ", \"flips_32\": " << sl.flips_32
     << ", \"edge_removals\": " << sl.edge_removals << ", \"moves\": " << sl.moves
     << ", \"surface_moves\": " << sl.surface_moves

@@ -122,6 +122,7 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, SliverStats& stats
 SliverStats remove_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, QualitySummary* after_out,
                            const std::function<void()>& apexes_done) {
   SliverStats stats;
+  stats.angle_deg = o.sliver_angle_deg;
   // No point moves in case A: its slivers are those counted here.
   const SmallestAngles before = smallest_angles(m, o.sliver_angle_deg);
   stats.min_dihedral_before_deg = before.min_deg;

@@ -38,6 +38,7 @@ struct SliverOptions {
 };
 
 struct SliverStats {
+  double angle_deg = 0;         // the sliver angle used
   long slivers_before = 0;      // tetrahedra under the sliver angle
   long removed_boundary = 0;    // case A
   long flips_23 = 0;            // case B: face swaps (two tetrahedra into three)

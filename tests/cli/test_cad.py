@@ -71,6 +71,7 @@ if code == 0:
     check(rep["cad"]["solids"] == 1 and rep["cad"]["faces"] == 7, "box with a hole: 1 solid, 7 faces (%d, %d)" % (rep["cad"]["solids"], rep["cad"]["faces"]))
     check(not rep["cad"]["size_chosen"] and rep["cad"]["size"] == 1, "the given size is used and reported (%g)" % rep["cad"]["size"])
     check(rep["quality"]["inverted"] == 0, "box with a hole: no inverted tetrahedra")
+    check(rep["slivers"]["angle_deg"] == 10, "CAD input: sliver angle 10 deg by default (%g)" % rep["slivers"]["angle_deg"])
     m = check_mesh(target, rep, "box with a hole")
     faces = set()
     for block, values in zip(m.cells, m.cell_data["face"]):

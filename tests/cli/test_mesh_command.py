@@ -70,6 +70,8 @@ if meshio:
     if code == 0:
         rep = json.load(open(rep_path))
         check(rep["interior"]["cap_points"] > 0, "cap vertices added: %d" % rep["interior"]["cap_points"])
+        check(rep["slivers"]["angle_deg"] == 20,
+              "surface input: sliver angle 20 deg by default (%g)" % rep["slivers"]["angle_deg"])
         m = meshio.read(target)
         tets = np.concatenate([c.data for c in m.cells if c.type == "tetra"])
         tris = np.concatenate([c.data for c in m.cells if c.type == "triangle"])
