@@ -191,12 +191,12 @@ int mesh_command(const std::vector<std::string>& raw) {
   else if (!quiet)
     opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s\n", phase.c_str()); };
 
-  if (cad::CadModel::is_cad_file(pos[0]) && !args.has("--sliver-angle"))
-    opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
+  const bool cad_input = cad::CadModel::is_cad_file(pos[0]);
+  if (cad_input && !args.has("--sliver-angle")) opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
 
   MeshResult partial;
   try {
-    const MeshResult result = cad::CadModel::is_cad_file(pos[0])
+    const MeshResult result = cad_input
                                   ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, retry_tessellation, &partial)
                                   : mesh_surface_file(pos[0], opt, &partial);
     write_result(result.mesh, output, wopt);

@@ -97,8 +97,10 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection", "volume_tolerance"};
   RunOptions run;
   MeshOptions& opt = run.cad.mesh;
+  // The defaults of the entry point: mesh_surface's are not the CAD ones
+  // that CadMeshOptions starts from (the sliver angle).
+  opt = cad_input ? cad::cad_mesh_defaults() : MeshOptions{};
   opt.size.uniform = 0;
-  if (cad_input) opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;  // unless given below
   for (const auto& [key, value] : kwargs) {
     const std::string name = key.cast<std::string>();
     if (!kCommon.count(name) && !(cad_input && kCad.count(name))) {

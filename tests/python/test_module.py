@@ -107,6 +107,7 @@ class MeshFromArrays(unittest.TestCase):
             self.assertLess(np.abs(coords - end).max(), 1e-12, "face %d stays on its plane" % fid)
         self.assertTrue((mesh.triangle_regions == [0, 1]).all())
         self.assertEqual(report["counts"]["tetrahedra"], len(mesh.tets))
+        self.assertEqual(report["slivers"]["angle_deg"], 20, "the surface input's sliver angle")
 
     def test_second_order(self):
         pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
@@ -283,6 +284,7 @@ class Cad(unittest.TestCase):
 
     def test_brep_string_volume(self):
         mesh, report = vdmesh.mesh_cad(brep=self.brep, size=1.5)
+        self.assertEqual(report["slivers"]["angle_deg"], 10, "the CAD input's sliver angle")
         exact = 400 - np.pi * 4 * 4
         cad = report["cad"]
         self.assertEqual((cad["solids"], cad["faces"]), (1, 7))
