@@ -123,6 +123,7 @@ SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* gr
       h = std::min(h, 0.5 * (m.point_size[a] + m.point_size[b]));
     if (graded && graded->size[a] > 0 && graded->size[b] > 0)
       h = std::min(h, graded->factor * 0.5 * (graded->size[a] + graded->size[b]));
+    if (graded && graded->in_space) h = std::min(h, graded->factor * graded->in_space(0.5 * (m.points[a] + m.points[b])));
     return h;
   };
   // Each pass splits every long edge whose facets no earlier split of the
@@ -167,7 +168,9 @@ SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* gr
       if (per_vertex) m.point_size.push_back(0.5 * (m.point_size[a] + m.point_size[b]));
       if (graded) {
         const double half = 0.5 * norm(m.points[a] - m.points[b]);
-        graded->size.push_back(std::min(graded->size[a], graded->size[b]) + graded->gradation * half);
+        double h = std::min(graded->size[a], graded->size[b]) + graded->gradation * half;
+        if (graded->in_space) h = std::min(h, graded->in_space(m.points[n]));
+        graded->size.push_back(h);
       }
       for (size_t i = edge.first; i < edge.last; ++i) {
         const int f = pairs[i].second;

@@ -14,8 +14,11 @@
 // until the edges near its short edge are about that short, growing away
 // from it by the gradation, with flips inside faces towards the Delaunay
 // criterion before each pass: splits alone cut a needle into more needles.
+// The graded sizes may also bound edges through space (GradedSizes::in_space):
+// a fine surface near big facets of a part it shares no edge with.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "mesh/mesh.h"
@@ -40,6 +43,10 @@ struct GradedSizes {
   double gradation = 0.3;
   double factor = 2.0;
   double flip_ridge_deg = 0;  // > 0: flips inside faces before each pass
+  // When set, sizes in space (a SizeField from `size`): an edge is also split
+  // when longer than `factor` times the size at its mid-point, and a new
+  // vertex's size is at most the size there.
+  std::function<double(const Vec3&)> in_space;
 };
 SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* graded = nullptr);
 

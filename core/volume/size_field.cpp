@@ -9,8 +9,10 @@
 
 namespace vd {
 
-SizeField::SizeField(const Mesh& m, const SizeFieldOptions& o) : uniform_(o.uniform) {
-  const std::vector<double> hv = surface_vertex_sizes(m, EdgeMap(m.triangles));
+SizeField::SizeField(const Mesh& m, const SizeFieldOptions& o)
+    : SizeField(m, surface_vertex_sizes(m, EdgeMap(m.triangles)), o) {}
+
+SizeField::SizeField(const Mesh& m, const std::vector<double>& hv, const SizeFieldOptions& o) : uniform_(o.uniform) {
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   double hmin = std::numeric_limits<double>::infinity();
   for (size_t v = 0; v < m.points.size(); ++v) {

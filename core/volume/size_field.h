@@ -19,6 +19,8 @@ class SizeField {
  public:
   // Built from the surface vertices of `m` (vertices of m.triangles).
   SizeField(const Mesh& m, const SizeFieldOptions& options);
+  // From given sizes at the points of m (those <= 0 are left out).
+  SizeField(const Mesh& m, const std::vector<double>& vertex_sizes, const SizeFieldOptions& options);
   double at(const Vec3& p) const;
   double smallest() const { return smallest_; }
 

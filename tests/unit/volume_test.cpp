@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <optional>
 
 #include "mesh/shapes.h"
 #include "pipeline/mesher.h"
@@ -127,6 +128,63 @@ TEST(Volume, GradedSurfaceRefinementOpensNeedleFacets) {
   EXPECT_GT(graded.report.size_flips, 0);
   EXPECT_GT(graded.report.quality.min_dihedral_deg, plain.report.quality.min_dihedral_deg);
   EXPECT_LT(graded.report.quality.below_10_deg, plain.report.quality.below_10_deg);
+}
+
+// A unit cube of 12 facets with a fine sphere inside, 0.05 from its side
+// y = 0: the two surfaces share no edge, so sizes graded along the edges
+// leave the cube's facets whole, and the small interior vertices between them
+// make flat tetrahedra with those facets. Graded through space, the cube's
+// facets near the sphere are split down to the size there.
+Mesh cube_around_a_near_sphere() {
+  Mesh in = shapes::box({0, 0, 0}, {1, 1, 1}, 1);
+  Mesh ball = shapes::icosphere({0.5, 0.25, 0.5}, 0.2, 3, 2, 7);
+  for (Triangle& t : ball.triangles) (t.front == 0 ? t.front : t.back) = 1;
+  shapes::append(in, ball);
+  return in;
+}
+
+TEST(Volume, GradedSizesReachAcrossSpace) {
+  const Mesh in = cube_around_a_near_sphere();
+  const double g = 0.3;
+  auto refined = [&](bool through_space, Mesh& out) {
+    out = in;
+    GradedSizes graded;
+    graded.gradation = g;
+    graded.size = graded_edge_sizes(out, g);
+    std::optional<SizeField> field;
+    if (through_space) {
+      field.emplace(out, graded.size, SizeFieldOptions{0.0, g});
+      graded.in_space = [&field](const Vec3& p) { return field->at(p); };
+    }
+    return refine_surface_to_size(out, 0, &graded);
+  };
+  Mesh along, across;
+  EXPECT_EQ(refined(false, along).splits, 0);
+  EXPECT_GT(refined(true, across).splits, 0);
+  // The longest edge on the side y = 0, within 0.3 of the sphere's foot.
+  auto longest_near = [](const Mesh& m) {
+    double longest = 0;
+    for (const Triangle& t : m.triangles)
+      for (int e = 0; e < 3; ++e) {
+        const Vec3 &a = m.points[t.v[e]], &b = m.points[t.v[(e + 1) % 3]];
+        const Vec3 mid = 0.5 * (a + b);
+        if (a.y == 0 && b.y == 0 && norm(mid - Vec3{0.5, 0, 0.5}) < 0.3) longest = std::max(longest, norm(b - a));
+      }
+    return longest;
+  };
+  EXPECT_GT(longest_near(along), 0.7);
+  EXPECT_LT(longest_near(across), 0.2);
+
+  const MeshResult r = mesh_surface(in, MeshOptions{});
+  const ConformityReport c = check_conformity(r.mesh);
+  EXPECT_TRUE(c.ok()) << c.summary();
+  const double ball_volume = 4.0 / 3.0 * M_PI * 0.008;
+  EXPECT_NEAR(c.region_volume[1] + c.region_volume[2], 1.0, 1e-9);
+  EXPECT_GT(c.region_volume[2], 0.97 * ball_volume);
+  std::cout << "[cube around a near sphere] " << r.report.size_splits << " splits, " << r.mesh.tets.size()
+            << " tets, min dihedral " << r.report.quality.min_dihedral_deg << ", under 10 deg "
+            << r.report.quality.below_10_deg << "\n";
+  EXPECT_GT(r.report.quality.min_dihedral_deg, 10.0);
 }
 
 TEST(Volume, SameSeedSameMeshWithInteriorVertices) {
