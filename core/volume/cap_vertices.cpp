@@ -49,9 +49,12 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
     for (int k = 0; k < 2; ++k) {
       const Triangle& f = m.triangles[facet_of.at(sorted_triple(face_opposite(t.v, faces[k])))];
       const Vec3 nf = facet_normal(m.points, f);
-      if (f.front == t.region) normal[k] = nf;
-      else if (f.back == t.region) normal[k] = -1.0 * nf;
-      else sided = false;
+      // The side the cap's fourth vertex is on, not the region's: on a
+      // surface inside a region (both sides the same) the cap may be on
+      // either (a horizon in cgal_horizons_in_domain: 0.93 deg).
+      const int side = orientation(m.points[f.v[0]], m.points[f.v[1]], m.points[f.v[2]], m.points[t.v[faces[k]]]);
+      sided = sided && side != 0 && (f.front == t.region || f.back == t.region);
+      normal[k] = side > 0 ? nf : -1.0 * nf;
       inward = inward + normal[k];
     }
     if (!sided || dot(normal[0], normal[1]) >= cos_ridge) continue;  // flat enough for case A

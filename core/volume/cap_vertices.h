@@ -22,7 +22,9 @@ namespace vd {
 
 // For every tetrahedron of m with a dihedral angle under sliver_angle_deg and
 // two faces on the surface whose normals differ by more than ridge_angle_deg
-// (case A would refuse it), a point inward of the middle of the fold edge,
+// (case A would refuse it), a point on the cap's side (that of its fourth
+// vertex from each facet, so that caps on a surface inside one region are
+// reached too), inward of the middle of the fold edge,
 // 0.35 of its length deep, or of the cap's centroid, or less deep (0.2, 0.1,
 // 0.05, 0.02, 0.01, 0.005), the first that lies in the cap's circumsphere,
 // else the cap's centroid; kept when it is in the

@@ -187,6 +187,33 @@ TEST(Volume, GradedSizesReachAcrossSpace) {
   EXPECT_GT(r.report.quality.min_dihedral_deg, 10.0);
 }
 
+// A faceted sphere inside a box, the same region on both sides of it: the
+// Delaunay tetrahedra fill its folds with flat caps on its inner side, as on
+// a sphere between two regions. Cap vertices go on the cap's side, whichever
+// side of the facets' orientation that is.
+TEST(Volume, CapVerticesOpenCapsOnASurfaceInsideOneRegion) {
+  for (bool flipped : {false, true}) {
+    Mesh in = shapes::box({-1.3, -1.3, -1.3}, {1.3, 1.3, 1.3}, 4);
+    Mesh ball = shapes::icosphere({0, 0, 0}, 1.0, 3, 1, 7);
+    for (Triangle& t : ball.triangles) {
+      t.front = t.back = 1;
+      if (flipped) std::swap(t.v[1], t.v[2]);
+    }
+    shapes::append(in, ball);
+    MeshOptions o;
+    o.size.uniform = 0.15;
+    const MeshResult r = mesh_surface(in, o);
+    const ConformityReport c = check_conformity(r.mesh);
+    EXPECT_TRUE(c.ok()) << c.summary();
+    EXPECT_NEAR(c.region_volume[1], 2.6 * 2.6 * 2.6, 1e-9);
+    std::cout << "[sphere inside one region" << (flipped ? ", flipped" : "") << "] " << r.report.interior.cap_points
+              << " cap vertices, " << r.report.interior.cap_points_refused << " refused, min dihedral "
+              << r.report.quality.min_dihedral_deg << ", under 10 deg " << r.report.quality.below_10_deg << "\n";
+    EXPECT_GT(r.report.interior.cap_points, 20);
+    EXPECT_GT(r.report.quality.min_dihedral_deg, 10.0);
+  }
+}
+
 TEST(Volume, SameSeedSameMeshWithInteriorVertices) {
   const Mesh in = shapes::icosphere({0, 0, 0}, 1.0, 2);
   const MeshResult a = mesh_with_interior(in), b = mesh_with_interior(in);
