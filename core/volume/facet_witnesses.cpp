@@ -23,6 +23,7 @@ FacetWitnesses::FacetWitnesses(const std::vector<Vec3>& points, const std::vecto
     if (apex[0] == -2) throw std::logic_error("facet witnesses: a surface facet is not a Delaunay face");
     Facet f;
     f.v = t.v;
+    f.face = t.face;
     for (int x : apex) {
       if (x < 0) continue;
       const int side = orientation(points[t.v[0]], points[t.v[1]], points[t.v[2]], points[x]);
@@ -89,7 +90,7 @@ void FacetWitnesses::narrow_to_equatorial(Facet& f) const {
 
 bool FacetWitnesses::allows(const Vec3& p, int moving) const {
   bool ok = true;
-  const_cast<FacetWitnesses*>(this)->for_each_near(p, [&](const Facet& f) {
+  const_cast<FacetWitnesses*>(this)->for_each_near(p, Lookup::allows, [&](const Facet& f) {
     if (has(f.v, moving)) return true;
     const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
     const int side = orientation(a, b, c, p);
@@ -131,7 +132,7 @@ void FacetWitnesses::moved(int v, const Vec3& p) {
 }
 
 void FacetWitnesses::tighten(const Vec3& p, int moving) {
-  for_each_near(p, [&](Facet& f) {
+  for_each_near(p, Lookup::tightens, [&](Facet& f) {
     if (has(f.v, moving)) return true;
     const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
     const int side = orientation(a, b, c, p);
@@ -148,11 +149,26 @@ FacetWitnesses::Cell FacetWitnesses::cell_of(const Vec3& p, int level) const {
           static_cast<std::int64_t>(std::floor(p.z / size))};
 }
 
-// Calls visit(facet) for every facet whose balls may hold p, until it returns false.
+// Calls visit(facet) for every facet whose balls may hold p (for `lookup`),
+// until it returns false.
 template <class Visit>
-void FacetWitnesses::for_each_near(const Vec3& p, Visit visit) {
+void FacetWitnesses::for_each_near(const Vec3& p, Lookup lookup, Visit visit) {
   auto near = [&](const Facet& f) {
-    for (const Ball& b : f.reach) {
+    for (int i = 0; i < 2; ++i) {
+      const Ball& b = f.reach[i];
+      if (f.side[i].used) {
+        // In the ball: on its centre's side, or in the lens behind the
+        // plane (within the facet's circumcircle). allows needs the centre's
+        // side only when that is not the bound's side (p is then on the
+        // other side of the facet), tighten only when it is.
+        const Facet::HalfSpace& h = f.side[i];
+        const Vec3 d = p - h.origin;
+        const double t = dot(d, h.normal), margin = 1e-9 * norm(d) + 1e-9 * h.radius;
+        const bool centre_side_counts = (lookup == Lookup::tightens) == h.centre_on_bound_side;
+        if (centre_side_counts && t >= -(h.lens + margin)) return true;
+        if (t >= -(h.lens + margin) && t <= margin && dot(d, d) <= (h.radius + margin) * (h.radius + margin)) return true;
+        continue;
+      }
       const double reach = b.radius * (1 + 1e-6);
       if (b.radius >= 0 && !(std::isfinite(reach) && dot(p - b.centre, p - b.centre) > reach * reach)) return true;
     }
@@ -160,6 +176,15 @@ void FacetWitnesses::for_each_near(const Vec3& p, Visit visit) {
   };
   for (int id : large_)
     if (near(facets_[id]) && !visit(facets_[id])) return;
+  for (int kind = lookup == Lookup::tightens ? 0 : 1; kind < 2; ++kind)
+    for (const HalfSpaceGroup& g : groups_[kind]) {
+      // Every member's test, (p - o).n >= -(lens + margin), bounded from
+      // above over the group (its normals differ from g.normal by tilt).
+      const double reach = norm(p) + g.farthest_origin;
+      if (dot(p, g.normal) - g.nearest_offset + reach * g.tilt < -(g.largest_lens + 4e-9 * reach)) continue;
+      for (int id : g.members)
+        if (near(facets_[id]) && !visit(facets_[id])) return;
+    }
   for (int level = 0; level < kLevels; ++level) {
     if (cells_[level].empty()) continue;
     auto it = cells_[level].find(cell_of(p, level));
@@ -182,7 +207,13 @@ void FacetWitnesses::spread(int id) {
       case Bound::point: f.reach[i] = circumsphere(a, b, c, bounds[i]->at); break;
       case Bound::equatorial: f.reach[i] = equatorial_sphere(a, b, c); break;
     }
-    largest = std::isnan(f.reach[i].radius) ? INFINITY : std::max(largest, f.reach[i].radius);
+    if (bounds[i]->kind == Bound::point && fill_half_space(f, i, *bounds[i])) {
+      join_group(id, i);
+      largest = std::max(largest, f.side[i].radius);  // its lens, listed in the cells
+    } else {
+      f.side[i].used = false;
+      largest = std::isnan(f.reach[i].radius) ? INFINITY : std::max(largest, f.reach[i].radius);
+    }
   }
   // The big facets beside a finely tessellated part (the box around
   // gmsh_ellipses.brep's plates) were all in one list that every point
@@ -194,7 +225,8 @@ void FacetWitnesses::spread(int id) {
     if (!in_large_[id]) large_.push_back(id), in_large_[id] = 1;
     return;
   }
-  for (const Ball& ball : f.reach) {
+  for (int i = 0; i < 2; ++i) {
+    const Ball ball = f.side[i].used ? Ball{f.side[i].origin, f.side[i].radius} : f.reach[i];
     if (ball.radius < 0) continue;
     const double r = ball.radius * (1 + 1e-6) + 1e-12 * cell_;
     const Cell lo = cell_of(ball.centre - Vec3{r, r, r}, level), hi = cell_of(ball.centre + Vec3{r, r, r}, level);
@@ -205,6 +237,67 @@ void FacetWitnesses::spread(int id) {
           if (list.empty() || list.back() != id) list.push_back(id);
         }
   }
+}
+
+// Side i of f as a half-space when its bound q makes a ball far larger than
+// the facet. With q at height e off the plane and at distance d from the
+// circumcentre o in it (circumradius r), the centre is o + s n with
+// s = (d^2 + e^2 - r^2) / (2 e): on q's side exactly when q is outside the
+// facet's equatorial sphere (exact predicate), and a point inside the ball is
+// at most r^2 / (2 |s|) = r^2 |e| / |d^2 + e^2 - r^2| behind the plane. |e| is
+// bounded from above and |d^2 - r^2| from below, with margins far above the
+// rounding, so the lens is an upper bound.
+bool FacetWitnesses::fill_half_space(Facet& f, int i, const Bound& bound) const {
+  const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
+  const Vec3& q = bound.at;
+  const Ball circle = equatorial_sphere(a, b, c);
+  const double r = circle.radius;
+  if (!std::isfinite(r) || !(r > 0)) return false;
+  const Vec3 ab = b - a, ac = c - a, bc = c - b;
+  const Vec3 cr = cross(ab, ac);
+  // Skinny facets have inaccurate circumcentres and normals: the ball test.
+  const double twice_area = norm(cr);
+  const double longest = std::max({norm(ab), norm(ac), norm(bc)});
+  if (!(twice_area > 1e-6 * longest * longest)) return false;
+  const Vec3 n = (1.0 / twice_area) * cr;
+  const double scale = norm(q - circle.centre) + r;
+  const double e = std::abs(dot(q - a, n)) + 1e-12 * scale;
+  const Vec3 in_plane = (q - circle.centre) - dot(q - circle.centre, n) * n;
+  const double gap = std::abs(dot(in_plane, in_plane) - r * r) - 1e-9 * scale * scale;
+  if (!(gap > 1e-6 * r * r)) return false;
+  const double lens = r * r * e / gap;
+  if (!(lens < 1e-3 * r)) return false;  // not flat enough to be worth it
+  const int q_side = orientation(a, b, c, q);
+  if (q_side == 0) return false;
+  const bool towards_q = side_of_equatorial_sphere(a, b, c, q) == SphereSide::outside;
+  Facet::HalfSpace& h = f.side[i];
+  h.used = true;
+  h.origin = circle.centre;
+  h.normal = (q_side > 0) == towards_q ? n : -1.0 * n;
+  // Off the plane by the circumcentre's error too.
+  h.lens = 2 * lens + 1e-9 * r;
+  h.radius = r * (1 + 1e-6) + 1e-9 * scale;
+  h.centre_on_bound_side = towards_q;
+  return true;
+}
+
+void FacetWitnesses::join_group(int id, int i) {
+  const Facet& f = facets_[id];
+  const Facet::HalfSpace& h = f.side[i];
+  const std::int64_t key = (static_cast<std::int64_t>(f.face) << 2) | (i << 1) | (h.normal.x + h.normal.y + h.normal.z >= 0);
+  const int kind = h.centre_on_bound_side ? 0 : 1;
+  auto [it, fresh] = group_of_[kind].emplace(key, static_cast<int>(groups_[kind].size()));
+  if (fresh) {
+    groups_[kind].emplace_back();
+    groups_[kind].back().normal = h.normal;
+    groups_[kind].back().nearest_offset = dot(h.origin, h.normal);
+  }
+  HalfSpaceGroup& g = groups_[kind][it->second];
+  g.nearest_offset = std::min(g.nearest_offset, dot(h.origin, g.normal));
+  g.largest_lens = std::max(g.largest_lens, h.lens);
+  g.tilt = std::max(g.tilt, norm(h.normal - g.normal) * (1 + 1e-9) + 1e-15);
+  g.farthest_origin = std::max(g.farthest_origin, norm(h.origin));
+  if (g.members.empty() || g.members.back() != id) g.members.push_back(id);
 }
 
 }  // namespace vd
