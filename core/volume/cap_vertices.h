@@ -30,7 +30,10 @@ namespace vd {
 // else the cap's centroid; kept when it is in the
 // cap's region (located in dt, whose vertices are m.points) and not closer to
 // another vertex of the cap's neighbourhood than a tenth of the fold edge.
-// One point per fold edge. Pre: dt's tetrahedra carry their region labels
+// One point per fold edge. Also the centroid of each tetrahedron under 1 deg
+// of four surface vertices, no face on the surface, two of whose vertices
+// are on opposite sides of a wall (the normals into the region there point
+// more than 120 deg apart). Pre: dt's tetrahedra carry their region labels
 // (build_region_tetrahedra leaves them so).
 std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt, double sliver_angle_deg,
                                       double ridge_angle_deg);

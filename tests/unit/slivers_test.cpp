@@ -165,12 +165,13 @@ TEST(Slivers, SharedSurfaces) {
 
 // The bundled demo part (a bracket of flat faces and straight edges): its
 // last sliver had four surface vertices across a plate, one of them on an
-// edge; sliding it along the edge (case C on a crease) clears it, and the
-// pass leaves the part's shape and volume exactly.
-TEST(Slivers, DemoBracketSlidesAlongItsEdges) {
+// edge. Sliding that vertex along the edge (case C on a crease) cleared it;
+// since the cap vertices open tetrahedra flat across a wall (a centroid
+// inside the plate) it is gone before the pass. Either way the pass leaves
+// the part's shape and volume exactly (check_pass_helps).
+TEST(Slivers, DemoBracketLosesItsSlivers) {
   const Mesh in = io::read_mesh(std::string(VDMESH_SOURCE_DIR) + "/Resources/examples/bracket.obj");
-  const SliverStats s = check_pass_helps("bracket", mesh_before_flips_and_moves(in));
-  EXPECT_GT(s.surface_moves, 0);
+  check_pass_helps("bracket", mesh_before_flips_and_moves(in));
   MeshOptions o;
   const MeshResult r = mesh_surface(in, o);
   EXPECT_EQ(r.report.quality.below_10_deg, 0);

@@ -214,6 +214,24 @@ TEST(Volume, CapVerticesOpenCapsOnASurfaceInsideOneRegion) {
   }
 }
 
+// A plate 0.6 x 0.6 x 0.05 whose top and bottom are the same 12 x 12 grid: a
+// vertical plane through a row holds two top and two bottom vertices, and the
+// Delaunay tetrahedra across the plate include such flat quadruples: four
+// vertices on the surface, no face on it, nothing the random shift (along the
+// surface) or the sliver pass (which keeps them on their faces) opens.
+TEST(Volume, FlatTetrahedraAcrossAWallGetAVertex) {
+  const Mesh in = shapes::box({0, 0, 0}, {0.6, 0.6, 0.05}, 12);
+  const MeshResult r = mesh_surface(in, MeshOptions{});
+  const ConformityReport c = check_conformity(r.mesh);
+  EXPECT_TRUE(c.ok()) << c.summary();
+  EXPECT_NEAR(c.region_volume[1], 0.6 * 0.6 * 0.05, 1e-12);
+  std::cout << "[plate 0.05 thick] " << r.report.interior.cap_points << " cap vertices, " << r.mesh.tets.size()
+            << " tets, min dihedral before the sliver pass " << r.report.slivers.min_dihedral_before_deg << ", after "
+            << r.report.quality.min_dihedral_deg << ", under 10 deg " << r.report.quality.below_10_deg << "\n";
+  // Without the centroids: 0.012 deg.
+  EXPECT_GT(r.report.quality.min_dihedral_deg, 3.0);
+}
+
 TEST(Volume, SameSeedSameMeshWithInteriorVertices) {
   const Mesh in = shapes::icosphere({0, 0, 0}, 1.0, 2);
   const MeshResult a = mesh_with_interior(in), b = mesh_with_interior(in);
