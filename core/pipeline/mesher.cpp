@@ -123,6 +123,8 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
       for (size_t v = 0; v < m.points.size(); ++v)
         if (graded.size[v] > 0) graded.size[v] = std::min(graded.size[v], through_space->at(m.points[v]));
       graded.in_space = [&through_space](const Vec3& p) { return through_space->at(p); };
+      // The limit for input angles that excuse slivers.
+      graded.sharp_corner = sharp_face_corners(m, 20.0);
     }
     const SizeRefinementStats refined = refine_surface_to_size(m, options.size.uniform, grade ? &graded : nullptr);
     report.size_splits = refined.splits;

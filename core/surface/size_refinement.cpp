@@ -1,6 +1,7 @@
 #include "surface/size_refinement.h"
 
 #include <algorithm>
+#include <map>
 #include <cstdint>
 #include <cmath>
 #include <limits>
@@ -113,6 +114,24 @@ std::vector<double> graded_edge_sizes(const Mesh& m, double gradation) {
   return h;
 }
 
+std::vector<char> sharp_face_corners(const Mesh& m, double limit_deg) {
+  // The angle of each face at each of its vertices: the sum of its facets'
+  // corners there (under 360 for a vertex on the face's border).
+  std::map<std::pair<int, int>, double> angle;  // (vertex, face)
+  for (const Triangle& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = m.points[t.v[k]];
+      const Vec3 u = m.points[t.v[(k + 1) % 3]] - p, w = m.points[t.v[(k + 2) % 3]] - p;
+      const double c = dot(u, w) / (norm(u) * norm(w));
+      angle[{t.v[k], t.face}] += std::acos(std::clamp(c, -1.0, 1.0));
+    }
+  std::vector<char> sharp(m.points.size(), 0);
+  const double limit = limit_deg * M_PI / 180.0;
+  for (const auto& [key, a] : angle)
+    if (a < limit) sharp[key.first] = 1;
+  return sharp;
+}
+
 SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* graded) {
   SizeRefinementStats stats;
   const bool per_vertex = !m.point_size.empty();
@@ -121,9 +140,10 @@ SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* gr
     double h = size > 0 ? size : std::numeric_limits<double>::infinity();
     if (per_vertex && m.point_size[a] > 0 && m.point_size[b] > 0)
       h = std::min(h, 0.5 * (m.point_size[a] + m.point_size[b]));
-    if (graded && graded->size[a] > 0 && graded->size[b] > 0)
+    if (!graded || graded->at_sharp_corner(a) || graded->at_sharp_corner(b)) return h;
+    if (graded->size[a] > 0 && graded->size[b] > 0)
       h = std::min(h, graded->factor * 0.5 * (graded->size[a] + graded->size[b]));
-    if (graded && graded->in_space) h = std::min(h, graded->factor * graded->in_space(0.5 * (m.points[a] + m.points[b])));
+    if (graded->in_space) h = std::min(h, graded->factor * graded->in_space(0.5 * (m.points[a] + m.points[b])));
     return h;
   };
   // Each pass splits every long edge whose facets no earlier split of the

@@ -47,6 +47,12 @@ struct GradedSizes {
   // when longer than `factor` times the size at its mid-point, and a new
   // vertex's size is at most the size there.
   std::function<double(const Vec3&)> in_space;
+  // Vertices (of the input) where a face's own angle is sharp: edges at
+  // them are not graded. A spike or a needle face is thin by design, and
+  // splitting its edges fills it with vertices no tetrahedron can join
+  // fairly (plc-sharp's spike: 20.1 -> 0.07 deg).
+  std::vector<char> sharp_corner;
+  bool at_sharp_corner(int v) const { return v < static_cast<int>(sharp_corner.size()) && sharp_corner[v]; }
 };
 SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* graded = nullptr);
 
@@ -55,5 +61,9 @@ SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* gr
 // (Dijkstra over the edge graph), so that a short edge asks for small edges
 // around it and the sizes grow smoothly away from it.
 std::vector<double> graded_edge_sizes(const Mesh& m, double gradation);
+
+// Per point of m: is it a corner where some face's angle (the sum of its
+// facets' corners there) is under limit_deg?
+std::vector<char> sharp_face_corners(const Mesh& m, double limit_deg);
 
 }  // namespace vd

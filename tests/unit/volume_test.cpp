@@ -143,6 +143,38 @@ Mesh cube_around_a_near_sphere() {
   return in;
 }
 
+// A needle cone (radius 0.0175, height 1, each side a face of one facet
+// with a 0.6 deg corner at the tip), as plc-sharp's spike: thin by design.
+// Its edges at the tip are not graded: split, they filled the cone with
+// vertices no tetrahedron joins fairly.
+TEST(Volume, SharpFaceCornersAreNotGraded) {
+  Mesh in;
+  const int n = 10;
+  for (int k = 0; k < n; ++k) {
+    const double a = 2 * M_PI * k / n;
+    in.points.push_back({0.0175 * std::cos(a), 0.0175 * std::sin(a), 0});
+  }
+  in.points.push_back({0, 0, 1});
+  for (int k = 1; k + 1 < n; ++k) in.triangles.push_back({{0, k + 1, k}, 1, 0, 1});  // base, outward -z
+  for (int k = 0; k < n; ++k) in.triangles.push_back({{k, (k + 1) % n, n}, 2 + k, 0, 1});
+  const std::vector<char> sharp = sharp_face_corners(in, 20.0);
+  EXPECT_TRUE(sharp[n]);
+  EXPECT_FALSE(sharp[0]);
+  const MeshResult r = mesh_surface(in, MeshOptions{});
+  const ConformityReport c = check_conformity(r.mesh);
+  EXPECT_TRUE(c.ok()) << c.summary();
+  std::cout << "[needle cone] " << r.report.size_splits << " splits, " << r.mesh.tets.size() << " tets, min dihedral "
+            << r.report.quality.min_dihedral_deg << "\n";
+  // No vertex on the sides but the tip (the base may be split).
+  for (const Triangle& t : r.mesh.triangles)
+    for (int v : t.v) {
+      const Vec3& p = r.mesh.points[v];
+      EXPECT_TRUE(p.z < 1e-12 || p.z == 1.0) << "a surface vertex at height " << p.z;
+    }
+  // Graded on the sides: 0.07 deg.
+  EXPECT_GT(r.report.quality.min_dihedral_deg, 10.0);
+}
+
 TEST(Volume, GradedSizesReachAcrossSpace) {
   const Mesh in = cube_around_a_near_sphere();
   const double g = 0.3;
