@@ -13,11 +13,12 @@ bool has(const std::array<int, 3>& f, int v) { return f[0] == v || f[1] == v || 
 
 FacetWitnesses::FacetWitnesses(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles,
                                const FacetApexes& apexes)
-    : points_(points), facets_of_(points.size()), in_large_(triangles.size(), 0) {
+    : points_(points), facets_of_(points.size()), in_large_(triangles.size(), 0), grouped_(2 * triangles.size(), 0) {
   double edge_sum = 0;
   for (const Triangle& t : triangles)
     for (int e = 0; e < 3; ++e) edge_sum += norm(points[t.v[(e + 1) % 3]] - points[t.v[e]]);
   cell_ = triangles.empty() ? 1.0 : 2.0 * edge_sum / (3.0 * triangles.size());
+  facets_.reserve(triangles.size());
   for (const Triangle& t : triangles) {
     const std::array<int, 2> apex = apexes(t.v[0], t.v[1], t.v[2]);
     if (apex[0] == -2) throw std::logic_error("facet witnesses: a surface facet is not a Delaunay face");
@@ -156,12 +157,12 @@ void FacetWitnesses::for_each_near(const Vec3& p, Lookup lookup, Visit visit) {
   auto near = [&](const Facet& f) {
     for (int i = 0; i < 2; ++i) {
       const Ball& b = f.reach[i];
-      if (f.side[i].used) {
+      if (f.half[i] >= 0) {
         // In the ball: on its centre's side, or in the lens behind the
         // plane (within the facet's circumcircle). allows needs the centre's
         // side only when that is not the bound's side (p is then on the
         // other side of the facet), tighten only when it is.
-        const Facet::HalfSpace& h = f.side[i];
+        const HalfSpace& h = halves_[f.half[i]];
         const Vec3 d = p - h.origin;
         const double t = dot(d, h.normal), margin = 1e-9 * norm(d) + 1e-9 * h.radius;
         const bool centre_side_counts = (lookup == Lookup::tightens) == h.centre_on_bound_side;
@@ -181,7 +182,8 @@ void FacetWitnesses::for_each_near(const Vec3& p, Lookup lookup, Visit visit) {
       // Every member's test, (p - o).n >= -(lens + margin), bounded from
       // above over the group (its normals differ from g.normal by tilt).
       const double reach = norm(p) + g.farthest_origin;
-      if (dot(p, g.normal) - g.nearest_offset + reach * g.tilt < -(g.largest_lens + 4e-9 * reach)) continue;
+      if (dot(p, g.normal) - g.nearest_offset + reach * g.tilt < -(g.largest_lens + 2e-9 * g.largest_radius + 4e-9 * reach))
+        continue;
       for (int id : g.members)
         if (near(facets_[id]) && !visit(facets_[id])) return;
     }
@@ -209,9 +211,9 @@ void FacetWitnesses::spread(int id) {
     }
     if (bounds[i]->kind == Bound::point && fill_half_space(f, i, *bounds[i])) {
       join_group(id, i);
-      largest = std::max(largest, f.side[i].radius);  // its lens, listed in the cells
+      largest = std::max(largest, halves_[f.half[i]].radius);  // its lens, listed in the cells
     } else {
-      f.side[i].used = false;
+      f.half[i] = -1;  // its slot in halves_ stays, unused
       largest = std::isnan(f.reach[i].radius) ? INFINITY : std::max(largest, f.reach[i].radius);
     }
   }
@@ -226,7 +228,7 @@ void FacetWitnesses::spread(int id) {
     return;
   }
   for (int i = 0; i < 2; ++i) {
-    const Ball ball = f.side[i].used ? Ball{f.side[i].origin, f.side[i].radius} : f.reach[i];
+    const Ball ball = f.half[i] >= 0 ? Ball{halves_[f.half[i]].origin, halves_[f.half[i]].radius} : f.reach[i];
     if (ball.radius < 0) continue;
     const double r = ball.radius * (1 + 1e-6) + 1e-12 * cell_;
     const Cell lo = cell_of(ball.centre - Vec3{r, r, r}, level), hi = cell_of(ball.centre + Vec3{r, r, r}, level);
@@ -247,7 +249,7 @@ void FacetWitnesses::spread(int id) {
 // at most r^2 / (2 |s|) = r^2 |e| / |d^2 + e^2 - r^2| behind the plane. |e| is
 // bounded from above and |d^2 - r^2| from below, with margins far above the
 // rounding, so the lens is an upper bound.
-bool FacetWitnesses::fill_half_space(Facet& f, int i, const Bound& bound) const {
+bool FacetWitnesses::fill_half_space(Facet& f, int i, const Bound& bound) {
   const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
   const Vec3& q = bound.at;
   const Ball circle = equatorial_sphere(a, b, c);
@@ -261,7 +263,8 @@ bool FacetWitnesses::fill_half_space(Facet& f, int i, const Bound& bound) const 
   if (!(twice_area > 1e-6 * longest * longest)) return false;
   const Vec3 n = (1.0 / twice_area) * cr;
   const double scale = norm(q - circle.centre) + r;
-  const double e = std::abs(dot(q - a, n)) + 1e-12 * scale;
+  // n is off by up to about 1e-16 |ab| |ac| / |ab x ac| <= 1e-10 rad here.
+  const double e = std::abs(dot(q - a, n)) + 1e-9 * (norm(q - a) + scale);
   const Vec3 in_plane = (q - circle.centre) - dot(q - circle.centre, n) * n;
   const double gap = std::abs(dot(in_plane, in_plane) - r * r) - 1e-9 * scale * scale;
   if (!(gap > 1e-6 * r * r)) return false;
@@ -270,8 +273,11 @@ bool FacetWitnesses::fill_half_space(Facet& f, int i, const Bound& bound) const 
   const int q_side = orientation(a, b, c, q);
   if (q_side == 0) return false;
   const bool towards_q = side_of_equatorial_sphere(a, b, c, q) == SphereSide::outside;
-  Facet::HalfSpace& h = f.side[i];
-  h.used = true;
+  if (f.half[i] < 0) {
+    f.half[i] = static_cast<int>(halves_.size());
+    halves_.emplace_back();
+  }
+  HalfSpace& h = halves_[f.half[i]];
   h.origin = circle.centre;
   h.normal = (q_side > 0) == towards_q ? n : -1.0 * n;
   // Off the plane by the circumcentre's error too.
@@ -283,7 +289,7 @@ bool FacetWitnesses::fill_half_space(Facet& f, int i, const Bound& bound) const 
 
 void FacetWitnesses::join_group(int id, int i) {
   const Facet& f = facets_[id];
-  const Facet::HalfSpace& h = f.side[i];
+  const HalfSpace& h = halves_[f.half[i]];
   const std::int64_t key = (static_cast<std::int64_t>(f.face) << 2) | (i << 1) | (h.normal.x + h.normal.y + h.normal.z >= 0);
   const int kind = h.centre_on_bound_side ? 0 : 1;
   auto [it, fresh] = group_of_[kind].emplace(key, static_cast<int>(groups_[kind].size()));
@@ -297,7 +303,12 @@ void FacetWitnesses::join_group(int id, int i) {
   g.largest_lens = std::max(g.largest_lens, h.lens);
   g.tilt = std::max(g.tilt, norm(h.normal - g.normal) * (1 + 1e-9) + 1e-15);
   g.farthest_origin = std::max(g.farthest_origin, norm(h.origin));
-  if (g.members.empty() || g.members.back() != id) g.members.push_back(id);
+  g.largest_radius = std::max(g.largest_radius, h.radius);
+  // Listed once: a facet is spread again at every move of its vertices.
+  if (!grouped_[2 * id + i]) {
+    grouped_[2 * id + i] = 1;
+    g.members.push_back(id);
+  }
 }
 
 }  // namespace vd

@@ -56,6 +56,12 @@ class FacetWitnesses {
     enum Kind { none, point, equatorial } kind = none;
     Vec3 at;
   };
+  struct HalfSpace {
+    Vec3 origin, normal;  // the facet's circumcentre; towards the ball's centre
+    double lens = 0;      // how far behind the plane the ball may reach
+    double radius = 0;    // the facet's circumradius, with a margin
+    bool centre_on_bound_side = true;  // the usual case: the bound vertex is outside the circumcircle
+  };
   struct Facet {
     std::array<int, 3> v;
     Bound above, below;
@@ -72,13 +78,9 @@ class FacetWitnesses {
     // and the walk through the list of such facets were 85 % of a 130 s
     // sliver pass. The side and the lens come from exact predicates and
     // bounds, not from the ball, whose centre is noise at that flatness.
-    struct HalfSpace {
-      bool used = false;
-      Vec3 origin, normal;  // the facet's circumcentre; towards the ball's centre
-      double lens = 0;      // how far behind the plane the ball may reach
-      double radius = 0;    // the facet's circumradius, with a margin
-      bool centre_on_bound_side = true;  // the usual case: the bound vertex is outside the circumcircle
-    } side[2];
+    // Index into halves_ per side, -1 when the side is a ball: few facets
+    // have one, and in the facet it doubled its size.
+    int half[2] = {-1, -1};
     int face = 0;
   };
   // The half-space balls of the facets of one face and one side, looked at
@@ -90,7 +92,8 @@ class FacetWitnesses {
     double largest_lens = 0;
     double tilt = 0;             // largest |member normal - normal|
     double farthest_origin = 0;  // largest |origin|
-    std::vector<int> members;    // facet ids (a facet may be listed more than once)
+    double largest_radius = 0;   // of the members' circumcircles
+    std::vector<int> members;    // facet ids
   };
   using Cell = std::array<std::int64_t, 3>;
   struct CellHash {
@@ -114,6 +117,7 @@ class FacetWitnesses {
   bool grid_built_ = false;
   double cell_ = 1.0;
   std::vector<Facet> facets_;
+  std::vector<HalfSpace> halves_;
   std::vector<std::vector<int>> facets_of_;  // per vertex
   // Balls of radius under 3 cell sizes are listed in the cells they cover;
   // level k's cells are kLevelScale[k] times level 0's, and a facet goes to
@@ -127,9 +131,10 @@ class FacetWitnesses {
   // of the others (both need them).
   std::vector<HalfSpaceGroup> groups_[2];
   std::unordered_map<std::int64_t, int> group_of_[2];  // (face, side, normal) -> groups_ index
-  bool fill_half_space(Facet& f, int i, const Bound& bound) const;
+  bool fill_half_space(Facet& f, int i, const Bound& bound);
   void join_group(int id, int i);
   std::vector<char> in_large_;  // per facet
+  std::vector<char> grouped_;   // per facet and side: in its group's members
   std::array<std::unordered_map<Cell, std::vector<int>, CellHash>, kLevels> cells_;
 };
 
