@@ -14,14 +14,15 @@
 
 #include "app/args.h"
 #include "app/commands.h"
+#include "cad/cad_model.h"
 #include "compare/child_process.h"
 #include "compare/compare_report.h"
 #include "compare/mesh_checks.h"
 #include "compare/svg_histogram.h"
 #include "compare/tetgen_runner.h"
-#include "cad/cad_model.h"
 #include "converters/registry.h"
 #include "mesh/error.h"
+#include "mesh/number_text.h"
 #include "pipeline/mesher.h"
 #include "surface/face_patches.h"
 
@@ -172,11 +173,7 @@ double total_volume(const MeshChecks& c) {
   return v;
 }
 
-std::string format_g(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", x);
-  return b;
-}
+std::string format_g(double x) { return number_text(x); }
 
 // Exit code for vdmesh's side of one run (0: fine).
 int vdmesh_exit(const CheckedRun& r) {

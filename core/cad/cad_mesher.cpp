@@ -5,16 +5,13 @@
 #include <string>
 
 #include "mesh/error.h"
+#include "mesh/number_text.h"
 
 namespace vd::cad {
 
 namespace {
 
-std::string format_number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", x);
-  return text;
-}
+std::string format_number(double x) { return number_text(x, "%g"); }
 
 MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& options, const TessellationOptions& topt,
                              int retries, MeshResult* partial) {

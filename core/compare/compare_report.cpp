@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "mesh/number_text.h"
+
 namespace vd::compare {
 namespace {
 
@@ -26,12 +28,7 @@ std::string json_string(const std::string& s) {
 
 // Every digit: with 9, a region volume of 0.3333333333333334 read back as
 // 0.333333333 differed from the mesh's own sum by just over 1e-9.
-std::string num(double x) {
-  if (!std::isfinite(x)) return "null";
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  return b;
-}
+std::string num(double x) { return std::isfinite(x) ? number_text(x, "%.17g") : "null"; }
 
 const char* boolean(bool b) { return b ? "true" : "false"; }
 
@@ -123,11 +120,7 @@ std::string mesher_json(const CheckedRun& r, const std::string& indent) {
 
 std::string cell(const CheckedRun& r, const std::string& text) { return r.checked ? text : "-"; }
 
-std::string f(const char* format, double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, format, x);
-  return b;
-}
+std::string f(const char* format, double x) { return number_text(x, format); }
 
 }  // namespace
 

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "mesh/number_text.h"
+
 namespace vd::compare {
 namespace {
 
@@ -19,11 +21,7 @@ std::string escape(const std::string& s) {
   return out;
 }
 
-std::string fmt(const char* f, double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, x);
-  return b;
-}
+std::string fmt(const char* f, double x) { return number_text(x, f); }
 
 }  // namespace
 

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "mesh/number_text.h"
 #include "pipeline/mesher.h"
 
 namespace vd {
@@ -20,17 +21,9 @@ std::string json_array(const Range& r) {
 
 // Six digits for the table; every digit in the JSON, where a volume error of
 // 1e-6 must still show.
-std::string num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", x);
-  return buf;
-}
+std::string num(double x) { return number_text(x); }
 
-std::string exact(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
+std::string exact(double x) { return number_text(x, "%.17g"); }
 
 }  // namespace
 
