@@ -15,8 +15,9 @@ namespace {
 
 // Under this angle a tetrahedron of four surface vertices with no face on
 // the surface, two of them on opposite sides of a wall, gets its centroid.
-// Only the nearly degenerate ones: at 3 deg the lever got 11 % more
-// tetrahedra under 10 deg, at 1 deg none more.
+// Only the nearly degenerate ones (the casting's were at 0.01 deg): at 3 deg,
+// before the wall conditions of spans_a_wall, the lever got 14 % more
+// tetrahedra under 10 deg (3,340 -> 3,803), at 1 deg 4 %.
 constexpr double kFlatAcrossAWallDeg = 1.0;
 
 struct Cap {
