@@ -15,16 +15,12 @@
 
 #include "cad/cad_impl.h"
 #include "surface/edge_map.h"
+#include "surface/face_patches.h"
 
 namespace vd::cad {
 namespace {
 
 gp_Pnt2d mid(const gp_Pnt2d& a, const gp_Pnt2d& b) { return {0.5 * (a.X() + b.X()), 0.5 * (a.Y() + b.Y())}; }
-
-double angle_at(const Vec3& apex, const Vec3& p, const Vec3& q) {
-  const Vec3 a = p - apex, b = q - apex;
-  return std::atan2(norm(cross(a, b)), dot(a, b));
-}
 
 // The CAD geometry evaluated lazily, once per face and edge.
 class Geometry {
@@ -273,7 +269,7 @@ class Refiner {
     if (hugs_border(a, d, c) || hugs_border(d, b, c)) return false;
     if (knife_[a] || knife_[b] || knife_[c] || knife_[d]) return false;
     const auto& P = m.points;
-    if (angle_at(P[c], P[a], P[b]) + angle_at(P[d], P[b], P[a]) <= M_PI * (1 + 1e-9)) return false;
+    if (corner_angle(P[c], P[a], P[b]) + corner_angle(P[d], P[b], P[a]) <= M_PI * (1 + 1e-9)) return false;
     const Vec3 old1 = area_vector(m, m.triangles[f1].v), old2 = area_vector(m, m.triangles[f2].v);
     const Vec3 A1 = area_vector(m, {a, d, c}), A2 = area_vector(m, {d, b, c});
     if (dot(A1, old1 + old2) <= 0 || dot(A2, old1 + old2) <= 0) return false;

@@ -16,16 +16,6 @@ namespace {
 // as a share of the narrowest split facet's height (see split_edge).
 constexpr double kChordShare = 0.3;
 
-double smallest_corner_angle(const std::vector<Vec3>& p, const Triangle& t) {
-  double best = M_PI;
-  for (int i = 0; i < 3; ++i) {
-    const Vec3 a = p[t.v[(i + 1) % 3]] - p[t.v[i]];
-    const Vec3 b = p[t.v[(i + 2) % 3]] - p[t.v[i]];
-    best = std::min(best, std::atan2(norm(cross(a, b)), dot(a, b)));
-  }
-  return best;
-}
-
 Vec3 area_vector(const std::vector<Vec3>& p, const Triangle& t) {
   return cross(p[t.v[1]] - p[t.v[0]], p[t.v[2]] - p[t.v[0]]);
 }

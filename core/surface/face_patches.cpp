@@ -1,5 +1,6 @@
 #include "surface/face_patches.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -13,6 +14,17 @@ Vec3 facet_normal(const std::vector<Vec3>& p, const Triangle& t) {
 
 double facet_area(const std::vector<Vec3>& p, const Triangle& t) {
   return 0.5 * norm(cross(p[t.v[1]] - p[t.v[0]], p[t.v[2]] - p[t.v[0]]));
+}
+
+double corner_angle(const Vec3& apex, const Vec3& p, const Vec3& q) {
+  const Vec3 a = p - apex, b = q - apex;
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
+double smallest_corner_angle(const std::vector<Vec3>& p, const Triangle& t) {
+  double best = M_PI;
+  for (int i = 0; i < 3; ++i) best = std::min(best, corner_angle(p[t.v[i]], p[t.v[(i + 1) % 3]], p[t.v[(i + 2) % 3]]));
+  return best;
 }
 
 int assign_face_patches(Mesh& m, double sharp_angle_deg, const EdgeMap* given) {

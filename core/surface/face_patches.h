@@ -19,5 +19,10 @@ int assign_face_patches(Mesh& surface, double sharp_angle_deg = kDefaultSharpAng
 // Unit normal of facet t (right-hand rule); zero for a degenerate facet.
 Vec3 facet_normal(const std::vector<Vec3>& points, const Triangle& t);
 double facet_area(const std::vector<Vec3>& points, const Triangle& t);
+// The angle (radians) at `apex` between the directions to p and q; atan2,
+// which keeps its digits near 0 and pi where acos does not.
+double corner_angle(const Vec3& apex, const Vec3& p, const Vec3& q);
+// The smallest of facet t's three corner angles (radians).
+double smallest_corner_angle(const std::vector<Vec3>& points, const Triangle& t);
 
 }  // namespace vd

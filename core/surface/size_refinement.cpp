@@ -1,16 +1,17 @@
 #include "surface/size_refinement.h"
 
 #include <algorithm>
-#include <map>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <map>
 #include <queue>
 #include <tuple>
 #include <unordered_set>
 #include <vector>
 
 #include "surface/edge_map.h"
+#include "surface/face_patches.h"
 
 namespace vd {
 namespace {
@@ -26,11 +27,6 @@ void split_facet(Mesh& m, int f, int p, int q, int n) {
   t.v = {a, n, c};
   second.v = {n, b, c};
   m.triangles.push_back(second);
-}
-
-double angle_at(const Vec3& apex, const Vec3& p, const Vec3& q) {
-  const Vec3 a = p - apex, b = q - apex;
-  return std::atan2(norm(cross(a, b)), dot(a, b));
 }
 
 Vec3 area_of(const Mesh& m, int a, int b, int c) { return cross(m.points[b] - m.points[a], m.points[c] - m.points[a]); }
@@ -64,7 +60,7 @@ int flip_towards_delaunay(Mesh& m, double ridge_deg) {
       const int s = opposite_vertex(t2, p, q);
       if (r == s || adjacency.contains(edge_key(r, s)) || made.count(edge_key(r, s))) continue;
       const auto& P = m.points;
-      if (angle_at(P[r], P[p], P[q]) + angle_at(P[s], P[q], P[p]) <= M_PI * (1 + 1e-9)) continue;
+      if (corner_angle(P[r], P[p], P[q]) + corner_angle(P[s], P[q], P[p]) <= M_PI * (1 + 1e-9)) continue;
       const Vec3 o1 = area_of(m, p, q, r), o2 = area_of(m, q, p, s);
       const Vec3 n1 = area_of(m, s, q, r), n2 = area_of(m, r, p, s);
       const Vec3 n = normalized(normalized(o1) + normalized(o2));
@@ -120,10 +116,7 @@ std::vector<char> sharp_face_corners(const Mesh& m, double limit_deg) {
   std::map<std::pair<int, int>, double> angle;  // (vertex, face)
   for (const Triangle& t : m.triangles)
     for (int k = 0; k < 3; ++k) {
-      const Vec3& p = m.points[t.v[k]];
-      const Vec3 u = m.points[t.v[(k + 1) % 3]] - p, w = m.points[t.v[(k + 2) % 3]] - p;
-      const double c = dot(u, w) / (norm(u) * norm(w));
-      angle[{t.v[k], t.face}] += std::acos(std::clamp(c, -1.0, 1.0));
+      angle[{t.v[k], t.face}] += corner_angle(m.points[t.v[k]], m.points[t.v[(k + 1) % 3]], m.points[t.v[(k + 2) % 3]]);
     }
   std::vector<char> sharp(m.points.size(), 0);
   const double limit = limit_deg * M_PI / 180.0;

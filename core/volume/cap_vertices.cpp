@@ -47,14 +47,6 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
   // tetrahedron's longest edge: a spike or a wedge of the input is thin by
   // design, and a point inside it only cuts its small angle (the 1 deg wedge
   // of plc-sharp: 0.82 -> 0.50 deg, the pump's smallest angle 1.12 -> 0.24).
-  auto sharp_corner = [&](const Triangle& tri) {
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 u = m.points[tri.v[(k + 1) % 3]] - m.points[tri.v[k]];
-      const Vec3 w = m.points[tri.v[(k + 2) % 3]] - m.points[tri.v[k]];
-      if (dot(u, w) > std::cos(10.0 * M_PI / 180.0) * norm(u) * norm(w)) return true;
-    }
-    return false;
-  };
   auto spans_a_wall = [&](const Tetrahedron& t) {
     if (facets_at.empty()) {
       facets_at.resize(m.points.size());
@@ -70,7 +62,7 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
         const Vec3 nf = facet_normal(m.points, tri);
         if (tri.front == t.region) sum = sum + nf;
         else if (tri.back == t.region) sum = sum - nf;
-        if (sharp_corner(tri)) return false;
+        if (smallest_corner_angle(m.points, tri) < 10.0 * M_PI / 180.0) return false;
       }
       if (!(norm(sum) > 0.7 * static_cast<double>(facets_at[t.v[i]].size()))) return false;
       normal[i] = sum;

@@ -202,14 +202,16 @@ void FacetWitnesses::spread(int id) {
   Facet& f = facets_[id];
   const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
   const Bound* bounds[2] = {&f.above, &f.below};
+  // Both sides may need the facet's circumcircle: computed once.
+  const Ball circle = equatorial_sphere(a, b, c);
   double largest = -1;
   for (int i = 0; i < 2; ++i) {
     switch (bounds[i]->kind) {
       case Bound::none: f.reach[i] = Ball{Vec3{}, -1.0}; break;
       case Bound::point: f.reach[i] = circumsphere(a, b, c, bounds[i]->at); break;
-      case Bound::equatorial: f.reach[i] = equatorial_sphere(a, b, c); break;
+      case Bound::equatorial: f.reach[i] = circle; break;
     }
-    if (bounds[i]->kind == Bound::point && fill_half_space(f, i, *bounds[i])) {
+    if (bounds[i]->kind == Bound::point && fill_half_space(f, i, *bounds[i], circle)) {
       join_group(id, i);
       largest = std::max(largest, halves_[f.half[i]].radius);  // its lens, listed in the cells
     } else {
@@ -249,10 +251,9 @@ void FacetWitnesses::spread(int id) {
 // at most r^2 / (2 |s|) = r^2 |e| / |d^2 + e^2 - r^2| behind the plane. |e| is
 // bounded from above and |d^2 - r^2| from below, with margins far above the
 // rounding, so the lens is an upper bound.
-bool FacetWitnesses::fill_half_space(Facet& f, int i, const Bound& bound) {
+bool FacetWitnesses::fill_half_space(Facet& f, int i, const Bound& bound, const Ball& circle) {
   const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];
   const Vec3& q = bound.at;
-  const Ball circle = equatorial_sphere(a, b, c);
   const double r = circle.radius;
   if (!std::isfinite(r) || !(r > 0)) return false;
   const Vec3 ab = b - a, ac = c - a, bc = c - b;

@@ -131,7 +131,8 @@ class FacetWitnesses {
   // of the others (both need them).
   std::vector<HalfSpaceGroup> groups_[2];
   std::unordered_map<std::int64_t, int> group_of_[2];  // (face, side, normal) -> groups_ index
-  bool fill_half_space(Facet& f, int i, const Bound& bound);
+  // `circle`: the facet's equatorial sphere.
+  bool fill_half_space(Facet& f, int i, const Bound& bound, const Ball& circle);
   void join_group(int id, int i);
   std::vector<char> in_large_;  // per facet
   std::vector<char> grouped_;   // per facet and side: in its group's members
