@@ -27,7 +27,7 @@ const char* kMeshHelp =
     "options:\n"
     "  --size H                target edge length (default: surface input: from its edges, graded;\n"
     "                          CAD input: bounding box diagonal / 25, reported)\n"
-    "  --deflection D          CAD: chord height of the face tessellation\n                          (default: size / 10, at most the thinnest solid's 2V/A / 50)\n"
+    "  --deflection D          CAD: chord height of the face tessellation\n                          (default: per face, size / 10, at most 2V/A / 50 of the solids\n                          on either side)\n"
     "  --angular-deflection DEG  CAD: largest angle between the normals along a facet of a curved face\n"
     "                          (default 20; the starting value under --volume-tolerance; without it,\n"
     "                          --deflection, --max-passes and --max-added, a recovery that stops at\n"

@@ -132,9 +132,12 @@ inline std::uint64_t edge_key(int a, int b) {
 }
 
 // cad_tessellate.cpp: OpenCASCADE's mesher, welded through the shared edge
-// discretisation, tagged and oriented.
-CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double angle_rad, TessellationStats& stats,
-                            const std::atomic<bool>* cancel = nullptr);
+// discretisation, tagged and oriented. `face_deflection`: the chord height
+// of each face (index into Impl::faces).
+CadSurface tessellate_faces(const CadModel::Impl& cad, const std::vector<double>& face_deflection, double angle_rad,
+                            TessellationStats& stats, const std::atomic<bool>* cancel = nullptr);
+// Which solid (its number) lies in front of and behind each face, 0 for none.
+void face_sides(const CadModel::Impl& cad, std::vector<int>& front, std::vector<int>& back);
 // cad_collapse.cpp: edges shorter than `max_length` collapsed where the
 // geometry allows (inner nodes onto a neighbour, edge nodes along their CAD
 // edge); the removed vertices are dropped. Returns the number collapsed.

@@ -96,8 +96,8 @@ class CadModel {
   struct Impl;
 
  private:
-  // Largest |tessellated / CAD - 1| over the solids (cad_volume per solid, 0: unknown).
-  double worst_volume_error(const Mesh& surface, const std::vector<double>& cad_volume) const;
+  // |tessellated / CAD - 1| per solid (cad_volume per solid, 0: unknown, error 0).
+  std::vector<double> volume_errors(const Mesh& surface, const std::vector<double>& cad_volume) const;
   explicit CadModel(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

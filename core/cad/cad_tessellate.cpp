@@ -5,6 +5,7 @@
 // vertex in every face that the edge bounds (no welding by distance).
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
@@ -12,6 +13,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopLoc_Location.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
 #include <TopoDS_Vertex.hxx>
 
 #include <algorithm>
@@ -22,7 +24,6 @@
 #include "mesh/error.h"
 
 namespace vd::cad {
-namespace {
 
 // Which solid lies on each side of each face: OpenCASCADE orients a face of
 // a solid (as met in the solid) with its surface normal pointing out of it.
@@ -54,6 +55,8 @@ void face_sides(const CadModel::Impl& cad, std::vector<int>& front, std::vector<
     if (back[f] < 0) back[f] = 0;
   }
 }
+
+namespace {
 
 class Welder {
  public:
@@ -178,22 +181,45 @@ std::vector<char> folded_pairs(const CadSurface& s, TessellationStats& stats) {
   return drop;
 }
 
+// BRepMesh takes one chord height per call. Faces are meshed finest first,
+// each call over every face at or below its chord height: a face meshed
+// before keeps its triangulation (BRepMesh reuses one at least as fine as
+// asked), and an edge it shares with a coarser face keeps its nodes, since
+// BRepMesh takes an edge's discretisation from the finest face around it
+// that it is given. The faces then weld through shared edge nodes as if
+// meshed in one call.
+void mesh_faces_by_deflection(const CadModel::Impl& cad, const std::vector<double>& face_deflection,
+                              double angle_rad, const std::atomic<bool>* cancel_flag) {
+  std::vector<double> levels(face_deflection);
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  OccCancel cancel(cancel_flag);
+  for (size_t l = 0; l < levels.size(); ++l) {
+    TopoDS_Compound faces;
+    BRep_Builder builder;
+    builder.MakeCompound(faces);
+    for (size_t f = 0; f < cad.faces.size(); ++f)
+      if (face_deflection[f] <= levels[l]) builder.Add(faces, cad.faces[f]);
+    IMeshTools_Parameters parameters;
+    parameters.Deflection = levels[l];
+    parameters.Angle = angle_rad;
+    parameters.Relative = false;
+    parameters.InParallel = false;
+    BRepMesh_IncrementalMesh mesher(l + 1 == levels.size() ? cad.shape : TopoDS_Shape(faces), parameters,
+                                    cancel.range());
+    cancel.check();
+    if (!mesher.IsDone()) throw InputError(cad.name + ": OpenCASCADE's mesher failed on the shape");
+  }
+}
+
 }  // namespace
 
-CadSurface tessellate_faces(const CadModel::Impl& cad, double deflection, double angle_rad, TessellationStats& stats,
-                            const std::atomic<bool>* cancel_flag) {
+CadSurface tessellate_faces(const CadModel::Impl& cad, const std::vector<double>& face_deflection, double angle_rad,
+                            TessellationStats& stats, const std::atomic<bool>* cancel_flag) {
   const auto t0 = std::chrono::steady_clock::now();
   // Triangulations stored in the file were made for another purpose.
   BRepTools::Clean(cad.shape);
-  OccCancel cancel(cancel_flag);
-  IMeshTools_Parameters parameters;
-  parameters.Deflection = deflection;
-  parameters.Angle = angle_rad;
-  parameters.Relative = false;
-  parameters.InParallel = false;
-  BRepMesh_IncrementalMesh mesher(cad.shape, parameters, cancel.range());
-  cancel.check();
-  if (!mesher.IsDone()) throw InputError(cad.name + ": OpenCASCADE's mesher failed on the shape");
+  mesh_faces_by_deflection(cad, face_deflection, angle_rad, cancel_flag);
 
   CadSurface out;
   std::vector<int> front, back;

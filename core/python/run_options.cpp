@@ -79,8 +79,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     cancel (vdmesh.CancelToken or None): cancel.set() from any thread stops the run,
         which then raises vdmesh.Cancelled
   CAD input only:
-    deflection (float, 0): chord height of the face tessellation (0: size / 10,
-        at most the thinnest solid's mean thickness 2V/A / 50)
+    deflection (float, 0): chord height of the face tessellation (0: per face, size / 10,
+        at most the mean thickness 2V/A / 50 of the solids on either side)
     planar_splits (bool, False): split vertices at chord mid-points instead of on the CAD geometry
     angular_deflection (float, 20): OpenCASCADE's angular deflection (deg) on curved faces;
         unless it, deflection, max_passes or max_added is given, a recovery that stops at

@@ -211,6 +211,35 @@ if code == 0:
         check(len(set(face[inner].tolist())) == 1 and pairs == {(1, 2)},
               "two boxes: the interface is one face between regions 1 and 2 (faces %s, sides %s)" % (set(face[inner].tolist()), pairs))
 
+# Chord height per face: a thin slab (2V/A = 0.098, chord 0.00196) beside a
+# big sphere (2V/A = 6.7, chord 0.13). The sphere is tessellated at its own
+# chord height (made finer by the volume tolerance), not the slab's; with
+# about the slab's everywhere (--deflection 0.002) it has over five times
+# the facets. Both solids keep their volume.
+apart = make_brep("slab_sphere", lambda occ: (occ.addBox(0, 0, 0, 10, 10, 0.1), occ.addSphere(25, 5, 0, 10)))
+
+
+def sphere_facets(target):
+    import meshio
+    m = meshio.read(target)
+    tris = m.cells_dict["triangle"]
+    r = np.linalg.norm(m.points[tris].mean(axis=1) - [25, 5, 0], axis=1)
+    return int((np.abs(r - 10) < 1).sum())
+
+
+code, rep, target, err = mesh(apart, "--size", "2", "--quiet")
+check(code == 0, "slab and sphere mesh (exit %s: %s)" % (code, err.strip()[-300:]))
+if code == 0:
+    check_mesh(target, rep, "slab and sphere")
+    own = sphere_facets(target)
+    code2, _, target2, err2 = mesh(apart, "--size", "2", "--deflection", "0.002", "--quiet")
+    check(code2 == 0, "slab and sphere at --deflection 0.002 mesh (exit %s: %s)" % (code2, err2.strip()[-300:]))
+    shared = sphere_facets(target2) if code2 == 0 else 0
+    slab = 2 * 10.0 / (2 * 100 + 4 * 1) / 50
+    check(abs(rep["cad"]["deflection"] - slab) < 1e-9 and own * 5 < shared,
+          "slab and sphere: finest chord height %g; the sphere has %d facets at its own, %d at the slab's"
+          % (rep["cad"]["deflection"], own, shared))
+
 # Real files from the shared data.
 for rel, solids, interfaces in (("cad-assembly/gmsh_wing_fuselage.step", 2, 1),
                                 # its pins lost 0.85 % before recovery flips were bounded
