@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mesh/parallel.h"
 
@@ -41,7 +42,7 @@ std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Ve
   return out;
 }
 
-double smallest_dihedral_score(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+double smallest_dihedral_score_above(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double floor) {
   const Vec3 ab = b - a, ac = c - a, ad = d - a;
   if (dot(cross(ab, ac), ad) <= 0) return -2.0;
   // Outward normals of the faces opposite d, c, b and a of a positive tetrahedron.
@@ -55,8 +56,15 @@ double smallest_dihedral_score(const Vec3& a, const Vec3& b, const Vec3& c, cons
   // normals of its two faces: the smallest angle has the smallest cosine.
   double lowest = 1.0;
   for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j) lowest = std::min(lowest, dot(n[i], n[j]) / (len[i] * len[j]));
+    for (int j = i + 1; j < 4; ++j) {
+      lowest = std::min(lowest, dot(n[i], n[j]) / (len[i] * len[j]));
+      if (lowest <= floor) return lowest;
+    }
   return std::clamp(lowest, -1.0, 1.0);
+}
+
+double smallest_dihedral_score(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return smallest_dihedral_score_above(a, b, c, d, -std::numeric_limits<double>::infinity());
 }
 
 double dihedral_degrees_of_score(double score) {

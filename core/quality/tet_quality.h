@@ -22,6 +22,10 @@ double smallest_dihedral_if_positive(const Vec3& a, const Vec3& b, const Vec3& c
 // tetrahedra as their smallest angle does, without the acos. Converted both
 // ways by the two functions after it.
 double smallest_dihedral_score(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+// The same score when it is above `floor`; otherwise some value at or below
+// `floor`, found without the rest of the angles (a search that only asks
+// "better than the best so far?" gets the same answers, sooner).
+double smallest_dihedral_score_above(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double floor);
 double dihedral_degrees_of_score(double score);
 double dihedral_score_of_degrees(double deg);
 double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);

@@ -615,9 +615,10 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
   // stopping early once it cannot beat `floor`.
   auto quality_at = [&](const Vec3& x, double floor) {
     double lo = 1.0;
-    for (Local l : local) {
-      l.p[l.slot] = x;
-      lo = std::min(lo, smallest_dihedral_score(l.p[0], l.p[1], l.p[2], l.p[3]));
+    for (const Local& l : local) {
+      const Vec3* p[4] = {&l.p[0], &l.p[1], &l.p[2], &l.p[3]};
+      p[l.slot] = &x;
+      lo = std::min(lo, smallest_dihedral_score_above(*p[0], *p[1], *p[2], *p[3], floor));
       if (lo <= floor) return lo;
     }
     return lo;
