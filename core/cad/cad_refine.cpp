@@ -376,11 +376,11 @@ class Refiner {
     std::sort(out.begin(), out.end());
     return out;
   }
+  // Candidates for flip_towards_delaunay, which orders them and drops repeats.
   std::vector<std::uint64_t> all_edges() const {
     std::vector<std::uint64_t> keys;
     keys.reserve(edges_.all().size());
     for (const auto& [k, around] : edges_.all()) keys.push_back(k);
-    std::sort(keys.begin(), keys.end());
     return keys;
   }
   std::vector<std::uint64_t> edges_of_changed() const {
@@ -389,8 +389,6 @@ class Refiner {
       const auto& v = s_.mesh.triangles[f].v;
       for (int i = 0; i < 3; ++i) keys.push_back(edge_key(v[i], v[(i + 1) % 3]));
     }
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
     return keys;
   }
 

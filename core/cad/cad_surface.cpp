@@ -49,12 +49,12 @@ double exact_area(const TopoDS_Shape& shape) {
 // the finest times a power of two, so that the faces are meshed in few calls
 // whose chord heights differ enough for BRepMesh to keep, at each call, what
 // the finer calls made (cad_tessellate.cpp).
-std::vector<double> chord_heights(const CadModel::Impl& cad, const std::map<int, double>& solid_deflection) {
-  std::vector<int> front, back;
-  face_sides(cad, front, back);
-  std::vector<double> height(cad.faces.size(), std::numeric_limits<double>::infinity());
+// front/back: the solids on each face's sides (face_sides).
+std::vector<double> chord_heights(const std::vector<int>& front, const std::vector<int>& back,
+                                  const std::map<int, double>& solid_deflection) {
+  std::vector<double> height(front.size(), std::numeric_limits<double>::infinity());
   double finest = std::numeric_limits<double>::infinity();
-  for (size_t f = 0; f < cad.faces.size(); ++f) {
+  for (size_t f = 0; f < front.size(); ++f) {
     for (const int solid : {front[f], back[f]})
       if (solid_deflection.count(solid)) height[f] = std::min(height[f], solid_deflection.at(solid));
     finest = std::min(finest, height[f]);
@@ -88,9 +88,10 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
     solid_deflection[impl_->solid_number[i]] =
         area > 0 && volume > 0 ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0) : stats.size / 10.0;
   }
+  std::vector<int> front, back;
+  face_sides(*impl_, front, back);
   std::vector<double> face_deflection(impl_->faces.size(), options.deflection);
-  if (automatic) face_deflection = chord_heights(*impl_, solid_deflection);
-  double deflection = *std::min_element(face_deflection.begin(), face_deflection.end());
+  if (automatic) face_deflection = chord_heights(front, back, solid_deflection);
   double angle_deg = options.angle_deg;
   double seconds_tessellate = 0, seconds_refine = 0, first_facets = 0, previous_worst = 0, best_facets = 0;
   Mesh best;  // the previous round's surface
@@ -98,6 +99,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   try {
     for (int round = 1;; ++round) {
       TessellationStats pass = stats;
+      const double deflection = *std::min_element(face_deflection.begin(), face_deflection.end());
       pass.deflection = deflection;
       pass.angle_deg = angle_deg;
       pass.rounds = round;
@@ -156,8 +158,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       // and the faces around them.
       for (size_t i = 0; i < errors.size(); ++i)
         if (errors[i] > options.volume_tolerance) solid_deflection[impl_->solid_number[i]] *= shrink;
-      face_deflection = chord_heights(*impl_, solid_deflection);
-      deflection = *std::min_element(face_deflection.begin(), face_deflection.end());
+      face_deflection = chord_heights(front, back, solid_deflection);
       angle_deg *= std::sqrt(shrink);
     }
   } catch (const Standard_Failure& e) {
