@@ -148,6 +148,8 @@ int mesh_command(const std::vector<std::string>& raw) {
   // A tessellation or a guard given by hand is kept when recovery stops.
   const bool retry_tessellation = !args.has("--angular-deflection") && !args.has("--deflection") &&
                                   !args.has("--max-passes") && !args.has("--max-added");
+  // Asked before the option is consumed below: CAD input has its own default.
+  const bool sliver_angle_given = args.has("--sliver-angle");
   MeshOptions opt;
   const std::string output = args.value("-o", args.value("--output"));
   opt.oracle = args.value("--oracle", "dt");
@@ -192,7 +194,7 @@ int mesh_command(const std::vector<std::string>& raw) {
     opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s\n", phase.c_str()); };
 
   const bool cad_input = cad::CadModel::is_cad_file(pos[0]);
-  if (cad_input && !args.has("--sliver-angle")) opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
+  if (cad_input && !sliver_angle_given) opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
 
   MeshResult partial;
   try {

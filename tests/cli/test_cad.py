@@ -78,6 +78,14 @@ if code == 0:
         if block.type == "triangle":
             faces |= set(np.asarray(values).tolist())
     check(faces == set(range(1, 8)), "box with a hole: boundary triangles carry Face1..Face7 (%s)" % sorted(faces))
+    # A sliver angle given by hand wins over the CAD default (it was read,
+    # then overwritten by the default, until 2026-11-24).
+    code, rep20, _, err = mesh(boxhole, "--size", "1", "--sliver-angle", "20", "--quiet")
+    check(code == 0 and rep20["slivers"]["angle_deg"] == 20,
+          "CAD input: --sliver-angle 20 is used (exit %s, %s)" % (code, rep20["slivers"]["angle_deg"] if rep20 else err.strip()[-200:]))
+    if code == 0:
+        check(rep20["slivers"]["before"] > rep["slivers"]["before"],
+              "CAD input: more tetrahedra count as slivers at 20 deg than at 10 (%d > %d)" % (rep20["slivers"]["before"], rep["slivers"]["before"]))
 
 # Convergence on a curved solid: the volume error shrinks with the size.
 # OpenCASCADE's 20-degree angular deflection already gives the circles
