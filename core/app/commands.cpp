@@ -40,7 +40,8 @@ const char* kMeshHelp =
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
     "  --surface-grading R     with interior vertices: split surface edges longer than R x the surface's\n"
     "                          graded size (its shortest edges, grown by the gradation), with flips inside\n"
-    "                          faces; at least 1, default 2; 0: off\n"
+    "                          faces; at least 1, default 2; 0: off. CAD input: off by default; when\n"
+    "                          given, done on the CAD faces (size floor: size / 5)\n"
     "  --sliver-angle DEG      tetrahedra under this dihedral angle are slivers, removed or improved\n"
     "                          (default 20; CAD input 10)\n"
     "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
@@ -125,6 +126,10 @@ cad::TessellationOptions tessellation_options(Args& args) {
   t.deflection = args.number("--deflection", 0.0);
   t.angle_deg = args.number("--angular-deflection", t.angle_deg);
   t.volume_tolerance = args.number("--volume-tolerance", 100 * t.volume_tolerance) / 100;
+  // `mesh` has read these into its MeshOptions already (mesh_cad takes them
+  // from there); `convert` writes the surface `mesh` would start from.
+  t.grading = args.number("--surface-grading", cad::kCadSurfaceGrading);
+  t.gradation = args.number("--gradation", t.gradation);
   if (!(t.deflection >= 0)) throw UsageError("--deflection must not be negative");
   if (!(t.angle_deg > 0 && t.angle_deg <= 90)) throw UsageError("--angular-deflection must be in (0, 90]");
   if (!(t.volume_tolerance >= 0)) throw UsageError("--volume-tolerance must not be negative");
@@ -150,6 +155,7 @@ int mesh_command(const std::vector<std::string>& raw) {
                                   !args.has("--max-passes") && !args.has("--max-added");
   // Asked before the option is consumed below: CAD input has its own default.
   const bool sliver_angle_given = args.has("--sliver-angle");
+  const bool surface_grading_given = args.has("--surface-grading");
   MeshOptions opt;
   const std::string output = args.value("-o", args.value("--output"));
   opt.oracle = args.value("--oracle", "dt");
@@ -195,6 +201,7 @@ int mesh_command(const std::vector<std::string>& raw) {
 
   const bool cad_input = cad::CadModel::is_cad_file(pos[0]);
   if (cad_input && !sliver_angle_given) opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
+  if (cad_input && !surface_grading_given) opt.surface_grading = cad::kCadSurfaceGrading;
 
   MeshResult partial;
   try {
@@ -224,7 +231,7 @@ int convert_command(const std::vector<std::string>& raw) {
   if (pos.size() != 2)
     throw UsageError(
         "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--size H] [--deflection D] "
-        "[--angular-deflection DEG] [--volume-tolerance PCT]");
+        "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G]");
   io::format_for(pos[1], to);
   if (from.empty() && cad::CadModel::is_cad_file(pos[0])) {
     // CAD to a surface format: the tagged tessellation the mesher would start from.

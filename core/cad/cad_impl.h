@@ -147,7 +147,7 @@ int collapse_short_edges(CadSurface& s, double max_length);
 // parameters. Returns the number of vertices dropped.
 int compact_surface(CadSurface& s, const std::vector<char>& dead_facets = {});
 // cad_refine.cpp: edge splits to the size on the CAD geometry, then flips.
-void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats,
-                    const std::atomic<bool>* cancel = nullptr);
+void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options, double size,
+                    TessellationStats& stats);
 
 }  // namespace vd::cad

@@ -20,8 +20,9 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
 
   MeshOptions mopt = options.mesh;
   mopt.size.uniform = stats.size;
-  // The tessellation was refined on the CAD geometry (cad_refine.cpp); the
-  // graded splits of faceted input would put points on the chords.
+  // The tessellation was refined and graded on the CAD geometry
+  // (cad_refine.cpp); the graded splits of faceted input would put points
+  // on the chords.
   mopt.surface_grading = 0;
   const auto geometry = model.geometry();
   if (options.splits_on_geometry) {
@@ -77,6 +78,10 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   TessellationOptions topt = options.tessellation;
   topt.size = options.mesh.size.uniform;
   topt.cancel = options.mesh.cancel;
+  // The graded refinement of faceted input, done here on the CAD geometry.
+  const bool grade = options.mesh.interior && options.mesh.delaunayzation.flips;
+  topt.grading = grade ? options.mesh.surface_grading : 0;
+  topt.gradation = options.mesh.size.gradation;
   std::vector<double> angles = {topt.angle_deg};
   if (topt.deflection == 0)
     angles.insert(angles.end(), options.retry_angles_deg.begin(), options.retry_angles_deg.end());

@@ -18,9 +18,17 @@ namespace vd::cad {
 // gmsh_ellipses.brep: 36 -> 131 s, 0.10 -> 0.06 deg).
 constexpr double kCadSliverAngleDeg = 10.0;
 
+// The graded refinement (--surface-grading) is off on CAD input unless
+// asked for: on the CAD corpus (2026-11-24) it raised the smallest angle on
+// 9 files (kicad_SOIC-8.step 3.68 -> 8.96 deg, gmsh_t20_component8.step
+// 2.29 -> 7.41) and lowered it on 6 (cylinder head 0.76 -> 0.24, caxif 1.39
+// -> 0.52), and recovery stopped on occt_MODERN_Exhaust_1.brep.
+constexpr double kCadSurfaceGrading = 0.0;
+
 inline MeshOptions cad_mesh_defaults() {
   MeshOptions o;
   o.slivers.sliver_angle_deg = kCadSliverAngleDeg;
+  o.surface_grading = kCadSurfaceGrading;
   return o;
 }
 

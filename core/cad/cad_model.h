@@ -32,6 +32,12 @@ struct TessellationOptions {
   double volume_tolerance = 0.004;
   bool refine = true;           // split edges longer than `size`, new vertices on the CAD geometry
   bool flips = true;            // improve triangle shape by flips inside each face
+  // > 0: also split edges longer than this times the mean graded size of
+  // their ends (the tessellation's shortest edges, grown by `gradation`
+  // along the edges; see refine_surface_to_size), so a narrow face's
+  // needles become triangles about as long as the face is wide.
+  double grading = 0;
+  double gradation = 0.3;
   const std::atomic<bool>* cancel = nullptr;  // raised: stop with CancelledError (mesh/cancel.h)
 };
 

@@ -16,6 +16,7 @@
 #include "cad/cad_impl.h"
 #include "surface/edge_map.h"
 #include "surface/face_patches.h"
+#include "surface/size_refinement.h"
 
 namespace vd::cad {
 namespace {
@@ -70,10 +71,16 @@ struct EdgeFacets : EdgeFacetPairs {
 };
 
 constexpr double kFlipRidgeDeg = 20.0;
+// Graded sizes stop at this fraction of the size: OpenCASCADE leaves edges
+// far below it (a node beside a CAD vertex), and grading down to them
+// (at 0.05) split fans between two nodes of a thin fillet over and over
+// (gmsh_t20_component8.step: vertices on top of each other).
+constexpr double kGradedFloor = 0.2;
 
 class Refiner {
  public:
-  Refiner(const CadModel::Impl& cad, CadSurface& s, TessellationStats& stats) : geo_(cad), s_(s), stats_(stats) {}
+  Refiner(const CadModel::Impl& cad, CadSurface& s, TessellationStats& stats, double grading, double gradation)
+      : geo_(cad), s_(s), grading_(grading), gradation_(gradation), stats_(stats) {}
 
   // Flips between the passes keep the triangles round: splitting the long
   // diagonals of OpenCASCADE's needle strips over and over put vertices at
@@ -86,6 +93,11 @@ class Refiner {
   // 1.04M-facet surface (gmsh_simple_plane.brep at its nose's chord height).
   void split_long_edges(double size, bool flips, const std::atomic<bool>* cancel) {
     edges_ = EdgeMap(s_.mesh.triangles);
+    if (grading_ > 0) {
+      graded_ = graded_edge_sizes(s_.mesh, gradation_);
+      for (double& h : graded_) h = std::max(h, kGradedFloor * size);
+      sharp_corner_ = sharp_face_corners(s_.mesh, 20.0);
+    }
     for (int pass = 0; pass < 64; ++pass) {
       throw_if_cancelled(cancel);
       if (flips) flip_towards_delaunay(kFlipRidgeDeg, pass == 0 ? all_edges() : edges_of_changed());
@@ -93,7 +105,8 @@ class Refiner {
       std::vector<std::pair<double, std::uint64_t>> long_edges;
       for (const auto& [k, around] : edges_.all()) {
         const double l = norm(s_.mesh.points[k >> 32] - s_.mesh.points[k & 0xffffffffu]);
-        if (l > size && !refused_.count(k)) long_edges.emplace_back(l, k);
+        if (l > limit(size, static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu)) && !refused_.count(k))
+          long_edges.emplace_back(l, k);
       }
       if (long_edges.empty()) return;
       std::sort(long_edges.begin(), long_edges.end(), std::greater<>());
@@ -201,6 +214,13 @@ class Refiner {
       const int o = orient2d(ua, ub, uc);
       if (!(o * orient2d(ua, uv_new[k], uc) > 0 && o * orient2d(uv_new[k], ub, uc) > 0)) return false;
     }
+    // A facet already flat along the edge (its third corner on the edge's
+    // line, where a face's (u, v) folds) would get the new vertex on top of
+    // that corner: a repeated vertex, split again and again by the grading.
+    const double tiny = 1e-5 * norm(m.points[p] - m.points[q]);
+    for (int f : facets)
+      for (int c : m.triangles[f].v)
+        if (norm(m.points[c] - point) <= tiny) return false;
     bool on_knife = false;
     if (span != s_.edge_spans.end()) {
       const CadEdgeSpan e = span->second;
@@ -212,6 +232,11 @@ class Refiner {
     }
     m.points.push_back(point);
     knife_.push_back(on_knife);
+    split_edges_.insert(edge_key(p, q));
+    if (grading_ > 0) {
+      graded_.push_back(std::min(graded_[p], graded_[q]) + gradation_ * 0.5 * norm(m.points[p] - m.points[q]));
+      sharp_corner_.push_back(0);
+    }
     for (size_t k = 0; k < facets.size(); ++k) {
       const int f = facets[k];
       const Triangle t = m.triangles[f];
@@ -289,6 +314,12 @@ class Refiner {
   bool try_flip(int f1, int f2, int p, int q, double cos_limit, Quad& o) {
     Mesh& m = s_.mesh;
     if (!quad_of(f1, f2, p, q, o) || edges_.contains(o.c, o.d)) return false;
+    // A split edge never comes back. On a curved face the angles facing an
+    // edge can sum past pi beside a split vertex lifted off its chord (a
+    // needle's base split by the grading); the flip then lays a flat
+    // triangle along the old edge, which is split again on the same spot:
+    // repeated vertices (gmsh_t20_component8.step).
+    if (split_edges_.count(edge_key(o.c, o.d))) return false;
     const int a = o.a, b = o.b, c = o.c, d = o.d;
     if (hugs_border(a, d, c) || hugs_border(d, b, c)) return false;
     if (knife_[a] || knife_[b] || knife_[c] || knife_[d]) return false;
@@ -369,6 +400,13 @@ class Refiner {
   }
 
  private:
+  // The longest edge (p, q) may be: the size, and with grading the graded
+  // sizes of its ends (not at a face's sharp corner: a spike is thin by
+  // design, and filling it with vertices makes flat tetrahedra).
+  double limit(double size, int p, int q) const {
+    if (grading_ <= 0 || sharp_corner_[p] || sharp_corner_[q] || graded_[p] <= 0 || graded_[q] <= 0) return size;
+    return std::min(size, grading_ * 0.5 * (graded_[p] + graded_[q]));
+  }
   // An edge's facets in increasing order (the order splits append in).
   std::vector<int> facets_on(std::uint64_t key) const {
     const auto [a, b] = edge_of_key(key);
@@ -398,20 +436,24 @@ class Refiner {
   std::vector<int> changed_;   // facets split or flipped since the last flips
   std::vector<std::uint64_t> leftover_;  // edges the last flips had no pass left for
   std::unordered_set<std::uint64_t> refused_;  // splits that would fold a facet
+  std::unordered_set<std::uint64_t> split_edges_;  // never made again by a flip
   std::unordered_set<int> knife_edges_;         // CAD edge ids
   std::vector<char> knife_;                     // per vertex: on a knife edge
+  double grading_ = 0, gradation_ = 0.3;
+  std::vector<double> graded_;       // per vertex: graded size (with grading)
+  std::vector<char> sharp_corner_;   // per vertex: a face's corner under 20 deg
   TessellationStats& stats_;
 };
 
 }  // namespace
 
-void refine_to_size(const CadModel::Impl& cad, CadSurface& s, double size, bool flips, TessellationStats& stats,
-                    const std::atomic<bool>* cancel) {
+void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options, double size,
+                    TessellationStats& stats) {
   const auto t0 = std::chrono::steady_clock::now();
-  Refiner r(cad, s, stats);
+  Refiner r(cad, s, stats, options.grading, options.gradation);
   r.find_knife_edges();
   stats.border_splits = r.split_border_slivers();
-  r.split_long_edges(size, flips, cancel);
+  r.split_long_edges(size, options.flips, options.cancel);
   stats.seconds_refine = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

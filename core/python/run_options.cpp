@@ -57,8 +57,9 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
         graded; CAD input: bounding-box diagonal / 25 (reported)
     gradation (float, 0.3): largest growth of the size per unit distance
     interior (bool, True): interior vertices; False is --no-interior
-    surface_grading (float, 2): with interior vertices, surface edges longer than this
-        times the surface's graded size are split (flips inside faces between); 0: off
+    surface_grading (float, 2; mesh_cad 0): with interior vertices, surface edges longer
+        than this times the surface's graded size are split (flips inside faces between;
+        on CAD input on the CAD faces); 0: off
     sliver_angle (float, 20; mesh_cad 10): tetrahedra under this dihedral angle (deg)
         are slivers, removed or improved
     keep_slivers (bool, False): no sliver removal
