@@ -36,6 +36,9 @@ const char* kMeshHelp =
     "                          made smaller, while a solid's volume is off the CAD volume by more than\n"
     "                          PCT % (default 0.4; at most 4 tessellations; 0: once)\n"
     "  --planar-splits         CAD: split vertices at chord mid-points (the paper) instead of on the CAD geometry\n"
+    "  --no-smoothing          CAD: keep the tessellation's vertices inside faces where they are (by default\n"
+    "                          those with a corner under 30 or over 120 deg move, on the CAD face, towards\n"
+    "                          their neighbours' middle; a smoothed surface that fails is meshed again unsmoothed)\n"
     "  --gradation G           largest growth of the size per unit distance (default 0.3)\n"
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
     "  --surface-grading R     with interior vertices: split surface edges longer than R x the surface's\n"
@@ -130,6 +133,7 @@ cad::TessellationOptions tessellation_options(Args& args) {
   // from there); `convert` writes the surface `mesh` would start from.
   t.grading = args.number("--surface-grading", cad::kCadSurfaceGrading);
   t.gradation = args.number("--gradation", t.gradation);
+  t.smooth = !args.flag("--no-smoothing");
   if (!(t.deflection >= 0)) throw UsageError("--deflection must not be negative");
   if (!(t.angle_deg > 0 && t.angle_deg <= 90)) throw UsageError("--angular-deflection must be in (0, 90]");
   if (!(t.volume_tolerance >= 0)) throw UsageError("--volume-tolerance must not be negative");
@@ -231,7 +235,7 @@ int convert_command(const std::vector<std::string>& raw) {
   if (pos.size() != 2)
     throw UsageError(
         "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--size H] [--deflection D] "
-        "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G]");
+        "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G] [--no-smoothing]");
   io::format_for(pos[1], to);
   if (from.empty() && cad::CadModel::is_cad_file(pos[0])) {
     // CAD to a surface format: the tagged tessellation the mesher would start from.

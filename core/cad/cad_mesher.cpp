@@ -46,6 +46,8 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.refine_splits = stats.refine_splits;
   cad.refine_flips = stats.refine_flips;
   cad.border_splits = stats.border_splits;
+  cad.smoothing_moves = stats.smoothing_moves;
+  cad.smoothing_dropped = !topt.smooth && options.tessellation.smooth;
   cad.collapsed_edges = stats.collapsed_edges;
   cad.recovery_retries = retries;
   cad.surface_facets = static_cast<int>(surface.triangles.size());
@@ -86,20 +88,36 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   if (topt.deflection == 0)
     angles.insert(angles.end(), options.retry_angles_deg.begin(), options.retry_angles_deg.end());
   double given_up = 0;  // seconds spent on tessellations whose recovery stopped
-  for (size_t attempt = 0;; ++attempt) {
-    topt.angle_deg = angles[attempt];
+  // A smoothed tessellation that fails is tried once more unsmoothed at the
+  // same angle, and the later angles go without smoothing: on
+  // gmsh_dlr_f6.brep the smoothed 20 deg surface stopped recovery and the
+  // smoothed 30 deg one crossed itself (the surface itself is fine unsmoothed).
+  for (size_t attempt = 0, angle = 0;; ++attempt) {
+    topt.angle_deg = angles[angle];
     if (options.mesh.progress)
       options.mesh.progress(attempt == 0 ? "tessellate CAD faces"
-                                         : "tessellate CAD faces again at " + format_number(topt.angle_deg) + " deg");
+                                         : "tessellate CAD faces again at " + format_number(topt.angle_deg) + " deg" +
+                                               (topt.smooth ? "" : ", unsmoothed"));
     const auto start = std::chrono::steady_clock::now();
+    const auto next = [&](bool recovery_stopped) {
+      if (topt.smooth) {
+        topt.smooth = false;
+      } else {
+        if (!recovery_stopped || angle + 1 >= angles.size()) return false;
+        ++angle;
+      }
+      given_up += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return true;
+    };
     try {
       MeshResult result = mesh_tessellation(model, options, topt, static_cast<int>(attempt), partial);
       if (attempt > 0)
         result.report.seconds.insert(result.report.seconds.begin(), {"tessellations recovery gave up on", given_up});
       return result;
     } catch (const RecoveryError&) {
-      if (attempt + 1 >= angles.size()) throw;
-      given_up += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (!next(true)) throw;
+    } catch (const InputError&) {  // the surface is checked before recovery
+      if (!next(false)) throw;
     }
   }
 }

@@ -38,6 +38,7 @@ struct TessellationOptions {
   // needles become triangles about as long as the face is wide.
   double grading = 0;
   double gradation = 0.3;
+  bool smooth = true;           // move vertices inside faces where a corner is poor (on the CAD face)
   const std::atomic<bool>* cancel = nullptr;  // raised: stop with CancelledError (mesh/cancel.h)
 };
 
@@ -51,6 +52,7 @@ struct TessellationStats {
   int occ_triangles = 0;        // from OpenCASCADE's mesher, before refinement
   int refine_splits = 0;
   int refine_flips = 0;
+  int smoothing_moves = 0;
   int border_splits = 0;        // facets with two edges on one CAD edge, split at their centre
   int dropped_degenerate = 0;   // collapsed triangles at degenerate edges (cone apexes, poles)
   int dropped_folded = 0;

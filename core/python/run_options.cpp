@@ -88,6 +88,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
         its guards is tried again on tessellations at 30 and then 40 deg
     volume_tolerance (float, 0.4): with the automatic chord height, tessellate again finer
         while a solid's volume is off by more than this many per cent (0: once)
+    smoothing (bool, True): move tessellation vertices inside faces, on the CAD face,
+        where a corner is poor; False is --no-smoothing
 )";
 
 RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
@@ -95,7 +97,8 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
       "order",    "progress",   "cancel",      "threads"};
-  static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection", "volume_tolerance"};
+  static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection", "volume_tolerance",
+                                             "smoothing"};
   RunOptions run;
   MeshOptions& opt = run.cad.mesh;
   // The defaults of the entry point: mesh_surface's are not the CAD ones
@@ -163,6 +166,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       run.cad.retry_angles_deg.clear();
     }
     else if (name == "volume_tolerance") run.cad.tessellation.volume_tolerance = number(value, name) / 100;
+    else if (name == "smoothing") run.cad.tessellation.smooth = boolean(value, name);
   }
   // The command line's checks, with the option names of this module.
   check(opt.size.uniform >= 0, "option size: must not be negative");
