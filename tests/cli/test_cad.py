@@ -334,7 +334,7 @@ if part:
 # --surface-grading on CAD input: the graded splits are made on the CAD
 # faces. The SOIC package's narrow faces come out of OpenCASCADE as needles,
 # and every tetrahedron on a needle is flat; graded, they are split to about
-# their faces' width. Measured 2026-11-24: 3.68 -> 8.96 deg, 904 -> 30
+# their faces' width. Measured 2026-11-24 (smoothed): 3.68 -> 9.07 deg, 909 -> 34
 # tetrahedra under 10 deg (off by default on CAD input: see cad_mesher.h).
 soic = data("cad-part/kicad_SOIC-8.step")
 if soic:
