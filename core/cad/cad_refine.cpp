@@ -211,30 +211,12 @@ class Refiner {
         }
         if (!one_chart) continue;
         const gp_Pnt2d centre(su / n, sv / n);
-        const double longest = longest_edge_around(vi, around, m.points[v]);
+        const Limits limits{before, worst_big, high, longest_edge_around(vi, around, m.points[v])};
         for (const double step : {1.0, 0.5}) {
           const gp_Pnt2d uv(here.X() + step * (centre.X() - here.X()), here.Y() + step * (centre.Y() - here.Y()));
-          bool folds = false;
-          for (int f : around) {
-            const int c = corner_of(m.triangles[f], vi);
-            const auto& q = s_.uv[f];
-            const gp_Pnt2d a = q[(c + 1) % 3], b = q[(c + 2) % 3];
-            folds |= orient2d(q[c], a, b) * orient2d(uv, a, b) <= 0;
-          }
-          if (folds) continue;
+          if (folds_in_uv(vi, around, uv)) continue;
           const Vec3 point = to_vec(geo_.on_face(face, uv));
-          // No edge longer than the longest was, and every facet nearly in
-          // its plane: longer chords on a curved face sag deeper (caxif's pins
-          // lost 0.9 % of their volume), and beside a thin gap (a trailing
-          // edge) a tilted facet crosses the other side's.
-          if (longest_edge_around(vi, around, point) > longest) continue;
-          if (!keeps_planes(vi, around, point)) continue;
-          if (smallest_corner_around(vi, around, point) <= before) continue;
-          // Nor a cap where there was none (a vertex drawn towards a seam
-          // made 163 deg corners facing it, which no flip may cross).
-          double big = 0;
-          for (int f : around) big = std::max(big, largest_corner(m.triangles[f].v, vi, point));
-          if (big > std::max(worst_big, high)) continue;
+          if (!improves(vi, around, point, limits)) continue;
           m.points[v] = point;
           for (int f : around) s_.uv[f][corner_of(m.triangles[f], vi)] = uv;
           ++moved;
@@ -486,6 +468,34 @@ class Refiner {
   }
 
  private:
+  // What a smoothing move of a vertex must keep: its star's smallest corner
+  // before (to beat), largest corner before and the cap limit, longest edge.
+  struct Limits {
+    double smallest, largest, cap, longest;
+  };
+  // Would facets around v fold over in (u, v) with v at `uv`?
+  bool folds_in_uv(int v, const std::vector<int>& around, const gp_Pnt2d& uv) const {
+    for (int f : around) {
+      const int c = corner_of(s_.mesh.triangles[f], v);
+      const auto& q = s_.uv[f];
+      const gp_Pnt2d a = q[(c + 1) % 3], b = q[(c + 2) % 3];
+      if (orient2d(q[c], a, b) * orient2d(uv, a, b) <= 0) return true;
+    }
+    return false;
+  }
+  // Is v at `at` better, and safe? No edge longer than the longest was,
+  // and every facet nearly in its plane: longer chords on a curved face sag
+  // deeper (caxif's pins lost 0.9 % of their volume), and beside a thin gap
+  // (a trailing edge) a tilted facet crosses the other side's. Nor a cap
+  // where there was none: a vertex drawn towards a seam made 163 deg corners
+  // facing it, which no flip may cross.
+  bool improves(int v, const std::vector<int>& around, const Vec3& at, const Limits& was) const {
+    if (longest_edge_around(v, around, at) > was.longest || !keeps_planes(v, around, at)) return false;
+    if (smallest_corner_around(v, around, at) <= was.smallest) return false;
+    double big = 0;
+    for (int f : around) big = std::max(big, largest_corner(s_.mesh.triangles[f].v, v, at));
+    return big <= std::max(was.largest, was.cap);
+  }
   double longest_edge_around(int v, const std::vector<int>& around, const Vec3& at) const {
     double most = 0;
     for (int f : around)
