@@ -314,6 +314,16 @@ class Cad(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "angular_deflection"):
             vdmesh.mesh_cad(path=self.path, angular_deflection=0)
 
+    def test_smoothing_option(self):
+        # smoothing=False is --no-smoothing: the tessellation's inner vertices stay put.
+        _, smoothed = vdmesh.mesh_cad(path=self.path, size=1.5)
+        _, kept = vdmesh.mesh_cad(path=self.path, size=1.5, smoothing=False)
+        self.assertGreater(smoothed["cad"]["smoothing_moves"], 0)
+        self.assertEqual(kept["cad"]["smoothing_moves"], 0)
+        self.assertFalse(smoothed["cad"]["smoothing_dropped"])
+        with self.assertRaisesRegex(TypeError, "smoothing"):
+            vdmesh.mesh_cad(path=self.path, smoothing="yes")
+
     def test_tessellation(self):
         surface = vdmesh.tessellate_cad(path=self.path, size=2)
         self.assertEqual(len(surface.tets), 0)
