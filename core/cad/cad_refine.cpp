@@ -164,10 +164,18 @@ class Refiner {
     leftover_ = std::move(candidates);
   }
 
+  // Every edge: candidates for flip_towards_delaunay, which orders them.
+  std::vector<std::uint64_t> all_edges() const {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(edges_.all().size());
+    for (const auto& [k, around] : edges_.all()) keys.push_back(k);
+    return keys;
+  }
+
   // Moves vertices inside a face towards the middle of their neighbours,
   // in the face's (u, v), each new position evaluated on the CAD face. A
-  // move is kept when no facet around folds in (u, v) and the smallest
-  // corner around the vertex grows. Only vertices with a corner under
+  // move is kept when no facet around folds in (u, v) and it improves()
+  // the corners around the vertex. Only vertices with a corner under
   // kSmoothBelowDeg or over 180 - 2 x that are tried. Returns the moves.
   int smooth_inner_vertices(int sweeps) {
     Mesh& m = s_.mesh;
@@ -190,10 +198,8 @@ class Refiner {
         for (int f : around) one_face &= s_.facet_face[f] == face;
         if (!one_face) continue;
         const int vi = static_cast<int>(v);
-        const double before = smallest_corner_around(vi, around, m.points[v]);
-        double worst_big = 0;
-        for (int f : around) worst_big = std::max(worst_big, largest_corner(m.triangles[f].v, vi, m.points[v]));
-        if (before >= low && worst_big <= high) continue;
+        const auto [smallest, largest] = corners_around(vi, around, m.points[v]);
+        if (smallest >= low && largest <= high) continue;
         // The vertex's (u, v) and its neighbours' in each facet's chart.
         const gp_Pnt2d here = s_.uv[around[0]][corner_of(m.triangles[around[0]], vi)];
         double su = 0, sv = 0;
@@ -211,7 +217,7 @@ class Refiner {
         }
         if (!one_chart) continue;
         const gp_Pnt2d centre(su / n, sv / n);
-        const Limits limits{before, worst_big, high, longest_edge_around(vi, around, m.points[v])};
+        const Limits limits{smallest, largest, high, longest_edge_around(vi, around, m.points[v])};
         for (const double step : {1.0, 0.5}) {
           const gp_Pnt2d uv(here.X() + step * (centre.X() - here.X()), here.Y() + step * (centre.Y() - here.Y()));
           if (folds_in_uv(vi, around, uv)) continue;
@@ -491,10 +497,8 @@ class Refiner {
   // facing it, which no flip may cross.
   bool improves(int v, const std::vector<int>& around, const Vec3& at, const Limits& was) const {
     if (longest_edge_around(v, around, at) > was.longest || !keeps_planes(v, around, at)) return false;
-    if (smallest_corner_around(v, around, at) <= was.smallest) return false;
-    double big = 0;
-    for (int f : around) big = std::max(big, largest_corner(s_.mesh.triangles[f].v, v, at));
-    return big <= std::max(was.largest, was.cap);
+    const auto [smallest, largest] = corners_around(v, around, at);
+    return smallest > was.smallest && largest <= std::max(was.largest, was.cap);
   }
   double longest_edge_around(int v, const std::vector<int>& around, const Vec3& at) const {
     double most = 0;
@@ -503,36 +507,35 @@ class Refiner {
         if (c != v) most = std::max(most, norm(s_.mesh.points[c] - at));
     return most;
   }
+  // Facet f's corners with its vertex v placed at `at`.
+  std::array<Vec3, 3> corners_with(int f, int v, const Vec3& at) const {
+    const auto& t = s_.mesh.triangles[f].v;
+    const auto& P = s_.mesh.points;
+    return {t[0] == v ? at : P[t[0]], t[1] == v ? at : P[t[1]], t[2] == v ? at : P[t[2]]};
+  }
   // Does every facet around v keep its normal within kSmoothTiltDeg with v at `at`?
   bool keeps_planes(int v, const std::vector<int>& around, const Vec3& at) const {
-    const auto& P = s_.mesh.points;
     const double cos_limit = std::cos(kSmoothTiltDeg * M_PI / 180.0);
     for (int f : around) {
-      const auto& t = s_.mesh.triangles[f].v;
-      const Vec3 x[3] = {t[0] == v ? at : P[t[0]], t[1] == v ? at : P[t[1]], t[2] == v ? at : P[t[2]]};
+      const auto x = corners_with(f, v, at);
       const Vec3 now = cross(x[1] - x[0], x[2] - x[0]);
-      const Vec3 was = area_vector(s_.mesh, t);
+      const Vec3 was = area_vector(s_.mesh, s_.mesh.triangles[f].v);
       if (dot(now, was) <= cos_limit * norm(now) * norm(was)) return false;
     }
     return true;
   }
-  // The smallest corner of the facets around v with v placed at `at`.
-  double smallest_corner_around(int v, const std::vector<int>& around, const Vec3& at) const {
-    const auto& P = s_.mesh.points;
-    double least = M_PI;
+  // The smallest and the largest corner of the facets around v with v at `at`.
+  std::pair<double, double> corners_around(int v, const std::vector<int>& around, const Vec3& at) const {
+    double least = M_PI, most = 0;
     for (int f : around) {
-      const auto& t = s_.mesh.triangles[f].v;
-      const Vec3 x[3] = {t[0] == v ? at : P[t[0]], t[1] == v ? at : P[t[1]], t[2] == v ? at : P[t[2]]};
-      for (int i = 0; i < 3; ++i) least = std::min(least, corner_angle(x[i], x[(i + 1) % 3], x[(i + 2) % 3]));
+      const auto x = corners_with(f, v, at);
+      for (int i = 0; i < 3; ++i) {
+        const double a = corner_angle(x[i], x[(i + 1) % 3], x[(i + 2) % 3]);
+        least = std::min(least, a);
+        most = std::max(most, a);
+      }
     }
-    return least;
-  }
-  double largest_corner(const std::array<int, 3>& t, int v, const Vec3& at) const {
-    const auto& P = s_.mesh.points;
-    const Vec3 x[3] = {t[0] == v ? at : P[t[0]], t[1] == v ? at : P[t[1]], t[2] == v ? at : P[t[2]]};
-    double most = 0;
-    for (int i = 0; i < 3; ++i) most = std::max(most, corner_angle(x[i], x[(i + 1) % 3], x[(i + 2) % 3]));
-    return most;
+    return {least, most};
   }
   // The longest edge (p, q) may be: the size, and with grading the graded
   // sizes of its ends (not at a face's sharp corner: a spike is thin by
@@ -549,16 +552,6 @@ class Refiner {
     return out;
   }
   // Candidates for flip_towards_delaunay, which orders them and drops repeats.
- public:
-  std::vector<std::uint64_t> every_edge() const { return all_edges(); }
-
- private:
-  std::vector<std::uint64_t> all_edges() const {
-    std::vector<std::uint64_t> keys;
-    keys.reserve(edges_.all().size());
-    for (const auto& [k, around] : edges_.all()) keys.push_back(k);
-    return keys;
-  }
   std::vector<std::uint64_t> edges_of_changed() const {
     std::vector<std::uint64_t> keys;
     for (int f : changed_) {
@@ -570,7 +563,7 @@ class Refiner {
 
   Geometry geo_;
   CadSurface& s_;
-  EdgeMap edges_;              // the surface's adjacency during split_long_edges
+  EdgeMap edges_;              // the surface's adjacency, from split_long_edges on
   std::vector<int> changed_;   // facets split or flipped since the last flips
   std::vector<std::uint64_t> leftover_;  // edges the last flips had no pass left for
   std::unordered_set<std::uint64_t> refused_;  // splits that would fold a facet
@@ -594,7 +587,7 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
   r.split_long_edges(size, options.flips, options.cancel);
   if (options.flips && options.smooth) {
     stats.smoothing_moves = r.smooth_inner_vertices(3);
-    r.flip_towards_delaunay(kFlipRidgeDeg, r.every_edge());
+    r.flip_towards_delaunay(kFlipRidgeDeg, r.all_edges());
   }
   stats.seconds_refine = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
