@@ -29,7 +29,8 @@ const char* kMeshHelp =
     "                          CAD input: bounding box diagonal / 25, reported)\n"
     "  --deflection D          CAD: chord height of the face tessellation\n                          (default: per face, size / 10, at most 2V/A / 50 of the solids\n                          on either side)\n"
     "  --angular-deflection DEG  CAD: largest angle between the normals along a facet of a curved face\n"
-    "                          (default 20; the starting value under --volume-tolerance; without it,\n"
+    "                          (on remeshed cylinders: along the border arcs; default 20; the starting\n"
+    "                          value under --volume-tolerance; without it,\n"
     "                          --deflection, --max-passes and --max-added, a recovery that stops at\n"
     "                          its guards is tried again on tessellations at 30, then 40)\n"
     "  --volume-tolerance PCT  CAD, automatic chord height: tessellate again, with chord height and angle\n"
@@ -39,6 +40,10 @@ const char* kMeshHelp =
     "  --no-smoothing          CAD: keep the tessellation's vertices inside faces where they are (by default\n"
     "                          those with a corner under 30 or over 120 deg move, on the CAD face, towards\n"
     "                          their neighbours' middle; a smoothed surface that fails is meshed again unsmoothed)\n"
+    "  --no-face-remesh        CAD: keep the refined tessellation of plane and cylinder faces (by default\n"
+    "                          their inside is meshed anew by Delaunay refinement, corners over 20.7 deg,\n"
+    "                          edges within the size and on cylinders the chord height; the border nodes are\n"
+    "                          kept, with splits where the refinement needs them)\n"
     "  --gradation G           largest growth of the size per unit distance (default 0.3)\n"
     "  --no-interior           no interior vertices: only the surface vertices are tetrahedralized\n"
     "  --surface-grading R     with interior vertices: split surface edges longer than R x the surface's\n"
@@ -134,6 +139,7 @@ cad::TessellationOptions tessellation_options(Args& args) {
   t.grading = args.number("--surface-grading", cad::kCadSurfaceGrading);
   t.gradation = args.number("--gradation", t.gradation);
   t.smooth = !args.flag("--no-smoothing");
+  t.remesh = !args.flag("--no-face-remesh");
   if (!(t.deflection >= 0)) throw UsageError("--deflection must not be negative");
   if (!(t.angle_deg > 0 && t.angle_deg <= 90)) throw UsageError("--angular-deflection must be in (0, 90]");
   if (!(t.volume_tolerance >= 0)) throw UsageError("--volume-tolerance must not be negative");
@@ -235,7 +241,7 @@ int convert_command(const std::vector<std::string>& raw) {
   if (pos.size() != 2)
     throw UsageError(
         "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--size H] [--deflection D] "
-        "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G] [--no-smoothing]");
+        "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G] [--no-smoothing] [--no-face-remesh]");
   io::format_for(pos[1], to);
   if (from.empty() && cad::CadModel::is_cad_file(pos[0])) {
     // CAD to a surface format: the tagged tessellation the mesher would start from.

@@ -47,7 +47,9 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.refine_flips = stats.refine_flips;
   cad.border_splits = stats.border_splits;
   cad.smoothing_moves = stats.smoothing_moves;
+  cad.remeshed_faces = stats.remeshed_faces;
   cad.smoothing_dropped = !topt.smooth && options.tessellation.smooth;
+  cad.remeshing_dropped = !topt.remesh && options.tessellation.remesh;
   cad.collapsed_edges = stats.collapsed_edges;
   cad.recovery_retries = retries;
   cad.surface_facets = static_cast<int>(surface.triangles.size());
@@ -88,8 +90,8 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   if (topt.deflection == 0)
     angles.insert(angles.end(), options.retry_angles_deg.begin(), options.retry_angles_deg.end());
   double given_up = 0;  // seconds spent on tessellations whose recovery stopped
-  // A smoothed tessellation that fails is tried once more unsmoothed at the
-  // same angle, and the later angles go without smoothing: on
+  // A smoothed or remeshed tessellation that fails is tried once more
+  // without either at the same angle, and the later angles go without: on
   // gmsh_dlr_f6.brep the smoothed 20 deg surface stopped recovery and the
   // smoothed 30 deg one crossed itself (the surface itself is fine unsmoothed).
   for (size_t attempt = 0, angle = 0;; ++attempt) {
@@ -97,11 +99,11 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
     if (options.mesh.progress)
       options.mesh.progress(attempt == 0 ? "tessellate CAD faces"
                                          : "tessellate CAD faces again at " + format_number(topt.angle_deg) + " deg" +
-                                               (topt.smooth ? "" : ", unsmoothed"));
+                                               (topt.smooth || topt.remesh ? "" : ", unsmoothed, not remeshed"));
     const auto start = std::chrono::steady_clock::now();
     const auto next = [&](bool recovery_stopped) {
-      if (topt.smooth) {
-        topt.smooth = false;
+      if (topt.smooth || topt.remesh) {
+        topt.smooth = topt.remesh = false;
       } else {
         if (!recovery_stopped || angle + 1 >= angles.size()) return false;
         ++angle;

@@ -39,6 +39,7 @@ struct TessellationOptions {
   double grading = 0;
   double gradation = 0.3;
   bool smooth = true;           // move vertices inside faces where a corner is poor (on the CAD face)
+  bool remesh = true;           // plane and cylinder faces meshed anew inside their border (cad_remesh.cpp)
   const std::atomic<bool>* cancel = nullptr;  // raised: stop with CancelledError (mesh/cancel.h)
 };
 
@@ -53,6 +54,7 @@ struct TessellationStats {
   int refine_splits = 0;
   int refine_flips = 0;
   int smoothing_moves = 0;
+  int remeshed_faces = 0;
   int border_splits = 0;        // facets with two edges on one CAD edge, split at their centre
   int dropped_degenerate = 0;   // collapsed triangles at degenerate edges (cone apexes, poles)
   int dropped_folded = 0;

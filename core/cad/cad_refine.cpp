@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "cad/cad_impl.h"
 #include "surface/edge_map.h"
@@ -94,8 +95,10 @@ class Refiner {
   // flips after a pass start from the facets it changed: rebuilding it and
   // trying every edge at each pass took 51 s of the 130 s tessellation of a
   // 1.04M-facet surface (gmsh_simple_plane.brep at its nose's chord height).
+  void index_edges() { edges_ = EdgeMap(s_.mesh.triangles); }
+
   void split_long_edges(double size, bool flips, const std::atomic<bool>* cancel) {
-    edges_ = EdgeMap(s_.mesh.triangles);
+    index_edges();
     if (grading_ > 0) {
       graded_ = graded_edge_sizes(s_.mesh, gradation_);
       for (double& h : graded_) h = std::max(h, kGradedFloor * size);
@@ -438,6 +441,19 @@ class Refiner {
       if (knife_edges_.count(span.edge)) knife_[key >> 32] = knife_[key & 0xffffffffu] = 1;
   }
 
+  const std::vector<char>& knife_vertices() const { return knife_; }
+
+  // Edge (p, q) cut in halves until it is in at least `pieces` pieces.
+  void split_into(int p, int q, int pieces) {
+    if (pieces < 2) return;
+    const std::vector<int> facets = facets_on(edge_key(p, q));
+    if (facets.empty()) return;
+    const int v = static_cast<int>(s_.mesh.points.size());
+    if (!split(p, q, facets)) return;
+    split_into(p, v, (pieces + 1) / 2);
+    split_into(v, q, (pieces + 1) / 2);
+  }
+
   // A facet with two edges on one CAD edge (three consecutive nodes of a
   // border curve) lies in the sliver between the curve and its chord; where
   // the neighbouring face meets this one at a zero angle (a knife edge), it
@@ -579,15 +595,35 @@ class Refiner {
 }  // namespace
 
 void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options, double size,
-                    TessellationStats& stats) {
+                    const std::vector<double>& face_deflection, double angle_rad, TessellationStats& stats) {
   const auto t0 = std::chrono::steady_clock::now();
-  Refiner r(cad, s, stats, options.grading, options.gradation);
-  r.find_knife_edges();
-  stats.border_splits = r.split_border_slivers();
-  r.split_long_edges(size, options.flips, options.cancel);
-  if (options.flips && options.smooth) {
-    stats.smoothing_moves = r.smooth_inner_vertices(3);
-    r.flip_towards_delaunay(kFlipRidgeDeg, r.all_edges());
+  std::optional<Refiner> r(std::in_place, cad, s, stats, options.grading, options.gradation);
+  r->find_knife_edges();
+  stats.border_splits = r->split_border_slivers();
+  r->split_long_edges(size, options.flips, options.cancel);
+  if (options.flips && options.remesh) {
+    // The splits above gave the borders their nodes; the faces' insides are
+    // replaced, and the vertices renumbered: a fresh refiner goes on.
+    auto frozen = [&]() {
+      std::vector<char> out = r->knife_vertices();
+      out.resize(s.mesh.points.size(), 0);
+      for (int v : s.singular) out[v] = 1;
+      return out;
+    };
+    for (const auto& [key, pieces] : plan_border_splits(cad, s, face_deflection, angle_rad, size, frozen()))
+      r->split_into(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), pieces);
+    stats.remeshed_faces = remesh_plane_faces(cad, s, face_deflection, angle_rad, size, frozen());
+    if (stats.remeshed_faces > 0) {
+      r.emplace(cad, s, stats, 0.0, options.gradation);
+      r->find_knife_edges();
+      r->index_edges();
+    }
+  }
+  if (options.flips && (options.smooth || stats.remeshed_faces > 0)) {
+    // Round in the unrolled plane is not Delaunay on a cylinder: the flips
+    // in 3D come after the remeshing too.
+    if (options.smooth) stats.smoothing_moves = r->smooth_inner_vertices(3);
+    r->flip_towards_delaunay(kFlipRidgeDeg, r->all_edges());
   }
   stats.seconds_refine = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }

@@ -111,8 +111,9 @@ std::string report_json(const MeshReport& r) {
       << ", \"occ_triangles\": " << c.occ_triangles
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
       << ", \"border_splits\": " << c.border_splits << ", \"collapsed_edges\": " << c.collapsed_edges
-      << ", \"smoothing_moves\": " << c.smoothing_moves
+      << ", \"smoothing_moves\": " << c.smoothing_moves << ", \"remeshed_faces\": " << c.remeshed_faces
       << ", \"smoothing_dropped\": " << (c.smoothing_dropped ? "true" : "false")
+      << ", \"remeshing_dropped\": " << (c.remeshing_dropped ? "true" : "false")
       << ", \"surface_facets\": " << c.surface_facets << ",\n    \"volumes\": " << measures(c.volumes)
       << ",\n    \"areas\": " << measures(c.areas) << "},\n";
   }
@@ -145,7 +146,9 @@ std::string report_table(const MeshReport& r) {
                             std::to_string(c.refine_splits) + " splits, " + std::to_string(c.refine_flips) +
                             " flips, " + std::to_string(c.border_splits) + " border slivers split, " +
                             std::to_string(c.smoothing_moves) + " smoothing moves" +
-                            (c.smoothing_dropped ? " (smoothing dropped)" : "") + " -> " + std::to_string(c.surface_facets) + " facets; " +
+                            (c.smoothing_dropped ? " (smoothing dropped)" : "") + ", " +
+                            std::to_string(c.remeshed_faces) + " faces remeshed" +
+                            (c.remeshing_dropped ? " (remeshing dropped)" : "") + " -> " + std::to_string(c.surface_facets) + " facets; " +
                             std::to_string(c.tessellation_rounds) + (c.tessellation_rounds > 1 ? " rounds" : " round") +
                             ", volume within " + num(100 * c.tessellation_volume_error) + " %" +
                             (c.recovery_retries ? "; tessellated again " + std::to_string(c.recovery_retries) +

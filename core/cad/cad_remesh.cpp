@@ -1,0 +1,383 @@
+// The inside of each plane and cylinder face meshed anew: a Delaunay
+// refinement (CGAL's 2D mesher, smallest angle 20.7 deg) in the face's
+// (u, v) unrolled to lengths, the border nodes kept as they are so that the
+// faces still share their edges' discretisation.
+//
+// Why: OpenCASCADE tessellates a face from its border nodes and the chord
+// height, and the splits and flips after it cannot undo its fans: half the
+// crankshaft's triangles have a corner under 20 deg. The volume mesh's
+// smallest angles sit on such triangles. The same volume mesher on Gmsh's
+// surface mesh of three corpus parts reached 4.65 / 6.60 / 10.07 deg where
+// the refined tessellation gave 3.79 / 2.85 / 4.28.
+//
+// Only planes and cylinders: there (u, v) is a length up to a constant
+// (the radius for a cylinder's angle), so a round triangle in the plane of
+// the parameters is round on the face. Other faces keep the refinement.
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesh_vertex_base_2.h>
+#include <CGAL/Delaunay_mesher_2.h>
+#include <CGAL/Delaunay_mesher_no_edge_refinement_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <BRepAdaptor_Surface.hxx>
+#include <GeomAbs_SurfaceType.hxx>
+#include <Standard_Failure.hxx>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "cad/cad_impl.h"
+#include "surface/edge_map.h"
+
+namespace vd::cad {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+struct VertexId {
+  int id = -1;  // the surface's vertex; -1 for one the mesher added
+};
+using Vb = CGAL::Delaunay_mesh_vertex_base_2<K, CGAL::Triangulation_vertex_base_with_info_2<VertexId, K>>;
+using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
+using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
+using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, Criteria>;
+using FullMesher = CGAL::Delaunay_mesher_2<Cdt, Criteria>;  // splits the border too
+using Point2 = K::Point_2;
+
+// CGAL's bound B on (circumradius / shortest edge)^-2 / 4: 0.125 is a
+// smallest angle of 20.7 deg, the one Ruppert's refinement is sure to reach.
+constexpr double kAngleBound = 0.125;
+constexpr double kMaxGrowth = 3;
+
+// A face's (u, v) as lengths: the identity on a plane, the arc length
+// R u on a cylinder.
+struct Unrolled {
+  double scale_u = 1;
+  Point2 to_plane(const gp_Pnt2d& uv) const { return {scale_u * uv.X(), uv.Y()}; }
+  gp_Pnt2d to_uv(const Point2& p) const { return {p.x() / scale_u, p.y()}; }
+};
+
+// The longest edge for a face: the size, and on a cylinder the chord that
+// keeps the chord height of the tessellation.
+bool unroll(const BRepAdaptor_Surface& surface, double size, double deflection, double angle_rad, Unrolled& out,
+            double& longest) {
+  longest = size;
+  switch (surface.GetType()) {
+    case GeomAbs_Plane:
+      out.scale_u = 1;
+      return true;
+    case GeomAbs_Cylinder: {
+      const double r = surface.Cylinder().Radius();
+      if (!(r > 0)) return false;
+      out.scale_u = r;
+      // The chord height only. The angular deflection in every direction
+      // (edges of 2 R sin(angle / 2)) made tiny triangles on small
+      // cylinders: the pump housing 60k -> 240k tetrahedra, 126k with the
+      // growth guard below, and its smallest angle 0.95 deg where the
+      // chord height alone gives 117k and 10.00 deg. The angle still
+      // spaces the nodes on the border arcs, and the volume tolerance
+      // makes the chord height smaller where a volume is off.
+      (void)angle_rad;
+      if (deflection > 0) longest = std::min(longest, std::sqrt(8 * r * deflection));
+      return true;
+    }
+    default:
+      return false;
+  }
+}
+
+double area2(const Point2& a, const Point2& b, const Point2& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+// Faces inside the border: an odd number of constraints crossed from the
+// infinite face (holes are even).
+void mark_inside(Cdt& cdt) {
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->set_in_domain(false);
+  std::map<Cdt::Face_handle, int> depth;
+  std::vector<Cdt::Face_handle> layer{cdt.infinite_face()};
+  depth[cdt.infinite_face()] = 0;
+  for (int d = 0; !layer.empty(); ++d) {
+    std::vector<Cdt::Face_handle> across;  // behind a constraint: the next layer
+    for (size_t k = 0; k < layer.size(); ++k) {
+      const Cdt::Face_handle f = layer[k];
+      f->set_in_domain(d % 2 == 1);
+      for (int i = 0; i < 3; ++i) {
+        const Cdt::Face_handle n = f->neighbor(i);
+        if (depth.count(n)) continue;
+        if (cdt.is_constrained({f, i})) {
+          across.push_back(n);
+        } else {
+          depth[n] = d;
+          layer.push_back(n);
+        }
+      }
+    }
+    layer.clear();
+    for (const Cdt::Face_handle n : across)
+      if (!depth.count(n)) {
+        depth[n] = d + 1;
+        layer.push_back(n);
+      }
+  }
+}
+
+// One face's border in its unrolled plane: the facet edges on CAD edges
+// (a seam twice, once per side), in a constrained Delaunay triangulation,
+// the inside marked.
+struct FaceBorder {
+  Cdt cdt;
+  std::vector<std::pair<Cdt::Vertex_handle, Cdt::Vertex_handle>> segments;
+  int sign = 0;         // of the facets' orientation in the plane
+  double area = 0;      // of the facets in the plane
+};
+
+class FaceRemesher {
+ public:
+  FaceRemesher(const CadModel::Impl& cad, CadSurface& s, const std::vector<char>& frozen)
+      : cad_(cad), s_(s), frozen_(frozen), edges_(s.mesh.triangles) {}
+
+  // False when the facets do not make a clean domain in the plane: folded,
+  // a border without CAD parameters, a frozen vertex, crossing segments.
+  bool border(int fi, const std::vector<int>& facets, const Unrolled& unrolled, FaceBorder& out) const {
+    const Mesh& m = s_.mesh;
+    std::vector<std::array<Point2, 2>> points;
+    std::vector<std::array<int, 2>> ids;
+    for (int f : facets) {
+      const Triangle& t = m.triangles[f];
+      std::array<Point2, 3> p;
+      for (int i = 0; i < 3; ++i) {
+        if (frozen_[t.v[i]]) return false;
+        p[i] = unrolled.to_plane(s_.uv[f][i]);
+      }
+      const double a = area2(p[0], p[1], p[2]);
+      const int sg = a > 0 ? 1 : a < 0 ? -1 : 0;
+      if (sg == 0 || (out.sign != 0 && sg != out.sign)) return false;  // folded in (u, v)
+      out.sign = sg;
+      out.area += std::abs(a);
+      for (int i = 0; i < 3; ++i) {
+        const int a_id = t.v[i], b_id = t.v[(i + 1) % 3];
+        const std::uint64_t key = edge_key(a_id, b_id);
+        const std::vector<int> around = edges_.facets(key);
+        bool inner = around.size() == 2;
+        for (int g : around) inner &= s_.facet_face[g] == fi;
+        if (s_.edge_spans.count(key)) {
+          points.push_back({p[i], p[(i + 1) % 3]});
+          ids.push_back({a_id, b_id});
+        } else if (!inner) {
+          return false;  // a border without CAD parameters: leave the face
+        }
+      }
+    }
+    if (points.empty()) return false;
+    // The same node seen from two facets: within a billionth of the face's
+    // span in the plane (a seam's two sides are a period apart).
+    double lo_x = points[0][0].x(), hi_x = lo_x, lo_y = points[0][0].y(), hi_y = lo_y;
+    for (const auto& sgm : points) {
+      lo_x = std::min(lo_x, sgm[0].x()), hi_x = std::max(hi_x, sgm[0].x());
+      lo_y = std::min(lo_y, sgm[0].y()), hi_y = std::max(hi_y, sgm[0].y());
+    }
+    const double span = std::max(hi_x - lo_x, hi_y - lo_y);
+    const double tolerance2 = 1e-18 * span * span;
+    std::unordered_map<int, std::vector<Cdt::Vertex_handle>> by_id;
+    auto vertex = [&](int id, const Point2& p) -> Cdt::Vertex_handle {
+      auto& list = by_id[id];
+      for (const auto& h : list)
+        if (CGAL::squared_distance(h->point(), p) <= tolerance2) return h;
+      const Cdt::Vertex_handle h = out.cdt.insert(p);
+      if (h->info().id != -1 && h->info().id != id) return {};  // two nodes on one point
+      h->info().id = id;
+      list.push_back(h);
+      return h;
+    };
+    try {
+      for (size_t k = 0; k < points.size(); ++k) {
+        const Cdt::Vertex_handle a = vertex(ids[k][0], points[k][0]);
+        const Cdt::Vertex_handle b = vertex(ids[k][1], points[k][1]);
+        if (a == Cdt::Vertex_handle() || b == Cdt::Vertex_handle() || a == b) return false;
+        out.segments.emplace_back(a, b);
+      }
+      for (const auto& [a, b] : out.segments) out.cdt.insert_constraint(a, b);
+    } catch (const std::exception&) {
+      return false;  // crossing segments (CGAL's exact predicates tag refuses them)
+    }
+    // Every segment an edge of its own: none ran through a node (the
+    // insertion would have split it).
+    size_t constrained = 0;
+    for (auto e = out.cdt.finite_edges_begin(); e != out.cdt.finite_edges_end(); ++e)
+      constrained += out.cdt.is_constrained(*e);
+    if (constrained != out.segments.size()) return false;
+    mark_inside(out.cdt);
+    return std::abs(domain_area(out.cdt) - out.area) <= 1e-9 * out.area;
+  }
+
+  // The border pieces the face needs split for a mesh of round triangles:
+  // CGAL's mesher with segment splits is run, and for each border piece
+  // (a, b) the pieces it was cut into are counted.
+  void plan_border_splits(int fi, const std::vector<int>& facets, const Unrolled& unrolled, double longest,
+                          std::map<std::uint64_t, int>& pieces) const {
+    FaceBorder b;
+    if (!border(fi, facets, unrolled, b) || too_many(b, facets, longest)) return;
+    try {
+      FullMesher mesher(b.cdt, Criteria(kAngleBound, longest));
+      mesher.init(true);
+      mesher.refine_mesh();
+    } catch (const std::exception&) {
+      return;
+    }
+    for (const auto& [a, end] : b.segments) {
+      // Walk from a along the constraint through the mesher's new nodes.
+      auto circulator = b.cdt.incident_edges(a), done = circulator;
+      do {
+        if (b.cdt.is_infinite(*circulator) || !b.cdt.is_constrained(*circulator)) continue;
+        const auto& [f, i] = *circulator;
+        Cdt::Vertex_handle previous = a, at = f->vertex(f->ccw(i)) == a ? f->vertex(f->cw(i)) : f->vertex(f->ccw(i));
+        int count = 1;
+        while (at->info().id == -1 && count < (1 << 20)) {
+          Cdt::Vertex_handle next;
+          auto c2 = b.cdt.incident_edges(at), d2 = c2;
+          do {
+            if (b.cdt.is_infinite(*c2) || !b.cdt.is_constrained(*c2)) continue;
+            const auto& [g, j] = *c2;
+            const Cdt::Vertex_handle other = g->vertex(g->ccw(j)) == at ? g->vertex(g->cw(j)) : g->vertex(g->ccw(j));
+            if (other != previous) next = other;
+          } while (++c2 != d2);
+          if (next == Cdt::Vertex_handle()) break;
+          previous = at;
+          at = next;
+          ++count;
+        }
+        if (at == end && count > 1) {
+          int& n = pieces[edge_key(a->info().id, end->info().id)];
+          n = std::max(n, count);
+        }
+      } while (++circulator != done);
+    }
+  }
+
+  // Meshes face fi anew inside its border; false (nothing changed) when
+  // its facets do not make a clean domain or the mesh would not cover it.
+  bool remesh(int fi, const std::vector<int>& facets, const Unrolled& unrolled, double longest,
+              std::vector<char>& dead) {
+    FaceBorder b;
+    if (!border(fi, facets, unrolled, b) || too_many(b, facets, longest)) return false;
+    try {
+      Mesher mesher(b.cdt, Criteria(kAngleBound, longest));
+      mesher.init(true);
+      mesher.refine_mesh();
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (std::abs(domain_area(b.cdt) - b.area) > 1e-9 * b.area) return false;
+
+    // The new facets, with the old facets' tags and orientation.
+    const Triangle like = s_.mesh.triangles[facets.front()];
+    BRepAdaptor_Surface surface(cad_.faces[fi]);
+    for (auto v = b.cdt.finite_vertices_begin(); v != b.cdt.finite_vertices_end(); ++v) {
+      if (v->info().id != -1) continue;
+      const gp_Pnt2d uv = unrolled.to_uv(v->point());
+      v->info().id = static_cast<int>(s_.mesh.points.size());
+      s_.mesh.points.push_back(to_vec(surface.Value(uv.X(), uv.Y())));
+    }
+    for (int f : facets) dead[f] = 1;
+    const std::array<int, 3> order = b.sign > 0 ? std::array<int, 3>{0, 1, 2} : std::array<int, 3>{0, 2, 1};
+    for (auto f = b.cdt.finite_faces_begin(); f != b.cdt.finite_faces_end(); ++f) {
+      if (!f->is_in_domain()) continue;
+      Triangle t = like;
+      std::array<gp_Pnt2d, 3> uv;
+      for (int i = 0; i < 3; ++i) {
+        const auto v = f->vertex(order[i]);
+        t.v[i] = v->info().id;
+        uv[i] = unrolled.to_uv(v->point());
+      }
+      s_.mesh.triangles.push_back(t);
+      s_.uv.push_back(uv);
+      s_.facet_face.push_back(fi);
+      dead.push_back(0);
+    }
+    return true;
+  }
+
+ private:
+  // Would the face get far more facets than it has? Equilateral triangles
+  // of the longest edge, against kMaxGrowth times the facets: a cylinder
+  // whose chord height asks for edges far below the size (a thin solid's
+  // chord height) is left to its strips. pythonocc_11752.stp went from
+  // 460k to 10.9M facets.
+  static bool too_many(const FaceBorder& b, const std::vector<int>& facets, double longest) {
+    const double equilateral = std::sqrt(3.0) / 4 * longest * longest;
+    return 0.5 * b.area / equilateral > kMaxGrowth * static_cast<double>(facets.size()) + 50;
+  }
+
+  static double domain_area(const Cdt& cdt) {
+    double a = 0;
+    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
+      if (f->is_in_domain()) a += area2(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+    return a;
+  }
+
+  const CadModel::Impl& cad_;
+  CadSurface& s_;
+  const std::vector<char>& frozen_;
+  EdgeFacetPairs edges_;
+};
+
+// The faces that can be unrolled, with their longest edge.
+struct PlaneFace {
+  int face;
+  Unrolled unrolled;
+  double longest;
+};
+std::vector<PlaneFace> plane_faces(const CadModel::Impl& cad, const std::vector<double>& face_deflection,
+                                   double angle_rad, double size) {
+  std::vector<PlaneFace> out;
+  for (size_t fi = 0; fi < cad.faces.size(); ++fi) {
+    PlaneFace p{static_cast<int>(fi), {}, size};
+    try {
+      const BRepAdaptor_Surface surface(cad.faces[fi]);
+      if (unroll(surface, size, face_deflection[fi], angle_rad, p.unrolled, p.longest)) out.push_back(p);
+    } catch (const Standard_Failure&) {
+    }
+  }
+  return out;
+}
+
+std::vector<std::vector<int>> facets_by_face(const CadModel::Impl& cad, const CadSurface& s) {
+  std::vector<std::vector<int>> by_face(cad.faces.size());
+  for (size_t f = 0; f < s.mesh.triangles.size(); ++f) by_face[s.facet_face[f]].push_back(static_cast<int>(f));
+  return by_face;
+}
+
+}  // namespace
+
+std::map<std::uint64_t, int> plan_border_splits(const CadModel::Impl& cad, CadSurface& s,
+                                                const std::vector<double>& face_deflection, double angle_rad,
+                                                double size, const std::vector<char>& frozen) {
+  const auto by_face = facets_by_face(cad, s);
+  std::map<std::uint64_t, int> pieces;
+  const FaceRemesher remesher(cad, s, frozen);
+  for (const PlaneFace& p : plane_faces(cad, face_deflection, angle_rad, size))
+    if (!by_face[p.face].empty()) remesher.plan_border_splits(p.face, by_face[p.face], p.unrolled, p.longest, pieces);
+  return pieces;
+}
+
+int remesh_plane_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
+                       double angle_rad, double size, const std::vector<char>& frozen) {
+  const auto by_face = facets_by_face(cad, s);
+  std::vector<char> dead(s.mesh.triangles.size(), 0);
+  int remeshed = 0;
+  {
+    FaceRemesher remesher(cad, s, frozen);
+    for (const PlaneFace& p : plane_faces(cad, face_deflection, angle_rad, size))
+      if (!by_face[p.face].empty()) remeshed += remesher.remesh(p.face, by_face[p.face], p.unrolled, p.longest, dead);
+  }
+  if (remeshed) compact_surface(s, dead);
+  return remeshed;
+}
+
+}  // namespace vd::cad
