@@ -90,6 +90,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
         while a solid's volume is off by more than this many per cent (0: once)
     smoothing (bool, True): move tessellation vertices inside faces, on the CAD face,
         where a corner is poor; False is --no-smoothing
+    face_remesh (bool, True): mesh plane and cylinder faces anew inside their borders
+        (Delaunay refinement); False is --no-face-remesh
 )";
 
 RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
@@ -98,7 +100,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
       "order",    "progress",   "cancel",      "threads"};
   static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection", "volume_tolerance",
-                                             "smoothing"};
+                                             "smoothing", "face_remesh"};
   RunOptions run;
   MeshOptions& opt = run.cad.mesh;
   // The defaults of the entry point: mesh_surface's are not the CAD ones
@@ -167,6 +169,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
     }
     else if (name == "volume_tolerance") run.cad.tessellation.volume_tolerance = number(value, name) / 100;
     else if (name == "smoothing") run.cad.tessellation.smooth = boolean(value, name);
+    else if (name == "face_remesh") run.cad.tessellation.remesh = boolean(value, name);
   }
   // The command line's checks, with the option names of this module.
   check(opt.size.uniform >= 0, "option size: must not be negative");

@@ -324,6 +324,16 @@ class Cad(unittest.TestCase):
         with self.assertRaisesRegex(TypeError, "smoothing"):
             vdmesh.mesh_cad(path=self.path, smoothing="yes")
 
+    def test_face_remesh_option(self):
+        # face_remesh=False is --no-face-remesh: no face is meshed anew.
+        _, remeshed = vdmesh.mesh_cad(path=self.path, size=1.5)
+        _, kept = vdmesh.mesh_cad(path=self.path, size=1.5, face_remesh=False)
+        self.assertGreater(remeshed["cad"]["remeshed_faces"], 0)
+        self.assertEqual(kept["cad"]["remeshed_faces"], 0)
+        self.assertFalse(remeshed["cad"]["remeshing_dropped"])
+        with self.assertRaisesRegex(TypeError, "face_remesh"):
+            vdmesh.mesh_cad(path=self.path, face_remesh=1)
+
     def test_tessellation(self):
         surface = vdmesh.tessellate_cad(path=self.path, size=2)
         self.assertEqual(len(surface.tets), 0)
