@@ -595,7 +595,7 @@ class Refiner {
 }  // namespace
 
 void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options, double size,
-                    const std::vector<double>& face_deflection, double angle_rad, TessellationStats& stats) {
+                    const std::vector<double>& face_deflection, TessellationStats& stats) {
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<Refiner> r(std::in_place, cad, s, stats, options.grading, options.gradation);
   r->find_knife_edges();
@@ -610,9 +610,9 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
       for (int v : s.singular) out[v] = 1;
       return out;
     };
-    for (const auto& [key, pieces] : plan_border_splits(cad, s, face_deflection, angle_rad, size, frozen()))
+    for (const auto& [key, pieces] : plan_border_splits(cad, s, face_deflection, size, frozen()))
       r->split_into(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), pieces);
-    stats.remeshed_faces = remesh_plane_faces(cad, s, face_deflection, angle_rad, size, frozen());
+    stats.remeshed_faces = remesh_plane_faces(cad, s, face_deflection, size, frozen());
     if (stats.remeshed_faces > 0) {
       r.emplace(cad, s, stats, 0.0, options.gradation);
       r->find_knife_edges();

@@ -64,8 +64,7 @@ struct Unrolled {
 
 // The longest edge for a face: the size, and on a cylinder the chord that
 // keeps the chord height of the tessellation.
-bool unroll(const BRepAdaptor_Surface& surface, double size, double deflection, double angle_rad, Unrolled& out,
-            double& longest) {
+bool unroll(const BRepAdaptor_Surface& surface, double size, double deflection, Unrolled& out, double& longest) {
   longest = size;
   switch (surface.GetType()) {
     case GeomAbs_Plane:
@@ -82,13 +81,18 @@ bool unroll(const BRepAdaptor_Surface& surface, double size, double deflection, 
       // chord height alone gives 117k and 10.00 deg. The angle still
       // spaces the nodes on the border arcs, and the volume tolerance
       // makes the chord height smaller where a volume is off.
-      (void)angle_rad;
       if (deflection > 0) longest = std::min(longest, std::sqrt(8 * r * deflection));
       return true;
     }
     default:
       return false;
   }
+}
+
+// The end of edge e that is not v.
+Cdt::Vertex_handle other_end(const Cdt::Edge& e, const Cdt::Vertex_handle& v) {
+  const auto& [f, i] = e;
+  return f->vertex(f->ccw(i)) == v ? f->vertex(f->cw(i)) : f->vertex(f->ccw(i));
 }
 
 double area2(const Point2& a, const Point2& b, const Point2& c) {
@@ -235,16 +239,14 @@ class FaceRemesher {
       auto circulator = b.cdt.incident_edges(a), done = circulator;
       do {
         if (b.cdt.is_infinite(*circulator) || !b.cdt.is_constrained(*circulator)) continue;
-        const auto& [f, i] = *circulator;
-        Cdt::Vertex_handle previous = a, at = f->vertex(f->ccw(i)) == a ? f->vertex(f->cw(i)) : f->vertex(f->ccw(i));
+        Cdt::Vertex_handle previous = a, at = other_end(*circulator, a);
         int count = 1;
         while (at->info().id == -1 && count < (1 << 20)) {
           Cdt::Vertex_handle next;
           auto c2 = b.cdt.incident_edges(at), d2 = c2;
           do {
             if (b.cdt.is_infinite(*c2) || !b.cdt.is_constrained(*c2)) continue;
-            const auto& [g, j] = *c2;
-            const Cdt::Vertex_handle other = g->vertex(g->ccw(j)) == at ? g->vertex(g->cw(j)) : g->vertex(g->ccw(j));
+            const Cdt::Vertex_handle other = other_end(*c2, at);
             if (other != previous) next = other;
           } while (++c2 != d2);
           if (next == Cdt::Vertex_handle()) break;
@@ -334,13 +336,13 @@ struct PlaneFace {
   double longest;
 };
 std::vector<PlaneFace> plane_faces(const CadModel::Impl& cad, const std::vector<double>& face_deflection,
-                                   double angle_rad, double size) {
+                                   double size) {
   std::vector<PlaneFace> out;
   for (size_t fi = 0; fi < cad.faces.size(); ++fi) {
     PlaneFace p{static_cast<int>(fi), {}, size};
     try {
       const BRepAdaptor_Surface surface(cad.faces[fi]);
-      if (unroll(surface, size, face_deflection[fi], angle_rad, p.unrolled, p.longest)) out.push_back(p);
+      if (unroll(surface, size, face_deflection[fi], p.unrolled, p.longest)) out.push_back(p);
     } catch (const Standard_Failure&) {
     }
   }
@@ -356,24 +358,24 @@ std::vector<std::vector<int>> facets_by_face(const CadModel::Impl& cad, const Ca
 }  // namespace
 
 std::map<std::uint64_t, int> plan_border_splits(const CadModel::Impl& cad, CadSurface& s,
-                                                const std::vector<double>& face_deflection, double angle_rad,
-                                                double size, const std::vector<char>& frozen) {
+                                                const std::vector<double>& face_deflection, double size,
+                                                const std::vector<char>& frozen) {
   const auto by_face = facets_by_face(cad, s);
   std::map<std::uint64_t, int> pieces;
   const FaceRemesher remesher(cad, s, frozen);
-  for (const PlaneFace& p : plane_faces(cad, face_deflection, angle_rad, size))
+  for (const PlaneFace& p : plane_faces(cad, face_deflection, size))
     if (!by_face[p.face].empty()) remesher.plan_border_splits(p.face, by_face[p.face], p.unrolled, p.longest, pieces);
   return pieces;
 }
 
 int remesh_plane_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
-                       double angle_rad, double size, const std::vector<char>& frozen) {
+                       double size, const std::vector<char>& frozen) {
   const auto by_face = facets_by_face(cad, s);
   std::vector<char> dead(s.mesh.triangles.size(), 0);
   int remeshed = 0;
   {
     FaceRemesher remesher(cad, s, frozen);
-    for (const PlaneFace& p : plane_faces(cad, face_deflection, angle_rad, size))
+    for (const PlaneFace& p : plane_faces(cad, face_deflection, size))
       if (!by_face[p.face].empty()) remeshed += remesher.remesh(p.face, by_face[p.face], p.unrolled, p.longest, dead);
   }
   if (remeshed) compact_surface(s, dead);

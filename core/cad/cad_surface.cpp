@@ -107,7 +107,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       // Far below the chord height: the move is lost in the tessellation's own error.
       pass.collapsed_edges = collapse_short_edges(s, std::min(0.1 * deflection, 0.01 * pass.size));
       throw_if_cancelled(options.cancel);
-      if (options.refine) refine_to_size(*impl_, s, options, pass.size, face_deflection, angle_deg * M_PI / 180.0, pass);
+      if (options.refine) refine_to_size(*impl_, s, options, pass.size, face_deflection, pass);
       seconds_tessellate += pass.seconds_tessellate;
       seconds_refine += pass.seconds_refine;
       pass.seconds_tessellate = seconds_tessellate;
