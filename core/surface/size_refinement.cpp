@@ -16,6 +16,9 @@
 namespace vd {
 namespace {
 
+// A facet with a corner under this is narrow (see `waits` below).
+const double kNarrowCorner = 20.0 * M_PI / 180.0;
+
 // Replaces facet f = (.., p, q, ..) by the two facets on either side of the
 // new vertex n on its edge {p, q}, keeping orientation, face and regions.
 void split_facet(Mesh& m, int f, int p, int q, int n) {
@@ -153,6 +156,7 @@ SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* gr
       double length;
       std::uint64_t key;
       size_t first, last;  // its run in `pairs`
+      bool on_border;      // between two faces, or not shared by exactly two facets
       bool operator>(const LongEdge& o) const { return std::tie(length, key) > std::tie(o.length, o.key); }
     };
     std::vector<LongEdge> long_edges;
@@ -162,14 +166,34 @@ SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* gr
       const std::uint64_t key = pairs[i].first;
       const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
       const double l = norm(m.points[a] - m.points[b]);
-      if (l > limit(a, b)) long_edges.push_back({l, key, i, j});
+      if (l <= limit(a, b)) continue;
+      bool on_border = j - i != 2;
+      if (!on_border) {
+        const Triangle& t1 = m.triangles[pairs[i].second];
+        const Triangle& t2 = m.triangles[pairs[i + 1].second];
+        on_border = t1.face != t2.face || t1.front != t2.front || t1.back != t2.back;
+      }
+      long_edges.push_back({l, key, i, j, on_border});
     }
+    // An edge inside a face waits while one of its facets has a long edge on
+    // the face's border: split first, the border's mid-points let the flips
+    // turn the inner edge, where its own mid-point would have stood inside a
+    // narrow face, off its borders (a 1 x 0.017 end face of a 1 deg wedge
+    // got a vertex at mid-height, which split the wedge's angle: 1 -> 0.5 deg).
+    std::vector<char> waits(m.triangles.size(), 0);
+    for (const LongEdge& edge : long_edges)
+      if (edge.on_border)
+        for (size_t i = edge.first; i < edge.last; ++i) {
+          const int f = pairs[i].second;
+          waits[f] = smallest_corner_angle(m.points, m.triangles[f]) < kNarrowCorner;
+        }
     // Longest first, ties by key.
     std::sort(long_edges.begin(), long_edges.end(), std::greater<>());
     std::vector<char> touched(m.triangles.size(), 0);
     for (const LongEdge& edge : long_edges) {
       bool clear = true;
-      for (size_t i = edge.first; i < edge.last; ++i) clear = clear && !touched[pairs[i].second];
+      for (size_t i = edge.first; i < edge.last; ++i)
+        clear = clear && !touched[pairs[i].second] && (edge.on_border || !waits[pairs[i].second]);
       if (!clear) {
         again = true;
         continue;

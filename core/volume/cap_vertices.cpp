@@ -38,6 +38,7 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
     for (int v : m.triangles[f].v) on_surface[v] = 1;
   }
   const double cos_ridge = std::cos(ridge_angle_deg * M_PI / 180.0);
+  const double cos_sliver = std::cos(sliver_angle_deg * M_PI / 180.0);
   std::vector<std::vector<int>> facets_at;
   // Two of t's vertices on opposite sides of a wall: their normals into t's
   // region (sums over their facets) more than 120 deg apart. Not on a
@@ -122,6 +123,11 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
       inward = inward + normal[k];
     }
     if (!sided || dot(normal[0], normal[1]) >= cos_ridge) continue;  // flat enough for case A
+    // The two facets meeting at the fold edge at under the sliver angle
+    // inside the tetrahedron (normals into it nearly opposite): it is the tip
+    // of the input's own wedge, whose angle no point can raise, and a point
+    // inside would only split it (a 1 deg wedge: 1.00 -> 0.50 deg).
+    if (dot(normal[0], normal[1]) < -cos_sliver) continue;
     // The fold edge: the two vertices both facets share.
     int a = -1, b = -1;
     for (int i = 0; i < 4; ++i)

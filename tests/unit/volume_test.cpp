@@ -175,6 +175,36 @@ TEST(Volume, SharpFaceCornersAreNotGraded) {
   EXPECT_GT(r.report.quality.min_dihedral_deg, 10.0);
 }
 
+// A 1 x 1 wedge whose top rises to sin(1 deg) over x: the two faces meet at
+// the edge x = 0 at 0.99985 deg, and no tetrahedron there can do better. Two
+// things split that angle in half: a cap vertex for the tetrahedron at the
+// tip (its two facets "fold" by 179 deg), and the end face x = 1 (1 x 0.017)
+// split across its diagonal, a vertex at mid-height.
+TEST(Volume, AThinWedgeKeepsItsOwnAngle) {
+  Mesh in;
+  const double h = std::sin(M_PI / 180.0);
+  in.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {1, 0, h}, {1, 1, h}};
+  // Regions front/back as the conventions say: region 1 behind each facet.
+  auto quad = [&](int a, int b, int c, int d, int face) {
+    in.triangles.push_back({{a, b, c}, face, 0, 1});
+    in.triangles.push_back({{a, c, d}, face, 0, 1});
+  };
+  quad(0, 1, 3, 2, 1);  // bottom, normal -z
+  quad(0, 4, 5, 1, 2);  // top
+  in.triangles.push_back({{0, 2, 4}, 3, 0, 1});  // y = 0
+  in.triangles.push_back({{1, 5, 3}, 4, 0, 1});  // y = 1
+  quad(2, 3, 5, 4, 5);  // x = 1
+  const double wedge = std::atan(h) * 180.0 / M_PI;
+  const MeshResult r = mesh_surface(in, MeshOptions{});
+  const ConformityReport c = check_conformity(r.mesh);
+  EXPECT_TRUE(c.ok()) << c.summary();
+  EXPECT_NEAR(c.region_volume[1], 0.5 * h, 1e-9 * h);
+  std::cout << "[1 deg wedge] " << r.mesh.tets.size() << " tets, min dihedral " << r.report.quality.min_dihedral_deg
+            << " (the wedge's " << wedge << ")\n";
+  // 0.50 deg before.
+  EXPECT_GT(r.report.quality.min_dihedral_deg, wedge * (1 - 1e-6));
+}
+
 TEST(Volume, GradedSizesReachAcrossSpace) {
   const Mesh in = cube_around_a_near_sphere();
   const double g = 0.3;
