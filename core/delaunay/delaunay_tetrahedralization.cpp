@@ -7,10 +7,12 @@
 #include <CGAL/spatial_sort.h>
 
 #include <algorithm>
+#include <functional>
 #include <numeric>
 #include <stdexcept>
 
 #include "mesh/cancel.h"
+#include "mesh/tet_faces.h"
 
 namespace vd {
 namespace {
@@ -132,6 +134,30 @@ bool DelaunayTetrahedralization::has_facet(int a, int b, int c) const {
   DT::Cell_handle cell;
   int i, j, k;
   return impl_->dt.is_facet(impl_->at(a), impl_->at(b), impl_->at(c), cell, i, j, k);
+}
+
+std::vector<char> DelaunayTetrahedralization::has_facets(const std::vector<Triangle>& triangles) const {
+  const DT& dt = impl_->dt;
+  const TripleIndex index(triangles, [](const Triangle& t) { return t.v; });
+  std::vector<char> on_surface(impl_->handle.size(), 0), found(triangles.size(), 0);
+  for (const Triangle& t : triangles)
+    for (int v : t.v) on_surface[static_cast<size_t>(v)] = 1;
+  for (auto c : dt.finite_cell_handles()) {
+    int id[4];
+    for (int i = 0; i < 4; ++i) id[i] = c->vertex(i)->info();
+    for (int i = 0; i < 4; ++i) {
+      // Each face once: from the finite cell of lower address.
+      const DT::Cell_handle n = c->neighbor(i);
+      if (!dt.is_infinite(n) && std::less<const void*>()(&*n, &*c)) continue;
+      const std::array<int, 3> face{id[(i + 1) & 3], id[(i + 2) & 3], id[(i + 3) & 3]};
+      if (!on_surface[face[0]] || !on_surface[face[1]] || !on_surface[face[2]]) continue;
+      const int f = index.find(face);
+      if (f >= 0) found[f] = 1;
+    }
+  }
+  std::vector<char> out(triangles.size());
+  for (size_t f = 0; f < triangles.size(); ++f) out[f] = found[index.find(triangles[f].v)];
+  return out;
 }
 
 std::array<int, 2> DelaunayTetrahedralization::facet_apexes(int a, int b, int c) const {

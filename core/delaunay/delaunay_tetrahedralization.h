@@ -41,6 +41,10 @@ class DelaunayTetrahedralization {
   std::array<int, 4> locate(const Vec3& p) const;
   // Is triangle (a, b, c) a face of the tetrahedralization?
   bool has_facet(int a, int b, int c) const;
+  // has_facet for every triangle at once, by one sweep over the
+  // tetrahedra: a search of each facet's star was a tenth of a surface-only
+  // run at 89k facets.
+  std::vector<char> has_facets(const std::vector<Triangle>& triangles) const;
   // The vertices opposite triangle (a, b, c) in the two tetrahedra beside it,
   // -1 for a side on the convex hull (the infinite vertex); {-2, -2} when the
   // triangle is not a face.

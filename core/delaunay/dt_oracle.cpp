@@ -1,5 +1,7 @@
 // The reference oracle: a facet is Delaunay when it is a face of the exact
 // tetrahedralization the caller keeps current.
+#include <algorithm>
+
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "delaunay/oracles.h"
 
@@ -16,6 +18,13 @@ class DtOracle final : public FacetOracle {
     ++stats_.by_tetrahedralization;
     const bool yes = dt_->has_facet(a, b, c);
     stats_.delaunay += yes;
+    return yes;
+  }
+  std::vector<char> are_delaunay(const std::vector<Triangle>& facets) override {
+    std::vector<char> yes = dt_->has_facets(facets);
+    stats_.queries += static_cast<long>(facets.size());
+    stats_.by_tetrahedralization += static_cast<long>(facets.size());
+    stats_.delaunay += std::count(yes.begin(), yes.end(), 1);
     return yes;
   }
 

@@ -53,6 +53,9 @@ class FacetOracle {
   // Is (a, b, c) a face of the Delaunay tetrahedralization of *points?
   // `normal` (any length) says which side to sample first where that matters.
   virtual bool is_delaunay(int a, int b, int c, Vec3 normal) = 0;
+  // is_delaunay for every facet of a surface at once, or an empty vector
+  // when the oracle has no faster way than one query per facet.
+  virtual std::vector<char> are_delaunay(const std::vector<Triangle>&) { return {}; }
 
   const OracleStats& stats() const { return stats_; }
 

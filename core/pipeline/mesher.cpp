@@ -135,7 +135,6 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   timer.start("random shift");
   if (options.shift > 0)
     report.shift = random_shift(m, {options.shift, options.seed, options.sharp_angle_deg}, edges ? &*edges : nullptr);
-  edges.reset();
 
   timer.start("tetrahedralize");
   // Owned apart so that the sliver pass can free it once it is done with it.
@@ -152,7 +151,10 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
 
   auto recover = [&](const char* phase) {
     timer.start(phase);
-    const DelaunayzationResult pass = delaunayize(m, dt, *oracle, dopt);
+    // The shift moves points only: the edge map of the validation still
+    // holds, for the first recovery (a thirtieth of a surface-only run).
+    const DelaunayzationResult pass = delaunayize(m, dt, *oracle, dopt, edges ? &*edges : nullptr);
+    edges.reset();
     accumulate(report.delaunayzation, pass);
     report.oracle_stats = oracle->stats();
     report.added_surface_vertices = report.delaunayzation.added_vertices;

@@ -22,17 +22,17 @@ Vec3 area_vector(const std::vector<Vec3>& p, const Triangle& t) {
 
 class Delaunayzer {
  public:
-  Delaunayzer(Mesh& m, DelaunayTetrahedralization& dt, FacetOracle& oracle, const DelaunayzationOptions& o)
-      : m_(m), dt_(dt), oracle_(oracle), opt_(o), rng_(o.seed) {
-    edges_ = EdgeMap(m_.triangles);
-    vertex_facets_.resize(m_.points.size());
-    for (size_t f = 0; f < m_.triangles.size(); ++f)
-      for (int v : m_.triangles[f].v) vertex_facets_[v].push_back(static_cast<int>(f));
-    delaunay_.resize(m_.triangles.size());
+  Delaunayzer(Mesh& m, DelaunayTetrahedralization& dt, FacetOracle& oracle, const DelaunayzationOptions& o,
+              EdgeMap* edges)
+      : m_(m), dt_(dt), oracle_(oracle), opt_(o), rng_(o.seed), given_edges_(edges) {
     version_.assign(m_.triangles.size(), 0);
-    for (size_t f = 0; f < m_.triangles.size(); ++f) {
-      poll_cancel_();
-      delaunay_[f] = query(m_.triangles[f]);
+    delaunay_ = oracle_.are_delaunay(m_.triangles);
+    if (delaunay_.empty()) {
+      delaunay_.resize(m_.triangles.size());
+      for (size_t f = 0; f < m_.triangles.size(); ++f) {
+        poll_cancel_();
+        delaunay_[f] = query(m_.triangles[f]);
+      }
     }
     Vec3 lo = m_.points.front(), hi = lo;
     for (const Vec3& p : m_.points)
@@ -49,6 +49,7 @@ class Delaunayzer {
         throw_if_cancelled(opt_.cancel);
         std::vector<int> missing = non_delaunay();
         if (missing.empty()) break;
+        index_facets();
         if (opt_.flips) flips(missing);
         splits();
         ++result_.passes;
@@ -63,6 +64,17 @@ class Delaunayzer {
   }
 
  private:
+
+  // The adjacency the flips and splits need, built once there is a facet to
+  // mend (most surfaces of a volume run have none: a tenth of its recovery).
+  void index_facets() {
+    if (indexed_) return;
+    indexed_ = true;
+    edges_ = given_edges_ ? std::move(*given_edges_) : EdgeMap(m_.triangles);
+    vertex_facets_.assign(m_.points.size(), {});
+    for (size_t f = 0; f < m_.triangles.size(); ++f)
+      for (int v : m_.triangles[f].v) vertex_facets_[v].push_back(static_cast<int>(f));
+  }
 
   bool guard_hit() const {
     return result_.passes >= opt_.max_passes || result_.added_vertices >= max_added_;
@@ -300,6 +312,8 @@ class Delaunayzer {
   FacetOracle& oracle_;
   DelaunayzationOptions opt_;
   std::mt19937_64 rng_;
+  bool indexed_ = false;
+  EdgeMap* given_edges_;
   EdgeMap edges_;
   std::vector<std::vector<int>> vertex_facets_;
   std::vector<char> delaunay_;
@@ -316,9 +330,9 @@ class Delaunayzer {
 }  // namespace
 
 DelaunayzationResult delaunayize(Mesh& surface, DelaunayTetrahedralization& dt, FacetOracle& oracle,
-                                 const DelaunayzationOptions& options) {
+                                 const DelaunayzationOptions& options, EdgeMap* edges) {
   if (surface.triangles.empty()) return {};
-  Delaunayzer d(surface, dt, oracle, options);
+  Delaunayzer d(surface, dt, oracle, options, edges);
   return d.run();
 }
 

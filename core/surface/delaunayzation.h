@@ -12,6 +12,8 @@
 
 namespace vd {
 
+class EdgeMap;
+
 class DelaunayTetrahedralization;
 class SurfaceGeometry;
 
@@ -49,7 +51,9 @@ struct DelaunayzationResult {
 // its triangles, splits append points (with sizes, when point_size is set).
 // `dt` holds the tetrahedralization of all surface.points (and any interior
 // vertices appended to them); it is updated as vertices are added.
+// `edges`, when given, is the edge map of surface.triangles as they are, taken
+// over (moved from) instead of built again.
 DelaunayzationResult delaunayize(Mesh& surface, DelaunayTetrahedralization& dt, FacetOracle& oracle,
-                                 const DelaunayzationOptions& options);
+                                 const DelaunayzationOptions& options, EdgeMap* edges = nullptr);
 
 }  // namespace vd

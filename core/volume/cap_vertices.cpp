@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "geometry/predicates.h"
@@ -31,12 +30,9 @@ struct Cap {
 std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt, double sliver_angle_deg,
                                       double ridge_angle_deg) {
   std::vector<char> on_surface(m.points.size(), 0);
-  std::unordered_map<std::array<int, 3>, int, TripleHash> facet_of;
-  facet_of.reserve(m.triangles.size());
-  for (size_t f = 0; f < m.triangles.size(); ++f) {
-    facet_of.emplace(sorted_triple(m.triangles[f].v), static_cast<int>(f));
-    for (int v : m.triangles[f].v) on_surface[v] = 1;
-  }
+  const TripleIndex facet_of(m.triangles, [](const Triangle& t) { return t.v; });
+  for (const Triangle& t : m.triangles)
+    for (int v : t.v) on_surface[v] = 1;
   const double cos_ridge = std::cos(ridge_angle_deg * M_PI / 180.0);
   const double cos_sliver = std::cos(sliver_angle_deg * M_PI / 180.0);
   std::vector<std::vector<int>> facets_at;
@@ -92,7 +88,7 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
     if (angle >= sliver_angle_deg) continue;
     int faces[4], n = 0;
     for (int i = 0; i < 4; ++i)
-      if (facet_of.count(sorted_triple(face_opposite(t.v, i)))) faces[n++] = i;
+      if (facet_of.find(face_opposite(t.v, i)) >= 0) faces[n++] = i;
     // Flat across a thin wall: four surface vertices, two on each side, in
     // one plane (rows of an extruded tessellation), no face on the surface.
     // The random shift moves them only along the surface, so nothing opens
@@ -112,7 +108,7 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
     Vec3 normal[2];
     bool sided = true;
     for (int k = 0; k < 2; ++k) {
-      const Triangle& f = m.triangles[facet_of.at(sorted_triple(face_opposite(t.v, faces[k])))];
+      const Triangle& f = m.triangles[facet_of.find(face_opposite(t.v, faces[k]))];
       const Vec3 nf = facet_normal(m.points, f);
       // The side the cap's fourth vertex is on, not the region's: on a
       // surface inside a region (both sides the same) the cap may be on
@@ -174,9 +170,7 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
 }
 
 int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<Vec3>& points) {
-  std::unordered_set<std::array<int, 3>, TripleHash> surface;
-  surface.reserve(m.triangles.size());
-  for (const Triangle& t : m.triangles) surface.insert(sorted_triple(t.v));
+  const TripleIndex surface(m.triangles, [](const Triangle& t) { return t.v; });
   int kept = 0;
   std::vector<std::array<int, 3>> taken;
   for (const Vec3& p : points) {
@@ -184,7 +178,7 @@ int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vect
     // CGAL's cells in an order that depended on memory addresses, so the
     // same run wrote its tetrahedra in another order each time.
     bool keeps = dt.faces_taken_by(p, taken);
-    for (const auto& f : taken) keeps = keeps && !surface.count(sorted_triple(f));
+    for (const auto& f : taken) keeps = keeps && surface.find(f) < 0;
     if (!keeps) continue;
     // Its conflict zone crosses no facet: one region, whose label the new
     // tetrahedra take.

@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <map>
 #include <sstream>
-#include <unordered_map>
 
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "geometry/predicates.h"
@@ -28,12 +27,7 @@ double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
 
 RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   const int n = dt.number_cells();
-  std::unordered_map<std::array<int, 3>, int, TripleHash> facet_of;
-  facet_of.reserve(m.triangles.size() * 2);
-  for (size_t f = 0; f < m.triangles.size(); ++f) {
-    const auto& v = m.triangles[f].v;
-    facet_of.emplace(sorted_triple(v), static_cast<int>(f));
-  }
+  const TripleIndex facet_of(m.triangles, [](const Triangle& t) { return t.v; });
   // Which faces of each tetrahedron lie on a facet, one bit per face: a
   // byte per tetrahedron where a table of facet numbers took sixteen (52 MB
   // at 3.5M tetrahedra, at the run's peak); the faces on the surface, a
@@ -51,10 +45,10 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
     if (touching < 3) continue;
     for (int i = 0; i < 4; ++i) {
       if (touching == 3 && on_facet[static_cast<size_t>(tet[i])]) continue;  // i is one of the three
-      const auto it = facet_of.find(sorted_triple(face_opposite(tet, i)));
-      if (it == facet_of.end()) continue;
+      const int f = facet_of.find(face_opposite(tet, i));
+      if (f < 0) continue;
       walls[static_cast<size_t>(t)] |= static_cast<std::uint8_t>(1u << i);
-      faces_on_surface.push_back({t, i, it->second});
+      faces_on_surface.push_back({t, i, f});
     }
   }
 
