@@ -8,6 +8,9 @@ the same run. Prints a Markdown table: seconds and peak memory (MiB).
 vdmesh runs with --no-interior --keep-slivers: the Delaunay tetrahedra of
 the recovered surface, as tetgen -pY gives its constrained ones (neither
 improves quality; vdmesh's sliver pass is measured in bench_quality.py).
+Besides whole runs, the same step on both sides: vdmesh's tetrahedralize +
+delaunayzation phases (its report) against TetGen's own "Delaunay seconds" +
+"Boundary recovery seconds" (a second run with -V, which prints them).
 
 Inputs: icospheres of about 10k, 100k and 1M facets (written by this script)
 and the largest closed surfaces of the shared data ($VDMESH_DATA).
@@ -47,6 +50,17 @@ def peak_of(cmd, timeout=3600):
         return "timeout", float(timeout), float("nan")
 
 
+def tetgen_phases(tg_in):
+    """TetGen's Delaunay + boundary recovery seconds, as it prints them."""
+    out = subprocess.run(["tetgen", "-pYV", tg_in], capture_output=True, text=True).stdout
+    sec = {}
+    for line in out.splitlines():
+        for key in ("Delaunay seconds:", "Boundary recovery seconds:"):
+            if line.strip().startswith(key):
+                sec[key] = float(line.split(":")[1])
+    return sum(sec.values()) if len(sec) == 2 else None
+
+
 def main():
     build = sys.argv[1] if len(sys.argv) > 1 else "build"
     vdmesh = os.path.join(build, "bin", "vdmesh")
@@ -66,11 +80,12 @@ def main():
         if os.path.exists(p):
             inputs.append((os.path.basename(rel), p))
     print("| input | facets | " + " | ".join("vdmesh %s s / MiB / added facets" % o for o in oracles) +
-          " | tetgen -pY s / MiB | dt speed-up vs tetgen |")
-    print("|---|---|" + "---|" * len(oracles) + "---|---|")
+          " | tetgen -pY s / MiB | dt speed-up vs tetgen | tetgen Delaunay + boundary recovery s |"
+          " dt recovery speed-up vs tetgen's |")
+    print("|---|---|" + "---|" * len(oracles) + "---|---|---|---|")
     for name, path in inputs:
         cells = []
-        dt_time = None
+        dt_time = dt_recovery = None
         facets = "?"
         for o in oracles:
             report = os.path.join(work, "r.json")
@@ -84,7 +99,7 @@ def main():
                 rec = sum(v for k, v in r["seconds"].items() if k in ("tetrahedralize", "delaunayzation"))
                 cells.append("%.2f (recovery %.2f) / %.0f / %s" % (sec, rec, mib, added))
                 if o == "dt":
-                    dt_time = sec
+                    dt_time, dt_recovery = sec, rec
             else:
                 cells.append("exit %s after %.1f s" % (code, sec))
         tg_in = path
@@ -94,7 +109,11 @@ def main():
         code, sec, mib = peak_of(["tetgen", "-pYQ", tg_in])
         tg = "%.2f / %.0f" % (sec, mib) if code == 0 else "failed (%s)" % code
         ratio = "%.1fx" % (sec / dt_time) if code == 0 and dt_time else "-"
-        print("| %s | %s | %s | %s | %s |" % (name, facets, " | ".join(cells), tg, ratio), flush=True)
+        tg_rec = tetgen_phases(tg_in) if code == 0 else None
+        tg_rec_cell = "%.2f" % tg_rec if tg_rec is not None else "-"
+        rec_ratio = "%.1fx" % (tg_rec / dt_recovery) if tg_rec and dt_recovery else "-"
+        print("| %s | %s | %s | %s | %s | %s | %s |" % (name, facets, " | ".join(cells), tg, ratio, tg_rec_cell,
+                                                       rec_ratio), flush=True)
 
 
 if __name__ == "__main__":
