@@ -222,20 +222,42 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
       // Flat tetrahedra held by two facets over a fold: the sliver pass
       // cannot reach them, a vertex inside the region can.
       timer.start("cap vertices");
-      const std::vector<Vec3> caps =
-          cap_breaking_points(m, dt, sliver_options.sliver_angle_deg, sliver_options.ridge_angle_deg);
-      const int first_cap = static_cast<int>(m.points.size());
-      const int kept = caps.empty() ? 0 : insert_cap_vertices(m, dt, caps);
-      report.interior.cap_points_refused = static_cast<long>(caps.size()) - kept;
-      if (kept > 0) {
-        added_to_dt(first_cap, "a cap vertex");
-        report.interior.cap_points = kept;
-        report.interior_vertices += kept;
-        report.output_vertices = static_cast<int>(m.points.size());
-        // Every facet is still a Delaunay face (insert_cap_vertices kept it
-        // so): no recovery, and the new tetrahedra took their region's label.
-        timer.start("volume with cap vertices");
-        m.tets = dt.labelled_cells();
+      std::vector<std::array<int, 2>> refused_folds;
+      auto open_caps = [&] {
+        const std::vector<CapPoint> caps =
+            cap_breaking_points(m, dt, sliver_options.sliver_angle_deg, sliver_options.ridge_angle_deg);
+        const int first_cap = static_cast<int>(m.points.size());
+        const int kept = caps.empty() ? 0 : insert_cap_vertices(m, dt, caps, &refused_folds);
+        report.interior.cap_points_refused += static_cast<long>(caps.size()) - kept;
+        if (kept > 0) {
+          added_to_dt(first_cap, "a cap vertex");
+          report.interior.cap_points += kept;
+          report.interior_vertices += kept;
+          report.output_vertices = static_cast<int>(m.points.size());
+          // Every facet is still a Delaunay face (insert_cap_vertices kept
+          // it so): no recovery, and the new tetrahedra took their region's
+          // label.
+          timer.start("volume with cap vertices");
+          m.tets = dt.labelled_cells();
+        }
+      };
+      open_caps();
+      // Caps no point can open without taking a facet: their fold edges are
+      // split on the surface, recovered, and the caps looked for again. Not
+      // on CAD input, whose mid-points would have to go onto the faces.
+      if (!refused_folds.empty() && !options.delaunayzation.geometry) {
+        timer.start("cap fold splits");
+        const int first_split = static_cast<int>(m.points.size());
+        report.interior.cap_folds_split = split_cap_folds(m, refused_folds);
+        refused_folds.clear();
+        dt.insert(m.points, first_split, options.cancel);
+        added_to_dt(first_split, "a cap fold's mid-point");
+        recover("delaunayzation after cap fold splits");
+        timer.start("volume after cap fold splits");
+        report.regions = build_region_tetrahedra(m, dt);
+        report.regions.regions_from_tags = from_tags;
+        timer.start("cap vertices after fold splits");
+        open_caps();
       }
     }
   }

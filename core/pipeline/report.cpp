@@ -57,6 +57,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"rejected_outside\": " << r.interior.rejected_outside << ", \"rejected_near_vertex\": "
     << r.interior.rejected_near_vertex << ", \"rejected_near_surface\": " << r.interior.rejected_near_surface
     << ", \"cap_points\": " << r.interior.cap_points << ", \"cap_points_refused\": " << r.interior.cap_points_refused
+    << ", \"cap_folds_split\": " << r.interior.cap_folds_split
     << ", \"smallest_size\": " << exact(r.smallest_size) << "},\n";
   const auto& sl = r.slivers;
   s << "  \"slivers\": {\"angle_deg\": " << exact(sl.angle_deg) << ", \"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary

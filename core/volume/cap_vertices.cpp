@@ -7,6 +7,7 @@
 #include "geometry/predicates.h"
 #include "mesh/tet_faces.h"
 #include "quality/tet_quality.h"
+#include "surface/edge_map.h"
 #include "surface/face_patches.h"
 
 namespace vd {
@@ -23,12 +24,13 @@ struct Cap {
   int tet;
   Vec3 point;
   double fold_length;
+  std::array<int, 2> fold{-1, -1};
 };
 
 }  // namespace
 
-std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt, double sliver_angle_deg,
-                                      double ridge_angle_deg) {
+std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt,
+                                          double sliver_angle_deg, double ridge_angle_deg) {
   std::vector<char> on_surface(m.points.size(), 0);
   const TripleIndex facet_of(m.triangles, [](const Triangle& t) { return t.v; });
   for (const Triangle& t : m.triangles)
@@ -144,7 +146,7 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
                       : side_of_circumsphere(p0, p1, p2, p3, from_centroid) == SphereSide::inside ? &from_centroid
                                                                                                  : nullptr;
       if (!p) continue;
-      caps.push_back({static_cast<int>(ti), *p, length});
+      caps.push_back({static_cast<int>(ti), *p, length, {a, b}});
       break;
     }
     // Else the centroid itself, inside the cap: when the circumsphere's
@@ -153,33 +155,38 @@ std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedraliz
     // such (smallest angle 0.12 -> 0.76 deg).
     if ((caps.empty() || caps.back().tet != static_cast<int>(ti)) &&
         side_of_circumsphere(p0, p1, p2, p3, centroid) == SphereSide::inside)
-      caps.push_back({static_cast<int>(ti), centroid, length});
+      caps.push_back({static_cast<int>(ti), centroid, length, {a, b}});
   }
   if (caps.empty()) return {};
 
-  std::vector<Vec3> out;
+  std::vector<CapPoint> out;
   for (const Cap& c : caps) {
     if (dt.label_at(c.point) != m.tets[c.tet].region) continue;
     const std::array<int, 4> cell = dt.locate(c.point);
     bool clear = true;
     for (int v : cell) clear = clear && norm(m.points[v] - c.point) > 0.1 * c.fold_length;
-    for (const Vec3& q : out) clear = clear && norm(q - c.point) > 0.1 * c.fold_length;
-    if (clear) out.push_back(c.point);
+    for (const CapPoint& q : out) clear = clear && norm(q.point - c.point) > 0.1 * c.fold_length;
+    if (clear) out.push_back({c.point, c.fold});
   }
   return out;
 }
 
-int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<Vec3>& points) {
+int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<CapPoint>& points,
+                        std::vector<std::array<int, 2>>* refused_folds) {
   const TripleIndex surface(m.triangles, [](const Triangle& t) { return t.v; });
   int kept = 0;
   std::vector<std::array<int, 3>> taken;
-  for (const Vec3& p : points) {
+  for (const CapPoint& cap : points) {
+    const Vec3& p = cap.point;
     // Asked before inserting: a point inserted and taken out again left
     // CGAL's cells in an order that depended on memory addresses, so the
     // same run wrote its tetrahedra in another order each time.
     bool keeps = dt.faces_taken_by(p, taken);
     for (const auto& f : taken) keeps = keeps && surface.find(f) < 0;
-    if (!keeps) continue;
+    if (!keeps) {
+      if (refused_folds && cap.fold[0] >= 0) refused_folds->push_back(cap.fold);
+      continue;
+    }
     // Its conflict zone crosses no facet: one region, whose label the new
     // tetrahedra take.
     const int region = dt.label_at(p);
@@ -190,6 +197,41 @@ int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vect
     ++kept;
   }
   return kept;
+}
+
+int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds) {
+  std::vector<std::uint64_t> keys;
+  for (const auto& [a, b] : folds) keys.push_back(edge_key(a, b));
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  // Each fold once, and none in a facet an earlier split of this call
+  // changed: its edge may be gone.
+  const EdgeFacetPairs adjacency(m.triangles);
+  std::vector<char> touched(m.triangles.size(), 0);
+  int split = 0;
+  for (std::uint64_t key : keys) {
+    const std::vector<int> sharing = adjacency.facets(key);
+    bool clear = !sharing.empty();
+    for (int f : sharing) clear = clear && !touched[f];
+    if (!clear) continue;
+    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+    const int n = static_cast<int>(m.points.size());
+    m.points.push_back(0.5 * (m.points[a] + m.points[b]));
+    if (!m.point_size.empty()) m.point_size.push_back(0.5 * (m.point_size[a] + m.point_size[b]));
+    for (int f : sharing) {
+      touched[f] = 1;
+      Triangle& t = m.triangles[f];
+      int k = 0;
+      while (!((t.v[k] == a && t.v[(k + 1) % 3] == b) || (t.v[k] == b && t.v[(k + 1) % 3] == a))) ++k;
+      Triangle second = t;
+      const int p = t.v[k], q = t.v[(k + 1) % 3], r = t.v[(k + 2) % 3];
+      t.v = {p, n, r};
+      second.v = {n, q, r};
+      m.triangles.push_back(second);
+    }
+    ++split;
+  }
+  return split;
 }
 
 }  // namespace vd

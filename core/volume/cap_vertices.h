@@ -35,15 +35,30 @@ namespace vd {
 // are on opposite sides of a wall (the normals into the region there point
 // more than 120 deg apart). Pre: dt's tetrahedra carry their region labels
 // (build_region_tetrahedra leaves them so).
-std::vector<Vec3> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt, double sliver_angle_deg,
-                                      double ridge_angle_deg);
+struct CapPoint {
+  Vec3 point;
+  std::array<int, 2> fold{-1, -1};  // the fold edge; -1 for a centroid across a wall
+};
+std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt,
+                                          double sliver_angle_deg, double ridge_angle_deg);
 
 // Inserts each point into dt and m.points, one by one, unless it would make a
 // surface facet stop being a face of dt (a point near a concave fold can):
 // that is asked of dt's conflict zone first. The surface stays as it is, so
 // no recovery (with its flips across folds) is needed, and the new tetrahedra
 // take the label of their region (dt.labelled_cells() gives them). Returns
-// how many went in.
-int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<Vec3>& points);
+// how many went in; the fold edges of the caps refused go to `refused_folds`.
+int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<CapPoint>& points,
+                        std::vector<std::array<int, 2>>* refused_folds = nullptr);
+
+// For the caps no point can open without taking a facet (on a surface with
+// one region on both sides, the facets' Delaunay apexes on the far side sit
+// just beyond them): each fold edge split at its mid-point, in every facet
+// that shares it, as TetGen splits an encroached facet. The mid-point lies on
+// both facets, so the surface keeps its shape; two nearly right triangles
+// over a cocircular quad become four isosceles ones around its centre.
+// Returns the number of edges split; the new points are appended to m.points
+// (and m.point_size, when set). The caller inserts them and recovers.
+int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds);
 
 }  // namespace vd

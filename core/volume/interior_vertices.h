@@ -32,6 +32,7 @@ struct InteriorStats {
   long candidates = 0, rejected_outside = 0, rejected_near_vertex = 0, rejected_near_surface = 0;
   long cap_points = 0;  // added after the tetrahedra, to open flat caps (volume/cap_vertices.h)
   long cap_points_refused = 0;  // not added: a surface facet would have stopped being Delaunay
+  long cap_folds_split = 0;     // fold edges of refused caps split on the surface (volume/cap_vertices.h)
 };
 
 // `region_at(p)` gives the region containing p (0 outside). Returns the new
