@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 #include "delaunay/delaunay_tetrahedralization.h"
@@ -48,7 +49,7 @@ class Delaunayzer {
       while (!guard_hit()) {
         throw_if_cancelled(opt_.cancel);
         std::vector<int> missing = non_delaunay();
-        if (missing.empty()) break;
+        if (missing.empty() || stalled(missing.size())) break;
         index_facets();
         if (opt_.flips) flips(missing);
         splits();
@@ -74,6 +75,18 @@ class Delaunayzer {
     vertex_facets_.assign(m_.points.size(), {});
     for (size_t f = 0; f < m_.triangles.size(); ++f)
       for (int v : m_.triangles[f].v) vertex_facets_[v].push_back(static_cast<int>(f));
+  }
+
+  // Called once per pass with the facets missing before it.
+  bool stalled(size_t missing) {
+    const bool progress = missing < last_missing_ || result_.added_vertices > last_added_;
+    stalled_passes_ = progress ? 0 : stalled_passes_ + 1;
+    last_missing_ = missing;
+    last_added_ = result_.added_vertices;
+    if (missing < fewest_missing_) fewest_missing_ = missing, passes_since_fewest_ = 0;
+    else ++passes_since_fewest_;
+    return (opt_.max_stalled_passes > 0 && stalled_passes_ >= opt_.max_stalled_passes) ||
+           (opt_.patience_passes > 0 && passes_since_fewest_ >= opt_.patience_passes);
   }
 
   bool guard_hit() const {
@@ -312,6 +325,8 @@ class Delaunayzer {
   FacetOracle& oracle_;
   DelaunayzationOptions opt_;
   std::mt19937_64 rng_;
+  size_t last_missing_ = SIZE_MAX, fewest_missing_ = SIZE_MAX;
+  int last_added_ = -1, stalled_passes_ = 0, passes_since_fewest_ = 0;
   bool indexed_ = false;
   EdgeMap* given_edges_;
   EdgeMap edges_;

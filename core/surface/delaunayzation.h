@@ -26,6 +26,13 @@ struct DelaunayzationOptions {
   // Guards: the paper gives no termination proof.
   int max_passes = 200;
   int max_added_vertices = -1;   // <0: 20 x input vertices + 1000
+  // Also stops after this many passes in a row that add no vertex and leave
+  // as many facets missing (only flips back and forth are left).
+  int max_stalled_passes = 5;
+  // >0: also stops once this many passes have gone by without fewer facets
+  // missing than the fewest so far. For callers with another way out (CAD
+  // input tessellated again): a recovery that runs away rarely comes back.
+  int patience_passes = 0;
   double min_edge_relative = 1e-7;  // edges shorter than this x bbox diagonal are not split
   std::uint64_t seed = 1;        // position of each split point near the mid-point
   double split_jitter = 1e-4;    // relative to the edge length, along the edge

@@ -224,5 +224,25 @@ TEST(PaperCases, GuardStopsWithTheMissingFacets) {
   EXPECT_FALSE(partial.report.missing_facets.empty());
 }
 
+// Where no split is allowed (every edge under the shortest one split), only
+// flips are left, and passes that add nothing and leave as many facets
+// missing stop after max_stalled_passes instead of running to max_passes
+// (200): gmsh_917_fusee.stp's first tessellations spent 150 such passes each.
+TEST(PaperCases, StalledPassesStop) {
+  const Mesh in = almost_touching_pyramids();
+  MeshOptions o = options();
+  o.delaunayzation.min_edge_relative = 10;  // no edge is split
+  MeshResult partial;
+  EXPECT_THROW(mesh_surface(in, o, &partial), RecoveryError);
+  EXPECT_FALSE(partial.report.missing_facets.empty());
+  EXPECT_EQ(partial.report.delaunayzation.added_vertices, 0);
+  EXPECT_LE(partial.report.delaunayzation.passes, o.delaunayzation.max_stalled_passes + 1);
+  // With the rule off, the same run goes to the pass limit.
+  o.delaunayzation.max_stalled_passes = 0;
+  o.delaunayzation.max_passes = 40;
+  EXPECT_THROW(mesh_surface(in, o, &partial), RecoveryError);
+  EXPECT_EQ(partial.report.delaunayzation.passes, 40);
+}
+
 }  // namespace
 }  // namespace vd
