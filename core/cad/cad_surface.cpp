@@ -45,6 +45,15 @@ double exact_area(const TopoDS_Shape& shape) {
   return props.Mass();
 }
 
+// Volume and area of solid i, integrated once per model.
+const std::array<double, 2>& solid_integrals(const CadModel::Impl& cad, size_t i) {
+  if (cad.solid_integrals.size() != cad.solids.size())
+    cad.solid_integrals.assign(cad.solids.size(), {std::nan(""), std::nan("")});
+  std::array<double, 2>& v = cad.solid_integrals[i];
+  if (std::isnan(v[0])) v = {exact_volume(cad.solids[i]), exact_area(cad.solids[i])};
+  return v;
+}
+
 // Each face's chord height: the smallest of its solids'. Rounded down to
 // the finest times a power of two, so that the faces are meshed in few calls
 // whose chord heights differ enough for BRepMesh to keep, at each call, what
@@ -83,7 +92,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   std::vector<double> cad_volume(impl_->solids.size(), 0.0);
   std::map<int, double> solid_deflection;  // by solid number
   for (size_t i = 0; i < impl_->solids.size(); ++i) {
-    const double volume = std::abs(exact_volume(impl_->solids[i])), area = exact_area(impl_->solids[i]);
+    const double volume = std::abs(solid_integrals(*impl_, i)[0]), area = solid_integrals(*impl_, i)[1];
     cad_volume[i] = volume;
     solid_deflection[impl_->solid_number[i]] =
         area > 0 && volume > 0 ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0) : stats.size / 10.0;
@@ -308,7 +317,7 @@ std::vector<GeometryCheck> CadModel::volume_checks(const Mesh& mesh) const {
   std::vector<GeometryCheck> out;
   for (size_t s = 0; s < impl_->solids.size(); ++s) {
     const int n = impl_->solid_number[s];
-    out.push_back({"Solid" + std::to_string(n), exact_volume(impl_->solids[s]), n < static_cast<int>(volume.size()) ? volume[n] : 0.0});
+    out.push_back({"Solid" + std::to_string(n), solid_integrals(*impl_, s)[0], n < static_cast<int>(volume.size()) ? volume[n] : 0.0});
   }
   return out;
 }
