@@ -11,6 +11,7 @@
 #include "cad/cad_mesher.h"
 #include "converters/registry.h"
 #include "mesh/error.h"
+#include "mesh/parallel.h"
 #include "mesh/second_order.h"
 #include "pipeline/mesher.h"
 #include "quality/tet_quality.h"
@@ -123,6 +124,7 @@ MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool s
   copt.splits_on_geometry = splits_on_geometry;
   copt.tessellation = tessellation;
   if (opt.progress) opt.progress("read CAD");
+  set_thread_count(opt.threads);  // the general fuse's threads too
   const cad::CadModel model = cad::CadModel::read(path);
   return cad::mesh_cad(model, copt, partial);
 }

@@ -31,6 +31,7 @@
 
 #include "cad/cad_impl.h"
 #include "mesh/error.h"
+#include "mesh/parallel.h"
 
 namespace vd::cad {
 namespace {
@@ -212,7 +213,9 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
     for (int i = 1; i <= solids.Extent(); ++i) arguments.Append(solids(i));
     auto fuse = std::make_unique<BRepAlgoAPI_BuilderAlgo>();
     fuse->SetArguments(arguments);
-    fuse->SetRunParallel(false);
+    // On more than one thread (--threads): caxif_as1-oc-214.stp's 18 solids
+    // fuse in 2.5 s on two instead of 4.2 s on one, into the same shape.
+    fuse->SetRunParallel(thread_count() > 1);
     fuse->SetNonDestructive(true);
     fuse->Build(cancel.range());
     cancel.check();  // before the errors: a stopped fuse reports one

@@ -14,6 +14,7 @@
 #include "converters/registry.h"
 #include "mesh/cancel.h"
 #include "mesh/error.h"
+#include "mesh/parallel.h"
 #include "python/mesh_arrays.h"
 #include "python/run_options.h"
 
@@ -163,6 +164,7 @@ py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs
     cad::CadMeshOptions copt = base;
     copt.mesh = opt;
     if (opt.progress) opt.progress("read CAD");
+    set_thread_count(opt.threads);  // the general fuse's threads too
     const cad::CadModel model = read_cad(source, opt.cancel);
     throw_if_cancelled(opt.cancel);
     MeshResult partial;
