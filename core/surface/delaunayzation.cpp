@@ -254,31 +254,9 @@ class Delaunayzer {
     const std::vector<int> sharing = edges_.facets(p, q);
     Vec3 point = m_.points[p] + s * (m_.points[q] - m_.points[p]);
     if (opt_.geometry) {
-      std::vector<int> faces;
-      for (int f : sharing) faces.push_back(m_.triangles[f].face);
-      // The point on the true surface, unless it is far off the chord for
-      // the facets it splits: 0.3 of the narrowest one's height across the
-      // edge. On a needle or cap of a curved face (OpenCASCADE makes them
-      // along narrow fillets and tangent seams) the true point lies behind
-      // the neighbouring needle, the next split lands next to it, and
-      // recovery never ends: gmsh_Block.stp and pythonocc_Ventilator.stp
-      // added 200,000 vertices at one spot and stopped at the guard. The
-      // chord keeps such facets flat, as in the paper. Not much less than
-      // 0.3: at 0.1 the knife edge of occt_MODERN_Exhaust_1.brep (a face
-      // rising tangentially off a plane) ends with 4 facets missing, its
-      // chord points lying in the other face.
-      const Vec3 placed = opt_.geometry->place_on_surface(faces, point);
-      const Vec3 edge = m_.points[q] - m_.points[p];
-      double narrowest = norm(edge);
-      for (int f : sharing) {
-        const Vec3 c = m_.points[opposite_vertex(m_.triangles[f], p, q)];
-        narrowest = std::min(narrowest, norm(cross(edge, c - m_.points[p])) / norm(edge));
-      }
-      // And under a quarter of the edge: farther, the faces fold back on the
-      // scale of the edge.
-      const double off = norm(placed - point);
-      if (off < kChordShare * narrowest && off < 0.25 * norm(edge)) point = placed;
-      else ++result_.splits_on_chord;  // not part way either: that brought the cascades back
+      bool on_chord = false;
+      point = place_split_point(m_, *opt_.geometry, p, q, sharing, point, &on_chord);
+      result_.splits_on_chord += on_chord;
     }
     const int v = static_cast<int>(m_.points.size());
     m_.points.push_back(point);
@@ -343,6 +321,35 @@ class Delaunayzer {
 };
 
 }  // namespace
+
+Vec3 place_split_point(const Mesh& m, const SurfaceGeometry& geometry, int p, int q, const std::vector<int>& sharing,
+                       const Vec3& chord, bool* kept_on_chord) {
+  std::vector<int> faces;
+  for (int f : sharing) faces.push_back(m.triangles[f].face);
+  // The point on the true surface, unless it is far off the chord for the
+  // facets it splits: 0.3 of the narrowest one's height across the edge. On
+  // a needle or cap of a curved face (OpenCASCADE makes them along narrow
+  // fillets and tangent seams) the true point lies behind the neighbouring
+  // needle, the next split lands next to it, and recovery never ends:
+  // gmsh_Block.stp and pythonocc_Ventilator.stp added 200,000 vertices at one
+  // spot and stopped at the guard. The chord keeps such facets flat, as in
+  // the paper. Not much less than 0.3: at 0.1 the knife edge of
+  // occt_MODERN_Exhaust_1.brep (a face rising tangentially off a plane) ends
+  // with 4 facets missing, its chord points lying in the other face.
+  const Vec3 placed = geometry.place_on_surface(faces, chord);
+  const Vec3 edge = m.points[q] - m.points[p];
+  double narrowest = norm(edge);
+  for (int f : sharing) {
+    const Vec3 c = m.points[opposite_vertex(m.triangles[f], p, q)];
+    narrowest = std::min(narrowest, norm(cross(edge, c - m.points[p])) / norm(edge));
+  }
+  // And under a quarter of the edge: farther, the faces fold back on the
+  // scale of the edge. Not part way either: that brought the cascades back.
+  const double off = norm(placed - chord);
+  const bool on_surface = off < kChordShare * narrowest && off < 0.25 * norm(edge);
+  if (kept_on_chord) *kept_on_chord = !on_surface;
+  return on_surface ? placed : chord;
+}
 
 DelaunayzationResult delaunayize(Mesh& surface, DelaunayTetrahedralization& dt, FacetOracle& oracle,
                                  const DelaunayzationOptions& options, EdgeMap* edges) {

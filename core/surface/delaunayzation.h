@@ -54,6 +54,13 @@ struct DelaunayzationResult {
   bool complete() const { return missing.empty(); }
 };
 
+// Where a vertex splitting the surface edge (p, q) of the facets `sharing`
+// goes on CAD input: `chord` (on the edge) moved onto the true surface, unless
+// that is far off the chord for the facets it splits (then `chord`, and
+// *kept_on_chord is set).
+Vec3 place_split_point(const Mesh& m, const SurfaceGeometry& geometry, int p, int q, const std::vector<int>& sharing,
+                       const Vec3& chord, bool* kept_on_chord = nullptr);
+
 // Works on `surface` (points and triangles) in place: flips and splits change
 // its triangles, splits append points (with sizes, when point_size is set).
 // `dt` holds the tetrahedralization of all surface.points (and any interior

@@ -7,6 +7,7 @@
 #include "geometry/predicates.h"
 #include "mesh/tet_faces.h"
 #include "quality/tet_quality.h"
+#include "surface/delaunayzation.h"
 #include "surface/edge_map.h"
 #include "surface/face_patches.h"
 
@@ -199,7 +200,7 @@ int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vect
   return kept;
 }
 
-int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds) {
+int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds, const SurfaceGeometry* geometry) {
   std::vector<std::uint64_t> keys;
   for (const auto& [a, b] : folds) keys.push_back(edge_key(a, b));
   std::sort(keys.begin(), keys.end());
@@ -216,7 +217,8 @@ int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds) {
     if (!clear) continue;
     const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
     const int n = static_cast<int>(m.points.size());
-    m.points.push_back(0.5 * (m.points[a] + m.points[b]));
+    const Vec3 middle = 0.5 * (m.points[a] + m.points[b]);
+    m.points.push_back(geometry ? place_split_point(m, *geometry, a, b, sharing, middle) : middle);
     if (!m.point_size.empty()) m.point_size.push_back(0.5 * (m.point_size[a] + m.point_size[b]));
     for (int f : sharing) {
       touched[f] = 1;

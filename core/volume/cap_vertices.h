@@ -20,6 +20,8 @@
 
 namespace vd {
 
+class SurfaceGeometry;
+
 // For every tetrahedron of m with a dihedral angle under sliver_angle_deg and
 // two faces on the surface whose normals differ by more than ridge_angle_deg
 // (case A would refuse it), a point on the cap's side (that of its fourth
@@ -57,8 +59,10 @@ int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vect
 // that shares it, as TetGen splits an encroached facet. The mid-point lies on
 // both facets, so the surface keeps its shape; two nearly right triangles
 // over a cocircular quad become four isosceles ones around its centre.
-// Returns the number of edges split; the new points are appended to m.points
-// (and m.point_size, when set). The caller inserts them and recovers.
-int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds);
+// On CAD input (`geometry`) the mid-point goes onto the true surface where
+// a recovery split would (place_split_point). Returns the number of edges
+// split; the new points are appended to m.points (and m.point_size, when
+// set). The caller inserts them and recovers.
+int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds, const SurfaceGeometry* geometry = nullptr);
 
 }  // namespace vd

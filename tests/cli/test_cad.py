@@ -315,6 +315,11 @@ if head:
 # tetrahedra sat on caps along CAD edges (corners of 172-174 deg at a face's
 # inner vertex); moved towards their neighbours' middle, on the face.
 # Measured 2026-11-24: 167 -> 72 tetrahedra under 10 deg, 2.80 -> 2.85 deg.
+# 2026-11-25, with the caps' folds split on CAD input too (which open some of
+# the same caps, 30 folds split unsmoothed, 12 smoothed): 152 -> 79, 3.04 deg
+# both (3.044508 against 3.044508: the same tetrahedron, 1.5e-7 deg apart);
+# so smoothing now takes away at least 40 % of them, not half, and the
+# smallest angle is compared to 1e-6 deg.
 part = data("cad-part/gmsh_part.step")
 if part:
     runs = {}
@@ -330,7 +335,7 @@ if part:
             runs[flag] = (float(smallest.min()), int((smallest < 10).sum()), rep["cad"]["smoothing_moves"])
     if len(runs) == 2:
         off, on = runs["--no-smoothing"], runs[None]
-        check(off[2] == 0 and on[2] > 0 and on[1] < off[1] / 2 and on[0] >= off[0],
+        check(off[2] == 0 and on[2] > 0 and on[1] < 0.6 * off[1] and on[0] >= off[0] - 1e-6,
               "gmsh_part.step smoothed: %d moves, %d -> %d tetrahedra under 10 deg, smallest %.2f -> %.2f deg"
               % (on[2], off[1], on[1], off[0], on[0]))
 
