@@ -30,6 +30,18 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   return name;
 }
 
+// Every output facet is a face of a fresh exact Delaunay tetrahedralization
+// of the output vertices, and the tetrahedra fill the regions exactly.
+void expect_delaunay_and_conforming(const Mesh& m) {
+  DelaunayTetrahedralization dt;
+  dt.insert(m.points);
+  int missing = 0;
+  for (const Triangle& t : m.triangles) missing += !dt.has_facet(t.v[0], t.v[1], t.v[2]);
+  EXPECT_EQ(missing, 0);
+  const ConformityReport c = check_conformity(m);
+  EXPECT_TRUE(c.ok(1e-9)) << c.summary();
+}
+
 class SharedSurface : public ::testing::TestWithParam<Case> {};
 
 TEST_P(SharedSurface, MeshesConformingOrIsRefused) {
@@ -43,13 +55,7 @@ TEST_P(SharedSurface, MeshesConformingOrIsRefused) {
   }
   const MeshResult r = mesh_surface(in, o);
   ASSERT_TRUE(r.report.complete);
-  DelaunayTetrahedralization dt;
-  dt.insert(r.mesh.points);
-  int missing = 0;
-  for (const Triangle& t : r.mesh.triangles) missing += !dt.has_facet(t.v[0], t.v[1], t.v[2]);
-  EXPECT_EQ(missing, 0);
-  const ConformityReport c = check_conformity(r.mesh);
-  EXPECT_TRUE(c.ok(1e-9)) << c.summary();
+  expect_delaunay_and_conforming(r.mesh);
   std::set<int> faces_in, faces_out;
   for (const Triangle& t : in.triangles) faces_in.insert(t.face);
   for (const Triangle& t : r.mesh.triangles) faces_out.insert(t.face);
@@ -96,13 +102,7 @@ TEST(SharedSurfaceQuality, HorizonCapsGetTheirFoldsSplit) {
   VD_REQUIRE_DATA(path, "surface-multiregion/cgal_horizons_in_domain.off");
   const MeshResult r = mesh_surface(io::read_mesh(path), MeshOptions{});
   ASSERT_TRUE(r.report.complete);
-  DelaunayTetrahedralization dt;
-  dt.insert(r.mesh.points);
-  int missing = 0;
-  for (const Triangle& t : r.mesh.triangles) missing += !dt.has_facet(t.v[0], t.v[1], t.v[2]);
-  EXPECT_EQ(missing, 0);
-  const ConformityReport c = check_conformity(r.mesh);
-  EXPECT_TRUE(c.ok(1e-9)) << c.summary();
+  expect_delaunay_and_conforming(r.mesh);
   std::cout << "[horizons in a domain] " << r.report.interior.cap_folds_split << " folds split, "
             << r.mesh.tets.size() << " tets, min dihedral " << r.report.quality.min_dihedral_deg << ", under 10 deg "
             << r.report.quality.below_10_deg << "\n";
