@@ -42,7 +42,8 @@ struct CadModel::Impl {
   double diagonal = 0;
   // OpenCASCADE's integrals of solids[i] (volume, area), computed once: at
   // 1e-7 they were a fifth of gmsh_wing_fuselage.step's run, asked for by
-  // every tessellation and again by the volume checks. Empty until asked.
+  // every tessellation and again by the volume checks. Empty until asked;
+  // filled without a lock: a model is read and meshed on one thread.
   mutable std::vector<std::array<double, 2>> solid_integrals;
 
   int index_of_face_number(int number) const;

@@ -58,6 +58,9 @@ class Delaunayzer {
       // Never trust an oracle other than the exact tetrahedralization: a
       // facet it called Delaunay that is not goes back into the loop.
       if (oracle_.name() == "dt" || !demote_wrong_answers() || guard_hit()) break;
+      // Facets demoted: the count of missing ones starts over.
+      last_missing_ = fewest_missing_ = SIZE_MAX;
+      stalled_passes_ = passes_since_fewest_ = 0;
     }
     result_.missing = non_delaunay();
     result_.added_facets = static_cast<int>(m_.triangles.size()) - input_facets_;

@@ -175,11 +175,12 @@ SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* gr
       }
       long_edges.push_back({l, key, i, j, on_border});
     }
-    // An edge inside a face waits while one of its facets has a long edge on
-    // the face's border: split first, the border's mid-points let the flips
-    // turn the inner edge, where its own mid-point would have stood inside a
-    // narrow face, off its borders (a 1 x 0.017 end face of a 1 deg wedge
-    // got a vertex at mid-height, which split the wedge's angle: 1 -> 0.5 deg).
+    // An edge inside a face waits while one of its facets is narrow (a
+    // corner under 20 deg) and has a long edge on the face's border: split
+    // first, the border's mid-points let the flips turn the inner edge,
+    // where its own mid-point would have stood inside a narrow face, off its
+    // borders (a 1 x 0.017 end face of a 1 deg wedge got a vertex at
+    // mid-height, which split the wedge's angle: 1 -> 0.5 deg).
     std::vector<char> waits(m.triangles.size(), 0);
     for (const LongEdge& edge : long_edges)
       if (edge.on_border)
