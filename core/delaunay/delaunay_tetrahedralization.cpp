@@ -220,7 +220,11 @@ void DelaunayTetrahedralization::label_star(int vertex, int label) {
 }
 
 std::vector<Tetrahedron> DelaunayTetrahedralization::labelled_cells() const {
+  // Reserved exactly: the caller keeps the vector to the end of the run.
+  size_t labelled = 0;
+  for (auto c : impl_->dt.finite_cell_handles()) labelled += c->info().value > 0;
   std::vector<Tetrahedron> out;
+  out.reserve(labelled);
   for (auto c : impl_->dt.finite_cell_handles()) {
     if (c->info().value < 0) throw std::logic_error("labelled_cells: a tetrahedron has no label");
     if (c->info().value > 0)

@@ -121,7 +121,13 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
     throw InputError(msg.str());
   }
 
-  m.tets.clear();
+  // Exactly the room the tetrahedra need, in a fresh vector: grown by
+  // push_back from the first build's capacity, it held up to twice that to
+  // the end of the run (the sliver pass is the peak).
+  long inside = 0;
+  for (int t = 0; t < n; ++t) inside += region_of[comp[t]] != 0;
+  std::vector<Tetrahedron>().swap(m.tets);
+  m.tets.reserve(static_cast<size_t>(inside));
   std::vector<bool> seen_region;
   for (int t = 0; t < n; ++t) {
     const int r = region_of[comp[t]];
