@@ -314,25 +314,24 @@ class Cad(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "angular_deflection"):
             vdmesh.mesh_cad(path=self.path, angular_deflection=0)
 
+    def check_off_switch(self, option, count, dropped, bad_value):
+        # option=False is the command line's --no-...: the step does nothing
+        # (its count is 0); on by default, it does something and is not dropped.
+        _, on = vdmesh.mesh_cad(path=self.path, size=1.5)
+        _, off = vdmesh.mesh_cad(path=self.path, size=1.5, **{option: False})
+        self.assertGreater(on["cad"][count], 0)
+        self.assertEqual(off["cad"][count], 0)
+        self.assertFalse(on["cad"][dropped])
+        with self.assertRaisesRegex(TypeError, option):
+            vdmesh.mesh_cad(path=self.path, **{option: bad_value})
+
     def test_smoothing_option(self):
         # smoothing=False is --no-smoothing: the tessellation's inner vertices stay put.
-        _, smoothed = vdmesh.mesh_cad(path=self.path, size=1.5)
-        _, kept = vdmesh.mesh_cad(path=self.path, size=1.5, smoothing=False)
-        self.assertGreater(smoothed["cad"]["smoothing_moves"], 0)
-        self.assertEqual(kept["cad"]["smoothing_moves"], 0)
-        self.assertFalse(smoothed["cad"]["smoothing_dropped"])
-        with self.assertRaisesRegex(TypeError, "smoothing"):
-            vdmesh.mesh_cad(path=self.path, smoothing="yes")
+        self.check_off_switch("smoothing", "smoothing_moves", "smoothing_dropped", "yes")
 
     def test_face_remesh_option(self):
         # face_remesh=False is --no-face-remesh: no face is meshed anew.
-        _, remeshed = vdmesh.mesh_cad(path=self.path, size=1.5)
-        _, kept = vdmesh.mesh_cad(path=self.path, size=1.5, face_remesh=False)
-        self.assertGreater(remeshed["cad"]["remeshed_faces"], 0)
-        self.assertEqual(kept["cad"]["remeshed_faces"], 0)
-        self.assertFalse(remeshed["cad"]["remeshing_dropped"])
-        with self.assertRaisesRegex(TypeError, "face_remesh"):
-            vdmesh.mesh_cad(path=self.path, face_remesh=1)
+        self.check_off_switch("face_remesh", "remeshed_faces", "remeshing_dropped", 1)
 
     def test_tessellation(self):
         surface = vdmesh.tessellate_cad(path=self.path, size=2)
