@@ -226,14 +226,8 @@ class FaceRemesher {
   void plan_border_splits(int fi, const std::vector<int>& facets, const Unrolled& unrolled, double longest,
                           std::map<std::uint64_t, int>& pieces) const {
     FaceBorder b;
-    if (!border(fi, facets, unrolled, b) || too_many(b, facets, longest)) return;
-    try {
-      FullMesher mesher(b.cdt, Criteria(kAngleBound, longest));
-      mesher.init(true);
-      mesher.refine_mesh();
-    } catch (const std::exception&) {
+    if (!border(fi, facets, unrolled, b) || too_many(b, facets, longest) || !refine<FullMesher>(b.cdt, longest))
       return;
-    }
     for (const auto& [a, end] : b.segments) {
       // Walk from a along the constraint through the mesher's new nodes.
       auto circulator = b.cdt.incident_edges(a), done = circulator;
@@ -267,14 +261,8 @@ class FaceRemesher {
   bool remesh(int fi, const std::vector<int>& facets, const Unrolled& unrolled, double longest,
               std::vector<char>& dead) {
     FaceBorder b;
-    if (!border(fi, facets, unrolled, b) || too_many(b, facets, longest)) return false;
-    try {
-      Mesher mesher(b.cdt, Criteria(kAngleBound, longest));
-      mesher.init(true);
-      mesher.refine_mesh();
-    } catch (const std::exception&) {
+    if (!border(fi, facets, unrolled, b) || too_many(b, facets, longest) || !refine<Mesher>(b.cdt, longest))
       return false;
-    }
     if (std::abs(domain_area(b.cdt) - b.area) > 1e-9 * b.area) return false;
 
     // The new facets, with the old facets' tags and orientation.
@@ -306,6 +294,19 @@ class FaceRemesher {
   }
 
  private:
+  // CGAL's Delaunay refinement of the marked inside; false when it throws.
+  template <class RefineMesher>
+  static bool refine(Cdt& cdt, double longest) {
+    try {
+      RefineMesher mesher(cdt, Criteria(kAngleBound, longest));
+      mesher.init(true);
+      mesher.refine_mesh();
+      return true;
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
+
   // Would the face get far more facets than it has? Equilateral triangles
   // of the longest edge, against kMaxGrowth times the facets: a cylinder
   // whose chord height asks for edges far below the size (a thin solid's

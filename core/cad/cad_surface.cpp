@@ -92,7 +92,8 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   std::vector<double> cad_volume(impl_->solids.size(), 0.0);
   std::map<int, double> solid_deflection;  // by solid number
   for (size_t i = 0; i < impl_->solids.size(); ++i) {
-    const double volume = std::abs(solid_integrals(*impl_, i)[0]), area = solid_integrals(*impl_, i)[1];
+    const auto& [signed_volume, area] = solid_integrals(*impl_, i);
+    const double volume = std::abs(signed_volume);
     cad_volume[i] = volume;
     solid_deflection[impl_->solid_number[i]] =
         area > 0 && volume > 0 ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0) : stats.size / 10.0;

@@ -219,16 +219,21 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
       if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
         throw std::runtime_error(std::string(what) + " coincides with another vertex");
     };
+    const bool from_tags = report.regions.regions_from_tags;  // the first pass set the tags
+    // Vertices from..end of m.points into dt, then the paper's recovery
+    // against all vertices and the regions again.
+    auto recover_with = [&](int from, const char* what, const char* recovery_phase, const char* volume_phase) {
+      dt.insert(m.points, from, options.cancel);
+      added_to_dt(from, what);
+      recover(recovery_phase);
+      timer.start(volume_phase);
+      report.regions = build_region_tetrahedra(m, dt);
+      report.regions.regions_from_tags = from_tags;
+    };
     const int first = static_cast<int>(m.points.size());
     m.points.insert(m.points.end(), interior.begin(), interior.end());
     if (!m.point_size.empty()) m.point_size.resize(m.points.size(), 0.0);
-    dt.insert(m.points, first, options.cancel);
-    added_to_dt(first, "an interior vertex");
-    recover("delaunayzation with interior vertices");
-    timer.start("volume with interior vertices");
-    const bool from_tags = report.regions.regions_from_tags;  // the first pass set the tags
-    report.regions = build_region_tetrahedra(m, dt);
-    report.regions.regions_from_tags = from_tags;
+    recover_with(first, "an interior vertex", "delaunayzation with interior vertices", "volume with interior vertices");
     if (options.remove_slivers) {
       // Flat tetrahedra held by two facets over a fold: the sliver pass
       // cannot reach them, a vertex inside the region can.
@@ -262,12 +267,8 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
         const int first_split = static_cast<int>(m.points.size());
         report.interior.cap_folds_split += split_cap_folds(m, refused_folds, options.delaunayzation.geometry);
         refused_folds.clear();
-        dt.insert(m.points, first_split, options.cancel);
-        added_to_dt(first_split, "a cap fold's mid-point");
-        recover("delaunayzation after cap fold splits");
-        timer.start("volume after cap fold splits");
-        report.regions = build_region_tetrahedra(m, dt);
-        report.regions.regions_from_tags = from_tags;
+        recover_with(first_split, "a cap fold's mid-point", "delaunayzation after cap fold splits",
+                     "volume after cap fold splits");
         timer.start("cap vertices after fold splits");
         open_caps();
       }
