@@ -8,7 +8,7 @@
 #include <fstream>
 #include <set>
 
-#include "cad/cad_mesher.h"
+#include "app/cad_plugin_loader.h"
 #include "converters/registry.h"
 #include "mesh/error.h"
 #include "mesh/parallel.h"
@@ -125,8 +125,7 @@ MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool s
   copt.tessellation = tessellation;
   if (opt.progress) opt.progress("read CAD");
   set_thread_count(opt.threads);  // the general fuse's threads too
-  const cad::CadModel model = cad::CadModel::read(path);
-  return cad::mesh_cad(model, copt, partial);
+  return cad_plugin().mesh_file(path, copt, partial);
 }
 
 // The CAD tessellation options of `mesh` and `convert`.
@@ -211,7 +210,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   else if (!quiet)
     opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s\n", phase.c_str()); };
 
-  const bool cad_input = cad::CadModel::is_cad_file(pos[0]);
+  const bool cad_input = cad::is_cad_file_name(pos[0]);
   if (cad_input && !sliver_angle_given) opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
   if (cad_input && !surface_grading_given) opt.surface_grading = cad::kCadSurfaceGrading;
 
@@ -245,9 +244,9 @@ int convert_command(const std::vector<std::string>& raw) {
         "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--size H] [--deflection D] "
         "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G] [--no-smoothing] [--no-face-remesh]");
   io::format_for(pos[1], to);
-  if (from.empty() && cad::CadModel::is_cad_file(pos[0])) {
+  if (from.empty() && cad::is_cad_file_name(pos[0])) {
     // CAD to a surface format: the tagged tessellation the mesher would start from.
-    const Mesh surface = cad::CadModel::read(pos[0]).tessellate(topt);
+    const Mesh surface = cad_plugin().tessellate_file(pos[0], topt);
     io::write_mesh(surface, pos[1], wopt, to);
     return 0;
   }

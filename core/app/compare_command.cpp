@@ -14,7 +14,7 @@
 
 #include "app/args.h"
 #include "app/commands.h"
-#include "cad/cad_model.h"
+#include "app/cad_plugin_loader.h"
 #include "compare/child_process.h"
 #include "compare/compare_report.h"
 #include "compare/mesh_checks.h"
@@ -73,7 +73,7 @@ void write_text(const std::string& path, const std::string& text) {
 // process, so the parent and both workers see one surface), and both
 // meshers get that surface.
 Mesh load_compare_input(const std::string& path, double sharp_angle_deg, int* patches = nullptr) {
-  Mesh m = cad::CadModel::is_cad_file(path) ? cad::CadModel::read(path).tessellate({}) : io::read_mesh(path);
+  Mesh m = cad::is_cad_file_name(path) ? app::cad_plugin().tessellate_file(path, {}) : io::read_mesh(path);
   m.tets.clear();
   m.tet_mid.clear();
   m.triangle_mid.clear();

@@ -30,6 +30,7 @@
 #include <sstream>
 
 #include "cad/cad_impl.h"
+#include "cad/cad_plugin.h"
 #include "mesh/error.h"
 #include "mesh/parallel.h"
 
@@ -139,10 +140,7 @@ int CadModel::Impl::index_of_face_number(int number) const {
   return it == face_number.end() ? -1 : static_cast<int>(it - face_number.begin());
 }
 
-bool CadModel::is_cad_file(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs" || ext == ".brep" || ext == ".brp";
-}
+bool CadModel::is_cad_file(const std::string& path) { return is_cad_file_name(path); }
 
 namespace {
 

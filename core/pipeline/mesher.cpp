@@ -222,7 +222,9 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     const bool from_tags = report.regions.regions_from_tags;  // the first pass set the tags
     // Vertices from..end of m.points into dt, then the paper's recovery
     // against all vertices and the regions again.
-    auto recover_with = [&](int from, const char* what, const char* recovery_phase, const char* volume_phase) {
+    auto recover_with = [&](int from, const char* what, const char* insert_phase, const char* recovery_phase,
+                            const char* volume_phase) {
+      timer.start(insert_phase);
       dt.insert(m.points, from, options.cancel);
       added_to_dt(from, what);
       recover(recovery_phase);
@@ -233,7 +235,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     const int first = static_cast<int>(m.points.size());
     m.points.insert(m.points.end(), interior.begin(), interior.end());
     if (!m.point_size.empty()) m.point_size.resize(m.points.size(), 0.0);
-    recover_with(first, "an interior vertex", "delaunayzation with interior vertices", "volume with interior vertices");
+    recover_with(first, "an interior vertex", "insert interior vertices", "delaunayzation with interior vertices", "volume with interior vertices");
     if (options.remove_slivers) {
       // Flat tetrahedra held by two facets over a fold: the sliver pass
       // cannot reach them, a vertex inside the region can.
@@ -267,7 +269,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
         const int first_split = static_cast<int>(m.points.size());
         report.interior.cap_folds_split += split_cap_folds(m, refused_folds, options.delaunayzation.geometry);
         refused_folds.clear();
-        recover_with(first_split, "a cap fold's mid-point", "delaunayzation after cap fold splits",
+        recover_with(first_split, "a cap fold's mid-point", "insert cap fold splits", "delaunayzation after cap fold splits",
                      "volume after cap fold splits");
         timer.start("cap vertices after fold splits");
         open_caps();

@@ -4,10 +4,12 @@ against the volumes OpenCASCADE computes and read back by meshio; then real
 STEP/BREP files from the shared data; then bad input."""
 import json
 import os
+import shutil
+import subprocess
 
 import numpy as np
 
-from cli_support import check, data, finish, run, tmpdir
+from cli_support import BIN, check, data, finish, run, tmpdir
 
 out = tmpdir()
 
@@ -198,6 +200,26 @@ if code == 0:
               "cylinder at size 2: volume error %.5f %% with --order 2, %.4f %% straight" % (100 * err2, 100 * errors[0]))
         check(rep["second_order"]["on_geometry"] > 0 and rep["second_order"]["min_scaled_jacobian"] >= 0.1,
               "cylinder --order 2: report %s" % rep["second_order"])
+
+# OpenCASCADE is the plugin's (lib/vdmesh/libvdmesh_cad.so), not the
+# program's: surface input does not load it (21 MiB and 30 ms a run). A
+# copy of the program with no plugin beside it still meshes surfaces and
+# refuses CAD input with exit 1 and a message naming the missing file.
+needed = subprocess.run(["readelf", "-d", BIN], capture_output=True, text=True).stdout
+check("libTKernel" not in needed and "Shared library" in needed,
+      "the program does not link OpenCASCADE: " + ", ".join(l.split()[-1] for l in needed.splitlines() if "NEEDED" in l))
+lonely = os.path.join(out, "alone", "bin")
+os.makedirs(lonely)
+shutil.copy(BIN, lonely)
+alone = os.path.join(lonely, os.path.basename(BIN))
+p = subprocess.run([alone, "mesh", boxhole, "-o", os.path.join(out, "alone.vtu")], capture_output=True, text=True)
+check(p.returncode == 1 and "libvdmesh_cad.so" in p.stderr and not os.path.exists(os.path.join(out, "alone.vtu")),
+      "no plugin: CAD input refused, exit 1, the file named (%d: %s)" % (p.returncode, p.stderr.strip()[:300]))
+tet = os.path.join(out, "tet.off")
+with open(tet, "w") as f:
+    f.write("OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")
+p = subprocess.run([alone, "mesh", tet, "-o", os.path.join(out, "alone_tet.vtu"), "--quiet"], capture_output=True, text=True)
+check(p.returncode == 0, "no plugin: surface input meshes (%d: %s)" % (p.returncode, p.stderr.strip()[:300]))
 
 # The paper's planar mid-points stay available.
 code, rep, _, err = mesh(boxhole, "--planar-splits", "--quiet")

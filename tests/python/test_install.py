@@ -6,6 +6,7 @@ VDMESH_BUILD_DIR, VDMESH_INSTALL_PREFIX, VDMESH_PYTHON_INSTALL_DIR,
 VDMESH_FREECAD_MOD_DIR, VDMESH_SOURCE_DIR, CMAKE_COMMAND."""
 import filecmp
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -37,6 +38,28 @@ class Install(unittest.TestCase):
         p = subprocess.run([self.bin, "mesh", "--help"], capture_output=True, text=True, timeout=60)
         self.assertEqual(p.returncode, 0)
         self.assertIn("usage: vdmesh mesh", p.stdout)
+
+    def test_program_meshes_cad_with_the_installed_plugin(self):
+        # The plugin lands in <prefix>/lib/vdmesh, where the program looks for it.
+        import gmsh
+        work = tempfile.mkdtemp(prefix="vdmesh-install-cad-")
+        brep = os.path.join(work, "box.brep")
+        gmsh.initialize()
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.occ.addBox(0, 0, 0, 2, 1, 1)
+        gmsh.model.occ.synchronize()
+        gmsh.write(brep)
+        gmsh.finalize()
+        plugin = os.path.join(os.path.dirname(os.path.dirname(self.bin)), "lib", "vdmesh", "libvdmesh_cad.so")
+        self.assertTrue(os.path.isfile(plugin), plugin)
+        out = os.path.join(work, "box.vtu")
+        p = subprocess.run([self.bin, "mesh", brep, "-o", out, "--size", "0.5", "--quiet"], capture_output=True,
+                           text=True, timeout=120)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        p = subprocess.run([self.bin, "info", out], capture_output=True, text=True, timeout=60)
+        volume = re.search(r"region 1: volume ([0-9.e+-]+)", p.stdout)
+        self.assertTrue(volume, p.stdout)
+        self.assertAlmostEqual(float(volume.group(1)), 2.0, places=9)
 
     def test_module_imports_from_the_site_dir(self):
         modules = [f for f in os.listdir(self.pydir) if f.startswith("vdmesh.") and f.endswith(".so")]

@@ -1,0 +1,23 @@
+#include "cad/cad_plugin.h"
+
+#include "cad/cad_model.h"
+
+namespace vd::cad {
+
+namespace {
+
+MeshResult mesh_file(const std::string& path, const CadMeshOptions& options, MeshResult* partial) {
+  return mesh_cad(CadModel::read(path), options, partial);
+}
+
+Mesh tessellate_file(const std::string& path, const TessellationOptions& options) {
+  return CadModel::read(path).tessellate(options);
+}
+
+}  // namespace
+}  // namespace vd::cad
+
+extern "C" const vd::cad::CadEntryPoints* vdmesh_cad_entry_points() {
+  static const vd::cad::CadEntryPoints entry{vd::cad::kCadPluginAbi, vd::cad::mesh_file, vd::cad::tessellate_file};
+  return &entry;
+}
