@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <unordered_map>
 
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "mesh/error.h"
+#include "mesh/memory.h"
 #include "mesh/parallel.h"
 #include "mesh/tet_faces.h"
 #include "surface/edge_map.h"
@@ -19,22 +19,6 @@
 
 namespace vd {
 namespace {
-
-// The high-water mark of resident memory, from /proc/self/status (VmHWM, in
-// kB); 0 where that file does not exist.
-double peak_resident_mib() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmHWM:") {
-      double kb = 0;
-      status >> kb;
-      return kb / 1024.0;
-    }
-    status.ignore(4096, '\n');
-  }
-  return 0;
-}
 
 class PhaseTimer {
  public:
@@ -280,7 +264,10 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     timer.start("slivers");
     report.slivers = remove_slivers(
         m, sliver_options, [&dt](int a, int b, int c) { return dt.facet_apexes(a, b, c); }, &report.quality,
-        [&dt_owner] { dt_owner.reset(); });  // nothing below looks at dt
+        [&dt_owner] {
+          dt_owner.reset();  // nothing below looks at dt
+          return_free_memory();
+        });
     report.output_facets = static_cast<int>(m.triangles.size());
   } else {
     timer.start("quality");

@@ -106,11 +106,12 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<
       changed = true;
     }
   }
-  std::vector<Tetrahedron> kept;
-  kept.reserve(m.tets.size());
+  // In place: no second copy of the tetrahedra while the tetrahedralization
+  // is still in memory.
+  size_t kept = 0;
   for (size_t ti = 0; ti < m.tets.size(); ++ti)
-    if (!removed[ti]) kept.push_back(m.tets[ti]);
-  m.tets = std::move(kept);
+    if (!removed[ti]) m.tets[kept++] = m.tets[ti];
+  m.tets.resize(kept);
 }
 
 }  // namespace
