@@ -54,6 +54,9 @@ const char* kMeshHelp =
     "  --sliver-angle DEG      tetrahedra under this dihedral angle are slivers, removed or improved\n"
     "                          (default 20; CAD input 10)\n"
     "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
+    "  --volume METHOD         delaunay (default): the tetrahedra of the Delaunay tetrahedralization;\n"
+    "                          advancing-front: the paper's advancing-front Delaunay from the facets\n"
+    "                          (the same tetrahedra on vertices in general position, slower)\n"
     "  --order 1|2             element order (default 1); 2: 10-node tetrahedra, and on CAD input the\n"
     "                          mid-edge nodes of the surface on the CAD faces and edges\n"
     "  --oracle dt|lp|sphere   facet Delaunayhood test (default dt, the exact tetrahedralization)\n"
@@ -176,6 +179,9 @@ int mesh_command(const std::vector<std::string>& raw) {
   opt.surface_grading = args.number("--surface-grading", opt.surface_grading);
   opt.slivers.sliver_angle_deg = args.number("--sliver-angle", opt.slivers.sliver_angle_deg);
   opt.remove_slivers = !args.flag("--keep-slivers");
+  const std::string volume = args.value("--volume", "delaunay");
+  if (volume == "advancing-front") opt.volume = VolumeMethod::advancing_front;
+  else if (volume != "delaunay") throw UsageError("--volume must be delaunay or advancing-front");
   opt.oracle_options.lp_limit = static_cast<int>(args.integer("--lp-limit", -1));
   opt.delaunayzation.flips = !args.flag("--no-flips");
   opt.delaunayzation.flip_angle_deg = args.number("--flip-angle", opt.delaunayzation.flip_angle_deg);

@@ -2,6 +2,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -45,6 +46,33 @@ SphereSide side_of_circumsphere(const Vec3& a, const Vec3& b, const Vec3& c, con
   if (o == 0) return SphereSide::on_boundary;
   const int s = static_cast<int>(CGAL::side_of_oriented_sphere(pa, pb, pc, pd, to_cgal(p))) * o;
   return s > 0 ? SphereSide::inside : s < 0 ? SphereSide::outside : SphereSide::on_boundary;
+}
+
+SphereSide perturbed_side_of_circumsphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+                                          const Vec3& p, bool* cospherical) {
+  const Point pa = to_cgal(a), pb = to_cgal(b), pc = to_cgal(c), pd = to_cgal(d), pp = to_cgal(p);
+  const int s = static_cast<int>(CGAL::side_of_oriented_sphere(pa, pb, pc, pd, pp));
+  if (cospherical) *cospherical = s == 0;
+  if (s != 0) return s > 0 ? SphereSide::inside : SphereSide::outside;
+  // On the sphere. The perturbed determinant's leading terms belong to the
+  // points last in x, y, z order: the last two decide. When the last is p,
+  // its own lift puts it outside; when it is a corner of the tetrahedron,
+  // the sign is the orientation of the tetrahedron with p in that corner's
+  // place (nonzero for one of the two: four of the five points are never
+  // coplanar in both).
+  const Point* order[5] = {&pa, &pb, &pc, &pd, &pp};
+  std::sort(order, order + 5, [](const Point* x, const Point* y) { return CGAL::compare_xyz(*x, *y) == CGAL::SMALLER; });
+  for (int i = 4; i > 2; --i) {
+    const Point* q = order[i];
+    if (q == &pp) return SphereSide::outside;
+    int o = 0;
+    if (q == &pd) o = static_cast<int>(CGAL::orientation(pa, pb, pc, pp));
+    else if (q == &pc) o = static_cast<int>(CGAL::orientation(pa, pb, pp, pd));
+    else if (q == &pb) o = static_cast<int>(CGAL::orientation(pa, pp, pc, pd));
+    else o = static_cast<int>(CGAL::orientation(pp, pb, pc, pd));
+    if (o != 0) return o > 0 ? SphereSide::inside : SphereSide::outside;
+  }
+  return SphereSide::outside;  // not reached for a positive tetrahedron
 }
 
 SphereSide side_of_equatorial_sphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {

@@ -32,6 +32,15 @@ bool collinear(const Vec3& a, const Vec3& b, const Vec3& c);
 SphereSide side_of_circumsphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
                                 const Vec3& p);
 
+// The same for a positively oriented tetrahedron, never on_boundary: five
+// cospherical points are told apart by the symbolic perturbation that CGAL's
+// Delaunay tetrahedralization uses (Devillers and Teillaud: each point lifted
+// by a power of epsilon, the higher the later it comes in x, y, z order), so
+// that every vertex set has one Delaunay tetrahedralization, the same as
+// CGAL's. Pre: orientation(a, b, c, d) > 0 and p is none of them.
+// *cospherical, when given, tells whether the perturbation decided.
+SphereSide perturbed_side_of_circumsphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+                                          const Vec3& p, bool* cospherical = nullptr);
 // Side of p with respect to the equatorial (smallest, diametral) sphere of
 // triangle (a, b, c). A collinear triangle answers on_boundary.
 SphereSide side_of_equatorial_sphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p);

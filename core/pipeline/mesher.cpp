@@ -260,6 +260,14 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
       }
     }
   }
+  if (options.volume == VolumeMethod::advancing_front) {
+    // The paper's way to the same tetrahedra: from the facets inwards, with
+    // no use of the tetrahedralization (which the oracle and the regions
+    // above needed, and the sliver pass's facet apexes still do).
+    timer.start("advancing front");
+    m.tets = advancing_front_tetrahedra(m, report.front, options.cancel);
+    report.advancing_front = true;
+  }
   if (options.remove_slivers) {
     timer.start("slivers");
     report.slivers = remove_slivers(

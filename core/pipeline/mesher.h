@@ -16,12 +16,18 @@
 #include "quality/tet_quality.h"
 #include "surface/delaunayzation.h"
 #include "surface/random_shift.h"
+#include "volume/advancing_front.h"
 #include "volume/interior_vertices.h"
 #include "volume/region_tetrahedra.h"
 #include "volume/size_field.h"
 #include "volume/sliver_removal.h"
 
 namespace vd {
+
+// How the tetrahedra of the final vertex set are made (paper §6): taken from
+// the Delaunay tetrahedralization (the default), or by the paper's
+// advancing-front Delaunay from the facets alone (--volume advancing-front).
+enum class VolumeMethod { delaunay, advancing_front };
 
 struct MeshOptions {
   std::string oracle = "dt";
@@ -40,6 +46,7 @@ struct MeshOptions {
   // longer than R times the graded surface size are split (0: off; R >= 1).
   double surface_grading = 2.0;
   InteriorOptions interior_options;
+  VolumeMethod volume = VolumeMethod::delaunay;  // --volume
   bool remove_slivers = true;
   SliverOptions slivers;             // --sliver-angle
   int order = 1;                     // 2: 10-node tetrahedra, surface nodes on delaunayzation.geometry
@@ -92,6 +99,8 @@ struct MeshReport {
   DelaunayzationResult delaunayzation;
   ShiftStats shift;
   RegionStats regions;
+  bool advancing_front = false;      // the tetrahedra came from the advancing front
+  AdvancingFrontStats front;
   long interior_vertices = 0;
   InteriorStats interior;
   double smallest_size = 0;          // of the size field

@@ -59,6 +59,9 @@ std::string report_json(const MeshReport& r) {
     << ", \"cap_points\": " << r.interior.cap_points << ", \"cap_points_refused\": " << r.interior.cap_points_refused
     << ", \"cap_folds_split\": " << r.interior.cap_folds_split
     << ", \"smallest_size\": " << exact(r.smallest_size) << "},\n";
+  if (r.advancing_front)
+    s << "  \"advancing_front\": {\"front_faces\": " << r.front.front_faces << ", \"candidates\": "
+      << r.front.candidates << ", \"searches\": " << r.front.searches << ", \"ties\": " << r.front.ties << "},\n";
   const auto& sl = r.slivers;
   s << "  \"slivers\": {\"angle_deg\": " << exact(sl.angle_deg) << ", \"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
     << ", \"flips_23\": " << sl.flips_23 << ", \"flips_32\": " << sl.flips_32
@@ -194,6 +197,10 @@ std::string report_table(const MeshReport& r) {
   row("tetrahedra", std::to_string(q.tets) + (per_region.empty() ? "" : " (" + per_region + ")"));
   row("dihedral angle (deg)", "min " + num(q.min_dihedral_deg) + ", max " + num(q.max_dihedral_deg));
   row("radius ratio", "min " + num(q.min_radius_ratio) + ", mean " + num(q.mean_radius_ratio));
+  if (r.advancing_front)
+    row("advancing front", std::to_string(r.front.front_faces) + " faces closed, " +
+                               std::to_string(r.front.candidates) + " candidates, " + std::to_string(r.front.ties) +
+                               " ties");
   const auto& sl = r.slivers;
   row("slivers (A / B / C)", std::to_string(sl.removed_boundary) + " removed, " +
                                  std::to_string(sl.flips_23 + sl.flips_32 + sl.edge_removals) + " flips (" +

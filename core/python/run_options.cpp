@@ -63,6 +63,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     sliver_angle (float, 20; mesh_cad 10): tetrahedra under this dihedral angle (deg)
         are slivers, removed or improved
     keep_slivers (bool, False): no sliver removal
+    volume (str, "delaunay"): "advancing-front" builds the tetrahedra by the paper's
+        advancing-front Delaunay from the facets (the same tetrahedra, slower)
     oracle (str, "dt"): facet Delaunayhood test, "dt", "lp" or "sphere"
     lp_limit (int, -1): largest LP the lp oracle solves (-1: no limit)
     flips (bool, True): False is --no-flips (only splits)
@@ -96,7 +98,7 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
 
 RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   static const std::set<std::string> kCommon = {
-      "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit",
+      "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit", "volume",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
       "order",    "progress",   "cancel",      "threads"};
   static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection", "volume_tolerance",
@@ -120,7 +122,13 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
     else if (name == "surface_grading") opt.surface_grading = number(value, name);
     else if (name == "sliver_angle") opt.slivers.sliver_angle_deg = number(value, name);
     else if (name == "keep_slivers") opt.remove_slivers = !boolean(value, name);
-    else if (name == "oracle") {
+    else if (name == "volume") {
+      if (!PyUnicode_Check(value.ptr())) throw py::type_error("option volume: expected a str, got " + type_name(value));
+      const std::string method = value.cast<std::string>();
+      check(method == "delaunay" || method == "advancing-front",
+            "option volume: unknown method '" + method + "' (choose delaunay or advancing-front)");
+      opt.volume = method == "delaunay" ? VolumeMethod::delaunay : VolumeMethod::advancing_front;
+    } else if (name == "oracle") {
       if (!PyUnicode_Check(value.ptr())) throw py::type_error("option oracle: expected a str, got " + type_name(value));
       opt.oracle = value.cast<std::string>();
     } else if (name == "lp_limit") opt.oracle_options.lp_limit = static_cast<int>(integer(value, name));

@@ -48,6 +48,33 @@ check(code == 2 and "--threads" in err, "--threads -1: usage error naming it (%d
 code, _, err = run("mesh", sphere_path, "-o", os.path.join(out, "x.vtu"), "--surface-grading", "0.5")
 check(code == 2 and "--surface-grading" in err,
       "--surface-grading 0.5: usage error naming it (%d: %s)" % (code, err.strip()[:200]))
+code, _, err = run("mesh", sphere_path, "-o", os.path.join(out, "x.vtu"), "--volume", "octree")
+check(code == 2 and "--volume" in err, "--volume octree: usage error naming it (%d: %s)" % (code, err.strip()[:200]))
+
+# --volume advancing-front: the paper's advancing-front Delaunay gives the
+# bracket the tetrahedra the default takes from the tetrahedralization
+# (before the sliver pass, which would work on them in another order).
+fronts = {}
+for method in ("delaunay", "advancing-front"):
+    target, rep_path = os.path.join(out, "bracket-%s.vtu" % method), os.path.join(out, "bracket-%s.json" % method)
+    code, _, err = run("mesh", bracket, "-o", target, "--keep-slivers", "--quiet", "--volume", method,
+                       "--report", rep_path)
+    check(code == 0, "bracket, --volume %s (exit %d: %s)" % (method, code, err.strip()[-300:]))
+    if code == 0:
+        fronts[method] = (target, json.load(open(rep_path)))
+if len(fronts) == 2:
+    import meshio
+
+    def tet_set(path):
+        m = meshio.read(path)
+        cells = [(c.data, d) for c, d in zip(m.cells, m.cell_data["region"]) if c.type == "tetra"]
+        return m.points, {(tuple(sorted(map(int, t))), int(r)) for data, regions in cells for t, r in zip(data, regions)}
+
+    (pd, sd), (pa, sa) = tet_set(fronts["delaunay"][0]), tet_set(fronts["advancing-front"][0])
+    check(len(sd) > 0 and sd == sa and (pd == pa).all(),
+          "bracket: the advancing front's %d tetrahedra are the default's %d" % (len(sa), len(sd)))
+    check("advancing_front" in fronts["advancing-front"][1] and "advancing_front" not in fronts["delaunay"][1],
+          "the report has the advancing front's figures only when it ran")
 
 # Flat caps over the folds of a faceted sphere (two facets of one tetrahedron
 # on the surface): before cap vertices, icosphere(3) at size 0.15 kept 38

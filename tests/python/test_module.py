@@ -189,6 +189,17 @@ class MeshFromArrays(unittest.TestCase):
             self.assertEqual(report["interior"]["vertices"], 0)
             self.assertAlmostEqual(region_volumes(mesh)[1], 2.0, delta=1e-12)
 
+    def test_volume_advancing_front(self):
+        p, t = icosphere(2)
+        a, _ = vdmesh.mesh_surface(np.array(p), np.array(t), size=0.3, keep_slivers=True)
+        b, r = vdmesh.mesh_surface(np.array(p), np.array(t), size=0.3, keep_slivers=True, volume="advancing-front")
+        np.testing.assert_array_equal(a.points, b.points)
+        self.assertGreater(len(a.tets), 0)
+        self.assertEqual({tuple(sorted(x)) for x in a.tets.tolist()}, {tuple(sorted(x)) for x in b.tets.tolist()})
+        self.assertEqual(r["advancing_front"]["front_faces"], len(b.tets))
+        with self.assertRaisesRegex(ValueError, "volume"):
+            vdmesh.mesh_surface(np.array(p), np.array(t), volume="octree")
+
 
 class Report(unittest.TestCase):
     def test_keys_and_values(self):
