@@ -289,6 +289,9 @@ int info_command(const std::vector<std::string>& raw) {
     std::printf("  dihedral histogram (10 deg bins):");
     for (long c : q.dihedral_histogram) std::printf(" %ld", c);
     std::printf("\n");
+    std::printf("  radius ratio histogram (0.1 bins):");
+    for (long c : q.radius_ratio_histogram) std::printf(" %ld", c);
+    std::printf("\n");
   }
   return 0;
 }

@@ -25,6 +25,13 @@ if code == 0:
           "the seconds row is whole: " + (seconds_rows[0][-80:] if seconds_rows else "missing"))
     code, info, _ = run("info", os.path.join(out, "b.vtu"))
     check(code == 0 and "volume 2000" in info, "info reads the mesh back with volume 2000: " + info.strip()[:400])
+    # Both histograms, each counting every tetrahedron (the dihedral one six
+    # angles per tetrahedron).
+    rows = {line.split(":")[0].strip(): line.split(":")[1].split() for line in info.splitlines() if "histogram" in line}
+    tets = report["counts"]["tetrahedra"]
+    check(sum(map(int, rows.get("radius ratio histogram (0.1 bins)", []))) == tets and
+          sum(map(int, rows.get("dihedral histogram (10 deg bins)", []))) == 6 * tets,
+          "info: radius ratio and dihedral histograms over all %d tetrahedra" % tets)
 
 # Threads change nothing: a sphere of over 100k tetrahedra (several chunks of the
 # parallel loops) gives the same file and the same figures on 1 and 2 threads.
