@@ -6,9 +6,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <set>
 
 #include "app/cad_plugin_loader.h"
+#include "app/terminal_progress.h"
 #include "converters/registry.h"
 #include "mesh/error.h"
 #include "mesh/parallel.h"
@@ -211,10 +213,15 @@ int mesh_command(const std::vector<std::string>& raw) {
     throw UsageError("--flip-angle must be in [0, 180]");
   io::format_for(output);  // unknown output format: a usage error before any work
 
-  if (!quiet && isatty(fileno(stderr)))
-    opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s...\n", phase.c_str()); };
-  else if (!quiet)
+  // On a terminal one line per phase, redrawn with its progress and seconds;
+  // elsewhere (a log) the phase names only.
+  std::unique_ptr<TerminalProgress> display;
+  if (!quiet && isatty(fileno(stderr))) {
+    display = std::make_unique<TerminalProgress>();
+    opt.progress = [shown = display.get()](const std::string& phase) { shown->phase(phase); };
+  } else if (!quiet) {
     opt.progress = [](const std::string& phase) { std::fprintf(stderr, "vdmesh: %s\n", phase.c_str()); };
+  }
 
   const bool cad_input = cad::is_cad_file_name(pos[0]);
   if (cad_input && !sliver_angle_given) opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
@@ -225,11 +232,14 @@ int mesh_command(const std::vector<std::string>& raw) {
     const MeshResult result = cad_input
                                   ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, retry_tessellation, &partial)
                                   : mesh_surface_file(pos[0], opt, &partial);
+    if (opt.progress) opt.progress("write " + output);
     write_result(result.mesh, output, wopt);
+    display.reset();  // the last line ends before the report table
     if (!report_path.empty()) write_text(report_path, report_json(result.report));
     if (!quiet) std::fputs(report_table(result.report).c_str(), stdout);
     return 0;
   } catch (const RecoveryError&) {
+    display.reset();
     leave_missing_facets(partial, output, report_path);
     throw;
   }

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "mesh/cancel.h"
+#include "mesh/progress.h"
 #include "mesh/tet_faces.h"
 
 namespace vd {
@@ -73,8 +74,10 @@ void DelaunayTetrahedralization::insert(const std::vector<Vec3>& points, int fir
   impl_->handle.resize(points.size());
   DT::Cell_handle hint;
   CancelPoll poll(cancel, 4096);
+  size_t done = 0;
   for (int id : order) {
     poll();
+    if ((++done & 8191) == 0) set_phase_fraction(static_cast<double>(done) / static_cast<double>(order.size()));
     DT::Vertex_handle v = impl_->dt.insert(to_cgal(points[id]), hint);
     v->info() = id;
     impl_->handle[id] = v;

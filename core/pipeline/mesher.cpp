@@ -10,6 +10,7 @@
 #include "mesh/error.h"
 #include "mesh/memory.h"
 #include "mesh/parallel.h"
+#include "mesh/progress.h"
 #include "mesh/tet_faces.h"
 #include "surface/edge_map.h"
 #include "surface/face_patches.h"
@@ -28,6 +29,7 @@ class PhaseTimer {
     stop();
     throw_if_cancelled(options_.cancel);
     phase_ = phase;
+    clear_phase_fraction();
     if (options_.progress) options_.progress(phase);
     t0_ = std::chrono::steady_clock::now();
   }
@@ -219,7 +221,8 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     const int first = static_cast<int>(m.points.size());
     m.points.insert(m.points.end(), interior.begin(), interior.end());
     if (!m.point_size.empty()) m.point_size.resize(m.points.size(), 0.0);
-    recover_with(first, "an interior vertex", "insert interior vertices", "delaunayzation with interior vertices", "volume with interior vertices");
+    recover_with(first, "an interior vertex", "insert interior vertices", "delaunayzation with interior vertices",
+                 "volume with interior vertices");
     if (options.remove_slivers) {
       // Flat tetrahedra held by two facets over a fold: the sliver pass
       // cannot reach them, a vertex inside the region can.

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "delaunay/delaunay_tetrahedralization.h"
+#include "mesh/progress.h"
 #include "surface/edge_map.h"
 #include "surface/surface_geometry.h"
 #include "surface/face_patches.h"
@@ -50,6 +51,10 @@ class Delaunayzer {
         throw_if_cancelled(opt_.cancel);
         std::vector<int> missing = non_delaunay();
         if (missing.empty() || stalled(missing.size())) break;
+        // Progress: the share of the first pass's missing facets mended.
+        if (first_missing_ == 0) first_missing_ = missing.size();
+        set_phase_fraction(1.0 - static_cast<double>(std::min(missing.size(), first_missing_)) /
+                                     static_cast<double>(first_missing_));
         index_facets();
         if (opt_.flips) flips(missing);
         splits();
@@ -306,7 +311,7 @@ class Delaunayzer {
   FacetOracle& oracle_;
   DelaunayzationOptions opt_;
   std::mt19937_64 rng_;
-  size_t last_missing_ = SIZE_MAX, fewest_missing_ = SIZE_MAX;
+  size_t last_missing_ = SIZE_MAX, fewest_missing_ = SIZE_MAX, first_missing_ = 0;
   int last_added_ = -1, stalled_passes_ = 0, passes_since_fewest_ = 0;
   bool indexed_ = false;
   EdgeMap* given_edges_;

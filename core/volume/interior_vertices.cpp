@@ -8,6 +8,7 @@
 
 #include "geometry/point_grid.h"
 #include "mesh/cancel.h"
+#include "mesh/progress.h"
 #include "surface/face_patches.h"
 
 namespace vd {
@@ -183,7 +184,10 @@ class OctreeLattice {
     const Key centre{lo[0] + half, lo[1] + half, lo[2] + half};
     if (region < 0 && facets.empty()) {
       region = region_at_(at(centre));
-      if (region == 0) return;
+      if (region == 0) {
+        done(side);
+        return;
+      }
     }
     if (static_cast<double>(side) * unit_ > 2.0 * size_.at(at(centre)) && depth < depth_) {
       for (int k = 0; k < 2; ++k)
@@ -194,6 +198,7 @@ class OctreeLattice {
           }
       return;
     }
+    done(side);
     offer(centre, region);
     for (int axis = 0; axis < 3; ++axis) {
       const int u = (axis + 1) % 3, v = (axis + 2) % 3;
@@ -208,8 +213,18 @@ class OctreeLattice {
     }
   }
 
+  // A leaf or a skipped node of `side` units is finished: the share of the
+  // root's volume done so far is the phase's progress.
+  void done(std::int64_t side) {
+    const double s = static_cast<double>(side) / static_cast<double>(std::int64_t(1) << (depth_ + 1));
+    volume_done_ += s * s * s;
+    if ((++leaves_ & 1023) == 0) set_phase_fraction(volume_done_);
+  }
+
   Vec3 lo_;
   int depth_;
+  double volume_done_ = 0;
+  long leaves_ = 0;
   double unit_ = 1;
   const SizeField& size_;
   const std::function<int(const Vec3&)>& region_at_;

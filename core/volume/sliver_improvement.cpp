@@ -11,6 +11,7 @@
 
 #include "geometry/predicates.h"
 #include "mesh/parallel.h"
+#include "mesh/progress.h"
 #include "mesh/tet_faces.h"
 #include "quality/tet_quality.h"
 #include "volume/facet_witnesses.h"
@@ -728,7 +729,10 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
       if (c.alive(t) && c.quality(t) < o.sliver_angle_deg) slivers.emplace_back(c.quality(t), t);
     std::sort(slivers.begin(), slivers.end());
     long changes = 0;
+    size_t tried = 0;
     for (const auto& [quality, t] : slivers) {
+      // Progress: the share of this pass's slivers looked at.
+      if ((++tried & 255) == 0) set_phase_fraction(static_cast<double>(tried) / static_cast<double>(slivers.size()));
       if (!c.alive(t) || c.quality(t) >= o.sliver_angle_deg || !c.worth_retrying(t)) continue;
       Replacement r;
       if (o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) {

@@ -3,7 +3,7 @@ input and bad usage, no output left behind by a failed run, the report."""
 import json
 import os
 
-from cli_support import SOURCE, check, data, finish, run, tmpdir
+from cli_support import BIN, SOURCE, check, data, finish, run, tmpdir
 from surface_shapes import icosphere, write_off
 
 out = tmpdir()
@@ -50,6 +50,36 @@ if len(runs) == 2:
     check(runs["1"][0] == runs["2"][0], "the same mesh file on 1 and 2 threads")
     check(runs["1"][1]["quality"] == runs["2"][1]["quality"], "the same quality figures on 1 and 2 threads")
     check(runs["1"][1]["slivers"] == runs["2"][1]["slivers"], "the same sliver figures on 1 and 2 threads")
+# On a terminal (a pseudo-terminal here) each phase is one line, drawn over
+# while it runs ("\r", erase) and left with its seconds; in a log, the phase
+# names only.
+import pty
+import re
+import subprocess
+master, slave = pty.openpty()
+p = subprocess.Popen([BIN, "mesh", sphere_path, "-o", os.path.join(out, "tty.vtu"), "--size", "0.068"],
+                     stdout=subprocess.DEVNULL, stderr=slave)
+os.close(slave)
+shown = b""
+while True:
+    try:
+        chunk = os.read(master, 65536)
+    except OSError:  # the child closed its side
+        break
+    if not chunk:
+        break
+    shown += chunk
+p.wait()
+os.close(master)
+finished = re.findall(r"\r\x1b\[Kvdmesh: ([^\r\n]+?) (\d+\.\d\d) s\r?\n", shown.decode())
+names = [name for name, _ in finished]
+check(p.returncode == 0 and names[:2] == ["validate", "surface refinement"] and "insert interior vertices" in names
+      and "slivers" in names and names[-1] == "write " + os.path.join(out, "tty.vtu"),
+      "terminal: one finished line per phase with its seconds (%s)" % names)
+code, _, err = run("mesh", sphere_path, "-o", os.path.join(out, "log.vtu"), "--size", "0.068")
+check(code == 0 and "vdmesh: insert interior vertices\n" in err and "\r" not in err,
+      "log: the phase names, one per line, nothing drawn over")
+
 code, _, err = run("mesh", sphere_path, "-o", os.path.join(out, "x.vtu"), "--threads", "-1")
 check(code == 2 and "--threads" in err, "--threads -1: usage error naming it (%d: %s)" % (code, err.strip()[:200]))
 code, _, err = run("mesh", sphere_path, "-o", os.path.join(out, "x.vtu"), "--surface-grading", "0.5")

@@ -6,7 +6,10 @@
 #include <functional>
 #include <iostream>
 #include <optional>
+#include <random>
 
+#include "mesh/progress.h"
+#include "delaunay/delaunay_tetrahedralization.h"
 #include "mesh/shapes.h"
 #include "pipeline/mesher.h"
 #include "quality/conformity.h"
@@ -386,6 +389,30 @@ TEST(Volume, PointTriangleDistance) {
   EXPECT_DOUBLE_EQ(point_triangle_distance({-1, 0, 0}, a, b, c), 1.0);      // beyond vertex a
   EXPECT_DOUBLE_EQ(point_triangle_distance({0.5, -2, 0}, a, b, c), 2.0);    // beyond edge ab
   EXPECT_NEAR(point_triangle_distance({1, 1, 0}, a, b, c), std::sqrt(0.5), 1e-15);  // beyond edge bc
+}
+
+// The long loops tell how far they are (the terminal's progress line): the
+// insertion into the tetrahedralization and the interior lattice.
+TEST(Volume, LongLoopsReportTheirProgress) {
+  clear_phase_fraction();
+  EXPECT_LT(phase_fraction(), 0.0);
+  std::vector<Vec3> points;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i < 20000; ++i) points.push_back({u(rng), u(rng), u(rng)});
+  DelaunayTetrahedralization dt;
+  dt.insert(points);
+  EXPECT_GE(phase_fraction(), 0.4);  // set every 8,192 points: 16,384 / 20,000 last
+  EXPECT_LE(phase_fraction(), 1.0);
+
+  clear_phase_fraction();
+  const Mesh box = shapes::box({0, 0, 0}, {1, 1, 1}, 8);
+  const SizeField size(box, SizeFieldOptions{0.05});
+  InteriorStats stats;
+  generate_interior_vertices(box, size, [](const Vec3&) { return 1; }, InteriorOptions{}, stats);
+  // Every 1,024 octree leaves, the share of the bounding cube done.
+  EXPECT_GT(phase_fraction(), 0.5);
+  EXPECT_LE(phase_fraction(), 1.0);
 }
 
 }  // namespace
