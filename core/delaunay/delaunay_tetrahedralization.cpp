@@ -222,10 +222,29 @@ void DelaunayTetrahedralization::label_star(int vertex, int label) {
   for (auto c : star) c->info().value = impl_->dt.is_infinite(c) ? 0 : label;
 }
 
-std::vector<Tetrahedron> DelaunayTetrahedralization::labelled_cells() const {
+void DelaunayTetrahedralization::label_new_cells(int first, const std::vector<int>& vertex_region) {
+  const DT& dt = impl_->dt;
+  for (auto c : dt.all_cell_handles()) {
+    if (c->info().value >= 0) continue;
+    if (dt.is_infinite(c)) {
+      c->info().value = 0;
+      continue;
+    }
+    int label = -1;
+    for (int i = 0; i < 4 && label < 0; ++i) {
+      const int id = c->vertex(i)->info();
+      if (id >= first) label = vertex_region.at(static_cast<size_t>(id - first));
+    }
+    if (label < 0) throw std::logic_error("label_new_cells: a new tetrahedron has no new vertex");
+    c->info().value = label;
+  }
+}
+
+std::vector<Tetrahedron> DelaunayTetrahedralization::labelled_cells(int* exterior) const {
   // Reserved exactly: the caller keeps the vector to the end of the run.
   size_t labelled = 0;
   for (auto c : impl_->dt.finite_cell_handles()) labelled += c->info().value > 0;
+  if (exterior) *exterior = static_cast<int>(impl_->dt.number_of_finite_cells() - labelled);
   std::vector<Tetrahedron> out;
   out.reserve(labelled);
   for (auto c : impl_->dt.finite_cell_handles()) {

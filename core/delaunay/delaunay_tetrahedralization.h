@@ -80,10 +80,18 @@ class DelaunayTetrahedralization {
   // The label of the tetrahedron containing p (exact), 0 outside the hull.
   int label_at(const Vec3& p) const;
   void label_star(int vertex, int label);
+  // Labels each unlabelled tetrahedron with the region of one of its vertices
+  // from `first` on: vertex_region[id - first] (the interior vertices just
+  // inserted, each strictly inside its region). Right only when no facet
+  // stopped being a face meanwhile: then every new tetrahedron has such a
+  // vertex and lies in its region. Throws std::logic_error for an unlabelled
+  // tetrahedron with none.
+  void label_new_cells(int first, const std::vector<int>& vertex_region);
   // The finite tetrahedra with a label above 0, as tetrahedra of that region,
-  // in the order number_cells() would give. Throws std::logic_error when a
-  // tetrahedron is unlabelled.
-  std::vector<Tetrahedron> labelled_cells() const;
+  // in the order number_cells() would give; *exterior, when given, counts
+  // those labelled 0. Throws std::logic_error when a tetrahedron is
+  // unlabelled.
+  std::vector<Tetrahedron> labelled_cells(int* exterior = nullptr) const;
 
  private:
   struct Impl;

@@ -107,8 +107,10 @@ class Acceptor {
     }
     grid_.update(grid_.size(), p);
     accepted_.push_back(p);
+    regions_.push_back(r);
   }
   std::vector<Vec3>& accepted() { return accepted_; }
+  std::vector<int>& regions() { return regions_; }
 
  private:
   const SizeField& size_;
@@ -119,6 +121,7 @@ class Acceptor {
   PointGrid grid_;
   std::vector<int> near_;
   std::vector<Vec3> accepted_;
+  std::vector<int> regions_;  // of each accepted point
   std::mt19937_64 rng_;
   CancelPoll poll_;
 };
@@ -259,7 +262,8 @@ double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, cons
 
 std::vector<Vec3> generate_interior_vertices(const Mesh& m, const SizeField& size,
                                              const std::function<int(const Vec3&)>& region_at,
-                                             const InteriorOptions& o, InteriorStats& stats) {
+                                             const InteriorOptions& o, InteriorStats& stats,
+                                             std::vector<int>* regions) {
   if (m.triangles.empty()) return {};
   double mean_edge = 0;
   for (const Triangle& t : m.triangles) mean_edge += norm(m.points[t.v[1]] - m.points[t.v[0]]);
@@ -287,6 +291,7 @@ std::vector<Vec3> generate_interior_vertices(const Mesh& m, const SizeField& siz
   const OctreeLattice::Offer offer = [&](const Vec3& p, int region) { acceptor.offer(p, -1, region); };
   OctreeLattice(m, lo, side, size, o, region_at, offer);
   stats.lattice_points = static_cast<long>(acceptor.accepted().size()) - stats.offset_points;
+  if (regions) *regions = std::move(acceptor.regions());
   return std::move(acceptor.accepted());
 }
 

@@ -36,10 +36,11 @@ struct InteriorStats {
 };
 
 // `region_at(p)` gives the region containing p (0 outside). Returns the new
-// points (not yet in m).
+// points (not yet in m); `regions`, when given, receives the region of each.
 std::vector<Vec3> generate_interior_vertices(const Mesh& m, const SizeField& size,
                                              const std::function<int(const Vec3&)>& region_at,
-                                             const InteriorOptions& options, InteriorStats& stats);
+                                             const InteriorOptions& options, InteriorStats& stats,
+                                             std::vector<int>* regions = nullptr);
 
 // Distance from p to triangle (a, b, c).
 double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);

@@ -14,6 +14,9 @@ struct RegionStats {
   int regions = 0;            // non-zero regions
   int tets_in_exterior = 0;   // dropped
   bool regions_from_tags = false;
+  // The regions of the last build were kept and the tetrahedra that new
+  // interior vertices made took their vertex's region (core/pipeline/mesher.cpp).
+  bool labelled_by_new_vertices = false;
 };
 
 // Pre: every facet of surface.triangles is a face of dt. Fills surface.tets

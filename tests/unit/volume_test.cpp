@@ -7,6 +7,7 @@
 #include <iostream>
 #include <optional>
 #include <random>
+#include <set>
 
 #include "mesh/progress.h"
 #include "delaunay/delaunay_tetrahedralization.h"
@@ -16,6 +17,8 @@
 #include "surface/size_refinement.h"
 #include "volume/interior_vertices.h"
 #include "volume/size_field.h"
+#include "volume/region_tetrahedra.h"
+#include "mesh/tet_faces.h"
 
 namespace vd {
 namespace {
@@ -389,6 +392,40 @@ TEST(Volume, PointTriangleDistance) {
   EXPECT_DOUBLE_EQ(point_triangle_distance({-1, 0, 0}, a, b, c), 1.0);      // beyond vertex a
   EXPECT_DOUBLE_EQ(point_triangle_distance({0.5, -2, 0}, a, b, c), 2.0);    // beyond edge ab
   EXPECT_NEAR(point_triangle_distance({1, 1, 0}, a, b, c), std::sqrt(0.5), 1e-15);  // beyond edge bc
+}
+
+// After the interior vertices, when recovery finds every facet still a face,
+// the regions are not built again: each new tetrahedron takes the region of
+// its new vertex. The result must be what a fresh tetrahedralization of the
+// final vertices, with the regions built from scratch, gives: across an
+// interface and around a nested region.
+TEST(Volume, NewTetrahedraTakeTheRegionOfTheirInteriorVertex) {
+  Mesh two = shapes::box({0, 0, 0}, {1, 1, 1}, 3, 1, 1);
+  shapes::append(two, shapes::box({1, 0, 0}, {2, 1, 1}, 3, 2, 7));
+  shapes::weld_exact(two);
+  shapes::merge_coincident_facets(two);
+  Mesh nested = shapes::box({0, 0, 0}, {3, 3, 3}, 3, 1, 1);
+  Mesh inner = shapes::box({1, 1, 1}, {2, 2, 2}, 2, 2, 7);
+  for (Triangle& t : inner.triangles) t.front = 1;
+  shapes::append(nested, inner);
+  for (const Mesh& in : {two, nested}) {
+    MeshOptions o;
+    o.size.uniform = 0.2;
+    o.remove_slivers = false;
+    const MeshResult r = mesh_surface(in, o);
+    EXPECT_TRUE(r.report.regions.labelled_by_new_vertices);
+    EXPECT_GT(r.report.interior_vertices, 100);
+    Mesh fresh = r.mesh;
+    fresh.tets.clear();
+    DelaunayTetrahedralization dt;
+    dt.insert(fresh.points);
+    build_region_tetrahedra(fresh, dt);
+    std::set<std::pair<std::array<int, 4>, int>> labelled, built;
+    for (const Tetrahedron& t : r.mesh.tets) labelled.insert({sorted_quad(t.v), t.region});
+    for (const Tetrahedron& t : fresh.tets) built.insert({sorted_quad(t.v), t.region});
+    EXPECT_EQ(labelled.size(), r.mesh.tets.size());
+    EXPECT_TRUE(labelled == built) << labelled.size() << " labelled against " << built.size() << " built";
+  }
 }
 
 // The long loops tell how far they are (the terminal's progress line): the
