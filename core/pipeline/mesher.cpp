@@ -1,7 +1,9 @@
 #include "pipeline/mesher.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <future>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -20,6 +22,37 @@
 
 namespace vd {
 namespace {
+
+// find_self_intersections on another thread, on its own copy of the surface.
+class SelfIntersectionCheck {
+ public:
+  // On this thread now (throws at once) unless `beside` is set.
+  void start(const Mesh& m, bool beside) {
+    if (!beside) {
+      throw_self_intersections(find_self_intersections(m));
+      return;
+    }
+    auto copy = std::make_shared<Mesh>();
+    copy->points = m.points;
+    copy->triangles = m.triangles;
+    result_ = std::async(std::launch::async, [copy, this] {
+      std::vector<std::pair<int, int>> found = find_self_intersections(*copy);
+      if (!found.empty()) found_ = true;
+      return found;
+    });
+  }
+  bool pending() const { return result_.valid(); }
+  // Set as soon as a crossing is found (DelaunayzationOptions::abandon).
+  const std::atomic<bool>* found_flag() const { return &found_; }
+  // Waits for the test; throws its InputError when the surface crosses itself.
+  void await_result() {
+    if (result_.valid()) throw_self_intersections(result_.get());
+  }
+
+ private:
+  std::atomic<bool> found_{false};
+  std::future<std::vector<std::pair<int, int>>> result_;
+};
 
 class PhaseTimer {
  public:
@@ -94,7 +127,16 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   // One edge map while the facets stay as they are (it was built five times,
   // a seventh of a surface-only run).
   std::optional<EdgeMap> edges(m.triangles);
-  if (options.validate) validate_surface(m, &*edges);
+  // The self-intersection test, the longest part of validation, runs on a
+  // second thread (when there is one) beside the refinement, the shift, the
+  // tetrahedralization and the first recovery, on a copy of the facets; its
+  // answer is awaited before anything is built on the recovered surface,
+  // and a recovery it makes moot is abandoned (SelfIntersectionCheck).
+  SelfIntersectionCheck crossings;
+  if (options.validate) {
+    validate_surface(m, &*edges, /*self_intersections=*/false);
+    crossings.start(m, thread_count() > 1);
+  }
   if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
   {
     // Needles and caps on the input make every tetrahedron on them flat; the
@@ -145,6 +187,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   DelaunayzationOptions dopt = options.delaunayzation;
   dopt.seed = options.seed;
   dopt.cancel = options.cancel;
+  dopt.abandon = crossings.found_flag();
 
   auto recover = [&](const char* phase) {
     timer.start(phase);
@@ -161,6 +204,7 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     report.output_facets = static_cast<int>(m.triangles.size());
     report.complete = pass.complete();
     if (report.complete) return;
+    crossings.await_result();  // a surface that crosses itself is bad input, not a stopped recovery
     timer.stop();
     for (int f : pass.missing) report.missing_facets.push_back(m.triangles[f].v);
     if (partial) *partial = result;
@@ -175,6 +219,10 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   // location in the tetrahedralization) instead of by ray casting; the second
   // recovery is the paper's, against all vertices.
   recover("delaunayzation");
+  if (crossings.pending()) {
+    timer.start("self-intersections (awaited)");
+    crossings.await_result();
+  }
   timer.start("volume");
   report.regions = build_region_tetrahedra(m, dt);
 

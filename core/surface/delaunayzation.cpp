@@ -49,6 +49,7 @@ class Delaunayzer {
     for (;;) {
       while (!guard_hit()) {
         throw_if_cancelled(opt_.cancel);
+        if (abandoned()) break;
         std::vector<int> missing = non_delaunay();
         if (missing.empty() || stalled(missing.size())) break;
         // Progress: the share of the first pass's missing facets mended.
@@ -62,7 +63,7 @@ class Delaunayzer {
       }
       // Never trust an oracle other than the exact tetrahedralization: a
       // facet it called Delaunay that is not goes back into the loop.
-      if (oracle_.name() == "dt" || !demote_wrong_answers() || guard_hit()) break;
+      if (oracle_.name() == "dt" || abandoned() || !demote_wrong_answers() || guard_hit()) break;
       // Facets demoted: the count of missing ones starts over.
       last_missing_ = fewest_missing_ = SIZE_MAX;
       stalled_passes_ = passes_since_fewest_ = 0;
@@ -84,6 +85,8 @@ class Delaunayzer {
     for (size_t f = 0; f < m_.triangles.size(); ++f)
       for (int v : m_.triangles[f].v) vertex_facets_[v].push_back(static_cast<int>(f));
   }
+
+  bool abandoned() const { return opt_.abandon && opt_.abandon->load(std::memory_order_relaxed); }
 
   // Called once per pass with the facets missing before it.
   bool stalled(size_t missing) {
@@ -241,6 +244,7 @@ class Delaunayzer {
       if (!delaunay_[f]) todo.emplace_back(static_cast<int>(f), version_[f]);
     for (const auto& [f, ver] : todo) {
       poll_cancel_();
+      if (abandoned()) return;
       if (version_[f] != ver || delaunay_[f]) continue;
       if (result_.added_vertices >= max_added_) return;
       const Triangle& t = m_.triangles[f];

@@ -40,6 +40,9 @@ struct DelaunayzationOptions {
   const SurfaceGeometry* geometry = nullptr;
   // Set from another thread to stop: delaunayize then throws CancelledError.
   const std::atomic<bool>* cancel = nullptr;
+  // Set from another thread when the work is moot (the surface was found to
+  // cross itself): delaunayize returns at its next pass or split, incomplete.
+  const std::atomic<bool>* abandon = nullptr;
 };
 
 struct DelaunayzationResult {

@@ -201,7 +201,17 @@ std::vector<std::pair<int, int>> find_self_intersections(const Mesh& m, size_t l
   return all;
 }
 
-SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* given) {
+void throw_self_intersections(const std::vector<std::pair<int, int>>& crossings) {
+  if (crossings.empty()) return;
+  std::ostringstream s;
+  s << "the surface intersects itself: facet pairs";
+  for (size_t i = 0; i < crossings.size() && i < 10; ++i)
+    s << (i ? ", " : " ") << "(" << crossings[i].first << ", " << crossings[i].second << ")";
+  if (crossings.size() >= 10) s << ", ...";
+  throw InputError(s.str());
+}
+
+SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* given, bool self_intersections) {
   SurfaceCheck out;
   check_indices_and_coordinates(surface);
   check_degenerate(surface);
@@ -209,15 +219,7 @@ SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* given) {
   std::optional<EdgeMap> own;
   const EdgeMap& edges = given ? *given : own.emplace(surface.triangles);
   check_orientation(surface, edges, out);
-  const auto crossings = find_self_intersections(surface);
-  if (!crossings.empty()) {
-    std::ostringstream s;
-    s << "the surface intersects itself: facet pairs";
-    for (size_t i = 0; i < crossings.size() && i < 10; ++i)
-      s << (i ? ", " : " ") << "(" << crossings[i].first << ", " << crossings[i].second << ")";
-    if (crossings.size() >= 10) s << ", ...";
-    throw InputError(s.str());
-  }
+  if (self_intersections) throw_self_intersections(find_self_intersections(surface));
   return out;
 }
 

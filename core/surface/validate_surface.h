@@ -24,11 +24,15 @@ struct SurfaceCheck {
 // duplicate facets, inconsistent orientation across a manifold edge (or tags
 // that contradict it), and self-intersections (exact predicates).
 // `edges`, when given, is the surface's edge map (built here otherwise).
-SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* edges = nullptr);
+// Without `self_intersections` that test is left to the caller
+// (find_self_intersections, throw_self_intersections).
+SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* edges = nullptr, bool self_intersections = true);
 
 // Only the self-intersection part: pairs of intersecting facets (at most
 // `limit` of them, the smallest of those found; the same on any number of
 // threads).
 std::vector<std::pair<int, int>> find_self_intersections(const Mesh& surface, size_t limit = 20);
+// The InputError validate_surface throws for these pairs; nothing when empty.
+void throw_self_intersections(const std::vector<std::pair<int, int>>& crossings);
 
 }  // namespace vd

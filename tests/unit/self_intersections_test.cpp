@@ -3,8 +3,10 @@
 // pairs it finds must not depend on where the cut falls or on the threads.
 #include <gtest/gtest.h>
 
+#include "mesh/error.h"
 #include "mesh/parallel.h"
 #include "mesh/shapes.h"
+#include "pipeline/mesher.h"
 #include "surface/validate_surface.h"
 
 namespace vd {
@@ -44,6 +46,27 @@ TEST(SelfIntersections, ALimitGivesTrueExamples) {
   const auto few = find_self_intersections(two_spheres(false), 10);
   ASSERT_EQ(few.size(), 10u);
   for (const auto& p : few) EXPECT_TRUE(std::binary_search(all.begin(), all.end(), p));
+}
+
+// In the pipeline the test runs beside the tetrahedralization and the first
+// recovery when there is a second thread; a surface that crosses itself is
+// still refused with the same message as on one thread, and the recovery it
+// makes moot is abandoned rather than run to its guards.
+TEST(SelfIntersections, ThePipelineRefusesTheSameOnOneAndTwoThreads) {
+  std::string message[2];
+  for (int threads : {1, 2}) {
+    MeshOptions o;
+    o.threads = threads;
+    o.interior = false;
+    try {
+      mesh_surface(two_spheres(false), o);
+      ADD_FAILURE() << "two crossing spheres meshed on " << threads << " thread(s)";
+    } catch (const InputError& e) {
+      message[threads - 1] = e.what();
+    }
+  }
+  EXPECT_NE(message[0].find("intersects itself"), std::string::npos) << message[0];
+  EXPECT_EQ(message[0], message[1]);
 }
 
 }  // namespace
