@@ -10,6 +10,8 @@
 #pragma once
 
 #include <atomic>
+#include <cctype>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,6 +21,20 @@
 #include "surface/surface_geometry.h"
 
 namespace vd::cad {
+
+// A path's extension in lower case (".step").
+inline std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// .step .stp .iges .igs .brep .brp, any case. Inline: the program asks before
+// it loads the CAD plugin (cad/cad_plugin.h).
+inline bool is_cad_file_name(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs" || ext == ".brep" || ext == ".brp";
+}
 
 struct TessellationOptions {
   double size = 0;              // target edge length; 0: chosen from the part (report says which)
@@ -79,7 +95,6 @@ class CadModel {
   // A BREP in memory (the Python module and FreeCAD hand shapes over this way).
   static CadModel from_brep_string(const std::string& brep, const std::string& name = "<brep>",
                                    const std::atomic<bool>* cancel = nullptr);
-  static bool is_cad_file(const std::string& path);
 
   CadModel(CadModel&&) noexcept;
   CadModel& operator=(CadModel&&) noexcept;

@@ -7,21 +7,11 @@
 // The Python module and the tests link core/cad directly.
 #pragma once
 
-#include <cctype>
-#include <filesystem>
 #include <string>
 
 #include "cad/cad_mesher.h"
 
 namespace vd::cad {
-
-// .step .stp .iges .igs .brep .brp, any case. Here, not in the plugin: the
-// program asks before it loads it.
-inline bool is_cad_file_name(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs" || ext == ".brep" || ext == ".brp";
-}
 
 // What the plugin offers; the same calls as CadModel::read + mesh_cad and
 // CadModel::read + tessellate.

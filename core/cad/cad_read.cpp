@@ -30,7 +30,6 @@
 #include <sstream>
 
 #include "cad/cad_impl.h"
-#include "cad/cad_plugin.h"
 #include "mesh/error.h"
 #include "mesh/parallel.h"
 
@@ -38,13 +37,6 @@ namespace vd::cad {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 
 TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& cancel) {
   std::error_code ec;
@@ -139,8 +131,6 @@ int CadModel::Impl::index_of_face_number(int number) const {
   auto it = std::find(face_number.begin(), face_number.end(), number);
   return it == face_number.end() ? -1 : static_cast<int>(it - face_number.begin());
 }
-
-bool CadModel::is_cad_file(const std::string& path) { return is_cad_file_name(path); }
 
 namespace {
 

@@ -174,18 +174,6 @@ void PointGrid::in_ball(const Vec3& centre, double radius, std::vector<int>& out
             out.end());
 }
 
-namespace {
-
-// The approximate ball is widened so that no vertex the exact test would
-// call inside or on the sphere is left out by rounding of the centre.
-double safe_radius(const Ball& ball) {
-  const double coordinate_scale =
-      std::max({std::abs(ball.centre.x), std::abs(ball.centre.y), std::abs(ball.centre.z)});
-  return ball.radius * (1 + 1e-6) + 1e-12 * coordinate_scale;
-}
-
-}  // namespace
-
 bool equatorial_sphere_occupants(const PointGrid& grid, int a, int b, int c, std::vector<int>& out) {
   out.clear();
   const Vec3 &pa = grid.position(a), &pb = grid.position(b), &pc = grid.position(c);

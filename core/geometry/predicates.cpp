@@ -100,4 +100,10 @@ Ball equatorial_sphere(const Vec3& a, const Vec3& b, const Vec3& c) {
   return {centre, r};
 }
 
+double safe_radius(const Ball& ball) {
+  const double coordinate_scale =
+      std::max({std::abs(ball.centre.x), std::abs(ball.centre.y), std::abs(ball.centre.z)});
+  return ball.radius * (1 + 1e-6) + 1e-12 * coordinate_scale;
+}
+
 }  // namespace vd

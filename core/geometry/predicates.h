@@ -58,5 +58,8 @@ struct Ball {
 Ball circumsphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 // Equatorial sphere of a triangle; radius +inf when collinear.
 Ball equatorial_sphere(const Vec3& a, const Vec3& b, const Vec3& c);
+// The radius to search around ball.centre so that no vertex the exact test
+// would call inside or on the sphere is left out by rounding of the centre.
+double safe_radius(const Ball& ball);
 
 }  // namespace vd

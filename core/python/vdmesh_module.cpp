@@ -141,7 +141,7 @@ CadSource cad_source(py::handle path, py::handle brep, const char* function) {
   CadSource s;
   if (!path.is_none()) {
     s.path = path_string(path, "path");
-    if (!cad::CadModel::is_cad_file(s.path))
+    if (!cad::is_cad_file_name(s.path))
       throw py::value_error(s.path + ": not a CAD file (.step .stp .iges .igs .brep .brp)");
   } else {
     if (!py::isinstance<py::str>(brep) && !py::isinstance<py::bytes>(brep))

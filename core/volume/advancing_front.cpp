@@ -28,24 +28,8 @@ Face oriented(int a, int b, int c) {
 
 Face reversed(const Face& f) { return {f[0], f[2], f[1]}; }
 
-struct FaceHash {
-  size_t operator()(const Face& f) const {
-    const auto h = static_cast<std::uint64_t>(f[0]) * 0x9E3779B97F4A7C15ULL ^
-                   static_cast<std::uint64_t>(f[1]) * 0xC2B2AE3D27D4EB4FULL ^
-                   static_cast<std::uint64_t>(f[2]) * 0x165667B19E3779F9ULL;
-    return static_cast<size_t>(h ^ (h >> 29));
-  }
-};
-
 std::string face_text(const Face& f) {
   return "(" + std::to_string(f[0]) + ", " + std::to_string(f[1]) + ", " + std::to_string(f[2]) + ")";
-}
-
-// A ball around `b` wide enough that rounding in its construction leaves out
-// no vertex the exact tests would count (as the oracles widen theirs).
-double widened(const Ball& b) {
-  const double scale = std::max({std::abs(b.centre.x), std::abs(b.centre.y), std::abs(b.centre.z)});
-  return b.radius * (1 + 1e-6) + 1e-12 * scale;
 }
 
 class Front {
@@ -149,7 +133,7 @@ class Front {
   int best_in(const Face& f, const Ball& ball, int start) {
     ++stats_.searches;
     const Vec3 &pa = m_.points[f[0]], &pb = m_.points[f[1]], &pc = m_.points[f[2]];
-    grid_.in_ball(ball.centre, widened(ball), near_);
+    grid_.in_ball(ball.centre, safe_radius(ball), near_);
     // Ids in increasing order, so that a tie (not general position) goes
     // the same way on every run.
     std::sort(near_.begin(), near_.end());
@@ -177,7 +161,7 @@ class Front {
   TripleIndex facets_;
   PointGrid grid_;
   double diagonal_ = 0;
-  std::unordered_map<Face, int, FaceHash> open_;  // front face -> region on its inner side
+  std::unordered_map<Face, int, TripleHash> open_;  // front face -> region on its inner side
   std::deque<Face> queue_;
   std::vector<int> near_;
   CancelPoll poll_;

@@ -71,16 +71,8 @@ TEST(AdvancingFront, SameTetrahedraAsTheDelaunayOnesOnTheTestShapes) {
   expect_same_tetrahedra(shapes::icosphere({0, 0, 0}, 1.0, 2), "sphere, interior vertices", true, 0.2);
   expect_same_tetrahedra(shapes::box_with_hole({0, 0, 0}, {4, 3, 1}, 0.4), "box with a hole, no interior", false);
   // Two regions through an interface facet, and a region nested in another.
-  Mesh two = shapes::box({0, 0, 0}, {1, 1, 1}, 3, 1, 1);
-  shapes::append(two, shapes::box({1, 0, 0}, {2, 1, 1}, 3, 2, 7));
-  shapes::weld_exact(two);
-  shapes::merge_coincident_facets(two);
-  expect_same_tetrahedra(two, "two boxes sharing a face", true, 0.25);
-  Mesh nested = shapes::box({0, 0, 0}, {3, 3, 3}, 3, 1, 1);
-  Mesh inner = shapes::box({1, 1, 1}, {2, 2, 2}, 2, 2, 7);
-  for (Triangle& t : inner.triangles) t.front = 1;
-  shapes::append(nested, inner);
-  expect_same_tetrahedra(nested, "box in a box", true, 0.5);
+  expect_same_tetrahedra(test::two_boxes_sharing_a_face(3), "two boxes sharing a face", true, 0.25);
+  expect_same_tetrahedra(test::box_in_box(), "box in a box", true, 0.5);
 }
 
 // Shared surfaces: gmsh_lever.stl has box-like corners whose eight vertices

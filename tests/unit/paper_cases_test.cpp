@@ -14,6 +14,7 @@
 #include "pipeline/mesher.h"
 #include "quality/conformity.h"
 #include "surface/face_patches.h"
+#include "test_support.h"
 
 namespace vd {
 namespace {
@@ -66,22 +67,6 @@ Mesh strip_regions(Mesh m) {
 Mesh almost_touching_pyramids() {
   Mesh m = shapes::pyramid({0, 0, 0}, 1.0, -1.0, 1, 1);
   shapes::append(m, shapes::pyramid({0.1454, 0.3569, 1.0019}, 1.0, -1.0, 2, 6));
-  return m;
-}
-
-Mesh two_boxes_sharing_a_face(int n) {
-  Mesh m = shapes::box({0, 0, 0}, {1, 1, 1}, n, 1, 1);
-  shapes::append(m, shapes::box({1, 0, 0}, {2, 1, 1}, n, 2, 7));
-  shapes::weld_exact(m);
-  shapes::merge_coincident_facets(m);
-  return m;
-}
-
-Mesh box_in_box() {
-  Mesh m = shapes::box({0, 0, 0}, {3, 3, 3}, 3, 1, 1);
-  Mesh inner = shapes::box({1, 1, 1}, {2, 2, 2}, 2, 2, 7);
-  for (Triangle& t : inner.triangles) t.front = 1;  // region 2 inside region 1
-  shapes::append(m, inner);
   return m;
 }
 
@@ -152,7 +137,7 @@ TEST(PaperCases, NeedleFacetBox) {
 }
 
 TEST(PaperCases, TwoBoxesSharingAFace) {
-  const Mesh in = two_boxes_sharing_a_face(3);
+  const Mesh in = test::two_boxes_sharing_a_face(3);
   const MeshResult r = mesh_surface(in, options());
   expect_valid_mesh(in, r, true);
   // The interface appears once in the surface and between tets of regions 1 and 2.
@@ -165,7 +150,7 @@ TEST(PaperCases, TwoBoxesSharingAFace) {
 }
 
 TEST(PaperCases, BoxNestedInABox) {
-  const Mesh in = box_in_box();
+  const Mesh in = test::box_in_box();
   const MeshResult r = mesh_surface(in, options());
   expect_valid_mesh(in, r, true);
   const ConformityReport c = check_conformity(r.mesh);
@@ -174,7 +159,7 @@ TEST(PaperCases, BoxNestedInABox) {
 }
 
 TEST(PaperCases, RegionsFoundWithoutTags) {
-  for (const Mesh& tagged : {box_in_box(), two_boxes_sharing_a_face(2), almost_touching_pyramids()}) {
+  for (const Mesh& tagged : {test::box_in_box(), test::two_boxes_sharing_a_face(2), almost_touching_pyramids()}) {
     const Mesh in = strip_regions(tagged);
     const MeshResult r = mesh_surface(in, options());
     EXPECT_TRUE(r.report.complete);

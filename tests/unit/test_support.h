@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "mesh/mesh.h"
+
 namespace vd::test {
 
 // Folder of the shared geometry: $VDMESH_DATA, else ../shared/data beside the
@@ -14,6 +16,13 @@ std::string data_dir();
 std::string data_file(const std::string& relative);
 // A fresh path under the build's temp folder.
 std::string temp_path(const std::string& name);
+
+// Two-region shapes of the paper's cases: unit boxes [0,1]^3 (region 1,
+// faces 1-6) and [1,2]x[0,1]^2 (region 2, faces 7-12), each side n x n,
+// sharing one interface face; and the box [1,2]^3 (region 2, sides 2 x 2)
+// nested in [0,3]^3 (region 1, sides 3 x 3).
+Mesh two_boxes_sharing_a_face(int n);
+Mesh box_in_box();
 
 }  // namespace vd::test
 

@@ -9,16 +9,17 @@
 #include <random>
 #include <set>
 
-#include "mesh/progress.h"
 #include "delaunay/delaunay_tetrahedralization.h"
+#include "mesh/progress.h"
 #include "mesh/shapes.h"
+#include "mesh/tet_faces.h"
 #include "pipeline/mesher.h"
 #include "quality/conformity.h"
 #include "surface/size_refinement.h"
 #include "volume/interior_vertices.h"
-#include "volume/size_field.h"
 #include "volume/region_tetrahedra.h"
-#include "mesh/tet_faces.h"
+#include "volume/size_field.h"
+#include "test_support.h"
 
 namespace vd {
 namespace {
@@ -400,15 +401,7 @@ TEST(Volume, PointTriangleDistance) {
 // final vertices, with the regions built from scratch, gives: across an
 // interface and around a nested region.
 TEST(Volume, NewTetrahedraTakeTheRegionOfTheirInteriorVertex) {
-  Mesh two = shapes::box({0, 0, 0}, {1, 1, 1}, 3, 1, 1);
-  shapes::append(two, shapes::box({1, 0, 0}, {2, 1, 1}, 3, 2, 7));
-  shapes::weld_exact(two);
-  shapes::merge_coincident_facets(two);
-  Mesh nested = shapes::box({0, 0, 0}, {3, 3, 3}, 3, 1, 1);
-  Mesh inner = shapes::box({1, 1, 1}, {2, 2, 2}, 2, 2, 7);
-  for (Triangle& t : inner.triangles) t.front = 1;
-  shapes::append(nested, inner);
-  for (const Mesh& in : {two, nested}) {
+  for (const Mesh& in : {test::two_boxes_sharing_a_face(3), test::box_in_box()}) {
     MeshOptions o;
     o.size.uniform = 0.2;
     o.remove_slivers = false;
