@@ -152,15 +152,16 @@ int collapse_short_edges(CadSurface& s, double max_length);
 // parameters. Returns the number of vertices dropped.
 int compact_surface(CadSurface& s, const std::vector<char>& dead_facets = {});
 // cad_refine.cpp: edge splits to the size on the CAD geometry, then flips.
-// With options.remesh, then the inside of plane and cylinder faces meshed
-// anew (remesh_plane_faces). `face_deflection`: the chord height per face.
+// With options.remesh, then the inside of plane, cylinder, cone, sphere and
+// torus faces meshed anew (remesh_faces). `face_deflection`: the chord height per face.
 void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options, double size,
                     const std::vector<double>& face_deflection, TessellationStats& stats);
-// cad_remesh.cpp: the faces that are planes or cylinders meshed anew inside
-// their border nodes by Delaunay refinement in their unrolled (u, v); faces
-// touching a `frozen` vertex are left. Returns the faces remeshed.
-int remesh_plane_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
-                       double size, const std::vector<char>& frozen);
+// cad_remesh.cpp: the faces that are planes, cylinders, cones, spheres or
+// tori meshed anew inside their border nodes by Delaunay refinement in a
+// chart of their (u, v) that keeps angles; faces touching a `frozen` vertex
+// are left. Returns the faces remeshed.
+int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
+                 const std::vector<char>& frozen);
 // Before it: into how many pieces each border piece (edge_key of its ends)
 // must be cut for those faces' meshes to be round (Ruppert's segment splits).
 std::map<std::uint64_t, int> plan_border_splits(const CadModel::Impl& cad, CadSurface& s,

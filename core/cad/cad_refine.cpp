@@ -612,7 +612,7 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
     };
     for (const auto& [key, pieces] : plan_border_splits(cad, s, face_deflection, size, frozen()))
       r->split_into(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), pieces);
-    stats.remeshed_faces = remesh_plane_faces(cad, s, face_deflection, size, frozen());
+    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, frozen());
     if (stats.remeshed_faces > 0) {
       r.emplace(cad, s, stats, 0.0, options.gradation);
       r->find_knife_edges();

@@ -1,7 +1,8 @@
-// The inside of each plane and cylinder face meshed anew: a Delaunay
-// refinement (CGAL's 2D mesher, smallest angle 20.7 deg) in the face's
-// (u, v) unrolled to lengths, the border nodes kept as they are so that the
-// faces still share their edges' discretisation.
+// The inside of each plane, cylinder, cone, sphere and torus face meshed
+// anew: a Delaunay refinement (CGAL's 2D mesher, smallest angle 20.7 deg) in
+// a chart of the face's (u, v) where angles are those on the face, the border
+// nodes kept as they are so that the faces still share their edges'
+// discretisation.
 //
 // Why: OpenCASCADE tessellates a face from its border nodes and the chord
 // height, and the splits and flips after it cannot undo its fans: half the
@@ -10,9 +11,12 @@
 // surface mesh of three corpus parts reached 4.65 / 6.60 / 10.07 deg where
 // the refined tessellation gave 3.79 / 2.85 / 4.28.
 //
-// Only planes and cylinders: there (u, v) is a length up to a constant
-// (the radius for a cylinder's angle), so a round triangle in the plane of
-// the parameters is round on the face. Other faces keep the refinement.
+// The charts (FaceChart): planes, cylinders and cones unroll onto the plane
+// without stretching (a cone into a sector of a disc); spheres (Mercator) and
+// tori map conformally, lengths scaled by a factor that varies smoothly over
+// the face, so a small round triangle in the chart is round on the face and
+// the size bound is divided by that factor. Other faces (B-splines, surfaces
+// of revolution and extrusion) keep the refinement.
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
 #include <CGAL/Delaunay_mesh_size_criteria_2.h>
@@ -28,6 +32,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "cad/cad_impl.h"
@@ -44,9 +49,6 @@ using Vb = CGAL::Delaunay_mesh_vertex_base_2<K, CGAL::Triangulation_vertex_base_
 using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
-using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
-using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, Criteria>;
-using FullMesher = CGAL::Delaunay_mesher_2<Cdt, Criteria>;  // splits the border too
 using Point2 = K::Point_2;
 
 // CGAL's bound B on (circumradius / shortest edge)^-2 / 4: 0.125 is a
@@ -54,26 +56,134 @@ using Point2 = K::Point_2;
 constexpr double kAngleBound = 0.125;
 constexpr double kMaxGrowth = 3;
 
-// A face's (u, v) as lengths: the identity on a plane, the arc length
-// R u on a cylinder.
-struct Unrolled {
-  double scale_u = 1;
-  Point2 to_plane(const gp_Pnt2d& uv) const { return {scale_u * uv.X(), uv.Y()}; }
-  gp_Pnt2d to_uv(const Point2& p) const { return {p.x() / scale_u, p.y()}; }
+// A face's (u, v) mapped to a plane whose angles are those on the face.
+// Lengths on the face are lengths in the plane times stretch(p); the longest
+// edge allowed on the face at p is longest(p), so that the refinement's size
+// bound in the plane is longest(p) / stretch(p).
+class FaceChart {
+ public:
+  // False for the surface types no chart is made for.
+  bool make(const BRepAdaptor_Surface& surface, double size, double deflection);
+
+  Point2 to_plane(const gp_Pnt2d& uv) const {
+    const double u = uv.X(), v = uv.Y();
+    switch (kind_) {
+      case Kind::kScaled:
+        return {scale_u_ * u, v};
+      case Kind::kCone: {
+        const double rho = cone_apex_distance(v), theta = u * sin_;
+        return {rho * std::cos(theta), rho * std::sin(theta)};
+      }
+      case Kind::kSphere:
+        return {radius_ * u, radius_ * std::atanh(std::sin(v))};
+      case Kind::kTorus:
+        return {major_ * u, major_ * torus_w(v)};
+    }
+    return {};
+  }
+
+  gp_Pnt2d to_uv(const Point2& p) const {
+    switch (kind_) {
+      case Kind::kScaled:
+        return {p.x() / scale_u_, p.y()};
+      case Kind::kCone: {
+        // The angle unwrapped next to the face's middle: a cone face spans
+        // 2 pi sin(semi-angle) < 2 pi of it.
+        const double theta = theta_mid_ + std::remainder(std::atan2(p.y(), p.x()) - theta_mid_, 2 * M_PI);
+        const double rho = std::hypot(p.x(), p.y());
+        return {theta / sin_, sign_ * rho - apex_v_};
+      }
+      case Kind::kSphere:
+        return {p.x() / radius_, std::atan(std::sinh(p.y() / radius_))};
+      case Kind::kTorus:
+        return {p.x() / major_, torus_v(p.y() / major_)};
+    }
+    return {};
+  }
+
+  double stretch(const Point2& p) const {
+    switch (kind_) {
+      case Kind::kScaled:
+      case Kind::kCone:
+        return 1;
+      case Kind::kSphere:
+        return 1 / std::cosh(p.y() / radius_);
+      case Kind::kTorus:
+        return (major_ + minor_ * std::cos(torus_v(p.y() / major_))) / major_;
+    }
+    return 1;
+  }
+
+  double longest(const Point2& p) const {
+    if (kind_ != Kind::kCone || !(deflection_ > 0)) return longest_;
+    // Curvature cos(semi-angle) / r at distance r from the axis.
+    const double r = std::hypot(p.x(), p.y()) * sin_;
+    return std::min(longest_, std::sqrt(8 * r * deflection_ / cos_));
+  }
+  // Called with the face's corners before use: where a cone's angle is unwrapped.
+  void centre_on(const std::vector<gp_Pnt2d>& uv) {
+    if (kind_ != Kind::kCone || uv.empty()) return;
+    double lo = uv[0].X(), hi = lo;
+    for (const gp_Pnt2d& p : uv) lo = std::min(lo, p.X()), hi = std::max(hi, p.X());
+    theta_mid_ = 0.5 * (lo + hi) * sin_;
+  }
+  // A chart can take the face: no corner at a sphere's pole (Mercator's
+  // infinity) or a cone's apex.
+  bool covers(const gp_Pnt2d& uv) const {
+    switch (kind_) {
+      case Kind::kCone:
+        return cone_apex_distance(uv.Y()) > 1e-9 * longest_;
+      case Kind::kSphere:
+        return std::cos(uv.Y()) > 1e-6;
+      default:
+        return true;
+    }
+  }
+
+ private:
+  enum class Kind { kScaled, kCone, kSphere, kTorus };
+
+  // On a cone (OpenCASCADE: radius R + v sin a at height v cos a), the
+  // distance from the apex along the line through the point.
+  double cone_apex_distance(double v) const { return sign_ * (v + apex_v_); }
+  // On a torus (radius R + r cos v about the axis), the conformal height
+  // w(v) = integral of r / (R + r cos t) dt, continuous through every turn
+  // of v; the chart is (R u, R w).
+  double torus_w(double v) const {
+    const double h = 0.5 * v, n = std::round(h / M_PI), rest = h - n * M_PI;
+    return w_scale_ * (n * M_PI + std::atan2(k_ * std::sin(rest), std::cos(rest)));
+  }
+  double torus_v(double w) const {
+    const double phi = w / w_scale_, n = std::round(phi / M_PI), rest = phi - n * M_PI;
+    return 2 * (n * M_PI + std::atan2(std::sin(rest), k_ * std::cos(rest)));
+  }
+
+  Kind kind_ = Kind::kScaled;
+  double longest_ = 0, deflection_ = 0;
+  double scale_u_ = 1;                                              // plane, cylinder
+  double sin_ = 1, cos_ = 1, sign_ = 1, apex_v_ = 0, theta_mid_ = 0;  // cone
+  double radius_ = 1;                                               // sphere
+  double major_ = 1, minor_ = 0, k_ = 1, w_scale_ = 1;              // torus
 };
 
-// The longest edge for a face: the size, and on a cylinder the chord that
-// keeps the chord height of the tessellation.
-bool unroll(const BRepAdaptor_Surface& surface, double size, double deflection, Unrolled& out, double& longest) {
-  longest = size;
+// The longest edge for a face: the size, and on a curved face the chord
+// that keeps the face's chord height (deflection).
+bool FaceChart::make(const BRepAdaptor_Surface& surface, double size, double deflection) {
+  longest_ = size;
+  deflection_ = deflection;
+  auto chord = [&](double radius) {
+    if (deflection > 0) longest_ = std::min(longest_, std::sqrt(8 * radius * deflection));
+  };
   switch (surface.GetType()) {
     case GeomAbs_Plane:
-      out.scale_u = 1;
+      kind_ = Kind::kScaled;
+      scale_u_ = 1;
       return true;
     case GeomAbs_Cylinder: {
       const double r = surface.Cylinder().Radius();
       if (!(r > 0)) return false;
-      out.scale_u = r;
+      kind_ = Kind::kScaled;
+      scale_u_ = r;
       // The chord height only. The angular deflection in every direction
       // (edges of 2 R sin(angle / 2)) made tiny triangles on small
       // cylinders: the pump housing 60k -> 240k tetrahedra, 126k with the
@@ -81,13 +191,86 @@ bool unroll(const BRepAdaptor_Surface& surface, double size, double deflection, 
       // chord height alone gives 117k and 10.00 deg. The angle still
       // spaces the nodes on the border arcs, and the volume tolerance
       // makes the chord height smaller where a volume is off.
-      if (deflection > 0) longest = std::min(longest, std::sqrt(8 * r * deflection));
+      chord(r);
+      return true;
+    }
+    case GeomAbs_Cone: {
+      const gp_Cone cone = surface.Cone();
+      const double a = cone.SemiAngle();
+      if (!(std::abs(std::sin(a)) > 1e-6) || !(std::cos(a) > 1e-6)) return false;
+      kind_ = Kind::kCone;
+      sin_ = std::abs(std::sin(a));
+      cos_ = std::cos(a);
+      sign_ = std::sin(a) > 0 ? 1 : -1;
+      apex_v_ = cone.RefRadius() / std::sin(a);
+      return true;  // its chord varies with the radius: longest(p)
+    }
+    case GeomAbs_Sphere: {
+      const double r = surface.Sphere().Radius();
+      if (!(r > 0)) return false;
+      kind_ = Kind::kSphere;
+      radius_ = r;
+      chord(r);
+      return true;
+    }
+    case GeomAbs_Torus: {
+      const gp_Torus torus = surface.Torus();
+      const double big = torus.MajorRadius(), small = torus.MinorRadius();
+      if (!(small > 0) || !(big > 1.001 * small)) return false;  // a spindle torus folds
+      kind_ = Kind::kTorus;
+      major_ = big;
+      minor_ = small;
+      k_ = std::sqrt((big - small) / (big + small));
+      w_scale_ = 2 * small / std::sqrt(big * big - small * small);
+      chord(small);  // the curvature 1 / r across the tube is the larger one
       return true;
     }
     default:
       return false;
   }
 }
+
+// CGAL's size criteria with the size bound of the chart's point: CGAL's
+// quality (the squared sine of the smallest angle, and the longest edge over
+// the size bound), the bound taken at the triangle's centroid.
+class ChartCriteria : public CGAL::Delaunay_mesh_size_criteria_2<Cdt> {
+ public:
+  using Base = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
+  explicit ChartCriteria(const FaceChart& chart) : Base(kAngleBound, 1.0), chart_(&chart) {}
+
+  class Is_bad : public Base::Is_bad {
+   public:
+    Is_bad(double bound, const FaceChart& chart, const K& traits)
+        : Base::Is_bad(bound, 1.0, traits), chart_(&chart) {}
+    using Base::Is_bad::operator();
+    CGAL::Mesh_2::Face_badness operator()(const Cdt::Face_handle& f, Quality& q) const {
+      const Point2 &a = f->vertex(0)->point(), &b = f->vertex(1)->point(), &c = f->vertex(2)->point();
+      std::array<double, 3> sq = {CGAL::squared_distance(b, c), CGAL::squared_distance(c, a),
+                                  CGAL::squared_distance(a, b)};
+      std::sort(sq.begin(), sq.end());
+      const Point2 centroid = CGAL::centroid(a, b, c);
+      const double bound = chart_->longest(centroid) / chart_->stretch(centroid);
+      q.second = sq[2] / (bound * bound);
+      if (q.size() > 1) {
+        q.first = 1;
+        return CGAL::Mesh_2::IMPERATIVELY_BAD;
+      }
+      const double area = 2 * this->traits.compute_area_2_object()(a, b, c);
+      q.first = area * area / (sq[2] * sq[1]);
+      return q.sine() < this->B ? CGAL::Mesh_2::BAD : CGAL::Mesh_2::NOT_BAD;
+    }
+
+   private:
+    const FaceChart* chart_;
+  };
+  Is_bad is_bad_object() const { return Is_bad(this->bound(), *chart_, this->traits); }
+
+ private:
+  const FaceChart* chart_;
+};
+
+using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, ChartCriteria>;
+using FullMesher = CGAL::Delaunay_mesher_2<Cdt, ChartCriteria>;  // splits the border too
 
 // The end of edge e that is not v.
 Cdt::Vertex_handle other_end(const Cdt::Edge& e, const Cdt::Vertex_handle& v) {
@@ -131,14 +314,16 @@ void mark_inside(Cdt& cdt) {
   }
 }
 
-// One face's border in its unrolled plane: the facet edges on CAD edges
-// (a seam twice, once per side), in a constrained Delaunay triangulation,
-// the inside marked.
+// One face's border in its chart: the facet edges on CAD edges (a seam
+// twice, once per side), in a constrained Delaunay triangulation, the
+// inside marked.
 struct FaceBorder {
   Cdt cdt;
   std::vector<std::pair<Cdt::Vertex_handle, Cdt::Vertex_handle>> segments;
-  int sign = 0;         // of the facets' orientation in the plane
-  double area = 0;      // of the facets in the plane
+  int sign = 0;              // of the facets' orientation in the plane
+  double area = 0;           // twice the facets' area in the plane
+  double face_area = 0;      // the facets' area on the face (through the stretch)
+  double shortest = 0;       // the least longest edge allowed at a corner
 };
 
 class FaceRemesher {
@@ -148,22 +333,26 @@ class FaceRemesher {
 
   // False when the facets do not make a clean domain in the plane: folded,
   // a border without CAD parameters, a frozen vertex, crossing segments.
-  bool border(int fi, const std::vector<int>& facets, const Unrolled& unrolled, FaceBorder& out) const {
+  bool border(int fi, const std::vector<int>& facets, const FaceChart& chart, FaceBorder& out) const {
     const Mesh& m = s_.mesh;
     std::vector<std::array<Point2, 2>> points;
     std::vector<std::array<int, 2>> ids;
+    out.shortest = std::numeric_limits<double>::infinity();
     for (int f : facets) {
       const Triangle& t = m.triangles[f];
       std::array<Point2, 3> p;
       for (int i = 0; i < 3; ++i) {
-        if (frozen_[t.v[i]]) return false;
-        p[i] = unrolled.to_plane(s_.uv[f][i]);
+        if (frozen_[t.v[i]] || !chart.covers(s_.uv[f][i])) return false;
+        p[i] = chart.to_plane(s_.uv[f][i]);
+        out.shortest = std::min(out.shortest, chart.longest(p[i]));
       }
       const double a = area2(p[0], p[1], p[2]);
       const int sg = a > 0 ? 1 : a < 0 ? -1 : 0;
       if (sg == 0 || (out.sign != 0 && sg != out.sign)) return false;  // folded in (u, v)
       out.sign = sg;
       out.area += std::abs(a);
+      const double stretch = chart.stretch(CGAL::centroid(p[0], p[1], p[2]));
+      out.face_area += 0.5 * std::abs(a) * stretch * stretch;
       for (int i = 0; i < 3; ++i) {
         const int a_id = t.v[i], b_id = t.v[(i + 1) % 3];
         const std::uint64_t key = edge_key(a_id, b_id);
@@ -223,11 +412,10 @@ class FaceRemesher {
   // The border pieces the face needs split for a mesh of round triangles:
   // CGAL's mesher with segment splits is run, and for each border piece
   // (a, b) the pieces it was cut into are counted.
-  void plan_border_splits(int fi, const std::vector<int>& facets, const Unrolled& unrolled, double longest,
+  void plan_border_splits(int fi, const std::vector<int>& facets, const FaceChart& chart,
                           std::map<std::uint64_t, int>& pieces) const {
     FaceBorder b;
-    if (!border(fi, facets, unrolled, b) || too_many(b, facets, longest) || !refine<FullMesher>(b.cdt, longest))
-      return;
+    if (!border(fi, facets, chart, b) || too_many(b, facets) || !refine<FullMesher>(b.cdt, chart)) return;
     for (const auto& [a, end] : b.segments) {
       // Walk from a along the constraint through the mesher's new nodes.
       auto circulator = b.cdt.incident_edges(a), done = circulator;
@@ -258,11 +446,9 @@ class FaceRemesher {
 
   // Meshes face fi anew inside its border; false (nothing changed) when
   // its facets do not make a clean domain or the mesh would not cover it.
-  bool remesh(int fi, const std::vector<int>& facets, const Unrolled& unrolled, double longest,
-              std::vector<char>& dead) {
+  bool remesh(int fi, const std::vector<int>& facets, const FaceChart& chart, std::vector<char>& dead) {
     FaceBorder b;
-    if (!border(fi, facets, unrolled, b) || too_many(b, facets, longest) || !refine<Mesher>(b.cdt, longest))
-      return false;
+    if (!border(fi, facets, chart, b) || too_many(b, facets) || !refine<Mesher>(b.cdt, chart)) return false;
     if (std::abs(domain_area(b.cdt) - b.area) > 1e-9 * b.area) return false;
 
     // The new facets, with the old facets' tags and orientation.
@@ -270,7 +456,7 @@ class FaceRemesher {
     BRepAdaptor_Surface surface(cad_.faces[fi]);
     for (auto v = b.cdt.finite_vertices_begin(); v != b.cdt.finite_vertices_end(); ++v) {
       if (v->info().id != -1) continue;
-      const gp_Pnt2d uv = unrolled.to_uv(v->point());
+      const gp_Pnt2d uv = chart.to_uv(v->point());
       v->info().id = static_cast<int>(s_.mesh.points.size());
       s_.mesh.points.push_back(to_vec(surface.Value(uv.X(), uv.Y())));
     }
@@ -283,7 +469,7 @@ class FaceRemesher {
       for (int i = 0; i < 3; ++i) {
         const auto v = f->vertex(order[i]);
         t.v[i] = v->info().id;
-        uv[i] = unrolled.to_uv(v->point());
+        uv[i] = chart.to_uv(v->point());
       }
       s_.mesh.triangles.push_back(t);
       s_.uv.push_back(uv);
@@ -296,9 +482,9 @@ class FaceRemesher {
  private:
   // CGAL's Delaunay refinement of the marked inside; false when it throws.
   template <class RefineMesher>
-  static bool refine(Cdt& cdt, double longest) {
+  static bool refine(Cdt& cdt, const FaceChart& chart) {
     try {
-      RefineMesher mesher(cdt, Criteria(kAngleBound, longest));
+      RefineMesher mesher(cdt, ChartCriteria(chart));
       mesher.init(true);
       mesher.refine_mesh();
       return true;
@@ -312,9 +498,9 @@ class FaceRemesher {
   // whose chord height asks for edges far below the size (a thin solid's
   // chord height) is left to its strips. pythonocc_11752.stp went from
   // 460k to 10.9M facets.
-  static bool too_many(const FaceBorder& b, const std::vector<int>& facets, double longest) {
-    const double equilateral = std::sqrt(3.0) / 4 * longest * longest;
-    return 0.5 * b.area / equilateral > kMaxGrowth * static_cast<double>(facets.size()) + 50;
+  static bool too_many(const FaceBorder& b, const std::vector<int>& facets) {
+    const double equilateral = std::sqrt(3.0) / 4 * b.shortest * b.shortest;
+    return b.face_area / equilateral > kMaxGrowth * static_cast<double>(facets.size()) + 50;
   }
 
   static double domain_area(const Cdt& cdt) {
@@ -330,22 +516,27 @@ class FaceRemesher {
   EdgeFacetPairs edges_;
 };
 
-// The faces that can be unrolled, with their longest edge.
-struct PlaneFace {
+// The faces a chart is made for.
+struct ChartedFace {
   int face;
-  Unrolled unrolled;
-  double longest;
+  FaceChart chart;
 };
-std::vector<PlaneFace> plane_faces(const CadModel::Impl& cad, const std::vector<double>& face_deflection,
-                                   double size) {
-  std::vector<PlaneFace> out;
+std::vector<ChartedFace> charted_faces(const CadModel::Impl& cad, const std::vector<std::vector<int>>& by_face,
+                                       const CadSurface& s, const std::vector<double>& face_deflection, double size) {
+  std::vector<ChartedFace> out;
   for (size_t fi = 0; fi < cad.faces.size(); ++fi) {
-    PlaneFace p{static_cast<int>(fi), {}, size};
+    if (by_face[fi].empty()) continue;
+    ChartedFace c{static_cast<int>(fi), {}};
     try {
       const BRepAdaptor_Surface surface(cad.faces[fi]);
-      if (unroll(surface, size, face_deflection[fi], p.unrolled, p.longest)) out.push_back(p);
+      if (!c.chart.make(surface, size, face_deflection[fi])) continue;
     } catch (const Standard_Failure&) {
+      continue;
     }
+    std::vector<gp_Pnt2d> corners;
+    for (int f : by_face[fi]) corners.insert(corners.end(), s.uv[f].begin(), s.uv[f].end());
+    c.chart.centre_on(corners);
+    out.push_back(c);
   }
   return out;
 }
@@ -364,20 +555,20 @@ std::map<std::uint64_t, int> plan_border_splits(const CadModel::Impl& cad, CadSu
   const auto by_face = facets_by_face(cad, s);
   std::map<std::uint64_t, int> pieces;
   const FaceRemesher remesher(cad, s, frozen);
-  for (const PlaneFace& p : plane_faces(cad, face_deflection, size))
-    if (!by_face[p.face].empty()) remesher.plan_border_splits(p.face, by_face[p.face], p.unrolled, p.longest, pieces);
+  for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size))
+    remesher.plan_border_splits(c.face, by_face[c.face], c.chart, pieces);
   return pieces;
 }
 
-int remesh_plane_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
-                       double size, const std::vector<char>& frozen) {
+int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
+                 const std::vector<char>& frozen) {
   const auto by_face = facets_by_face(cad, s);
   std::vector<char> dead(s.mesh.triangles.size(), 0);
   int remeshed = 0;
   {
     FaceRemesher remesher(cad, s, frozen);
-    for (const PlaneFace& p : plane_faces(cad, face_deflection, size))
-      if (!by_face[p.face].empty()) remeshed += remesher.remesh(p.face, by_face[p.face], p.unrolled, p.longest, dead);
+    for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size))
+      remeshed += remesher.remesh(c.face, by_face[c.face], c.chart, dead);
   }
   if (remeshed) compact_surface(s, dead);
   return remeshed;
