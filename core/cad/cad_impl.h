@@ -152,14 +152,15 @@ int collapse_short_edges(CadSurface& s, double max_length);
 // parameters. Returns the number of vertices dropped.
 int compact_surface(CadSurface& s, const std::vector<char>& dead_facets = {});
 // cad_refine.cpp: edge splits to the size on the CAD geometry, then flips.
-// With options.remesh, then the inside of plane, cylinder, cone, sphere and
-// torus faces meshed anew (remesh_faces). `face_deflection`: the chord height per face.
+// With options.remesh, then the inside of the faces meshed anew
+// (remesh_faces). `face_deflection`: the chord height per face.
 void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options, double size,
                     const std::vector<double>& face_deflection, TessellationStats& stats);
-// cad_remesh.cpp: the faces that are planes, cylinders, cones, spheres or
-// tori meshed anew inside their border nodes by Delaunay refinement in a
-// chart of their (u, v) that keeps angles; faces touching a `frozen` vertex
-// are left. Returns the faces remeshed.
+// cad_remesh.cpp: the faces meshed anew inside their border nodes by
+// Delaunay refinement in a chart of their (u, v) that keeps angles (exactly
+// on planes, cylinders, cones, spheres and tori; elsewhere kept only when
+// rounder); faces touching a `frozen` vertex are left. Returns the faces
+// remeshed.
 int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
                  const std::vector<char>& frozen);
 // Before it: into how many pieces each border piece (edge_key of its ends)

@@ -55,7 +55,7 @@ struct TessellationOptions {
   double grading = 0;
   double gradation = 0.3;
   bool smooth = true;           // move vertices inside faces where a corner is poor (on the CAD face)
-  bool remesh = true;           // plane, cylinder, cone, sphere and torus faces meshed anew (cad_remesh.cpp)
+  bool remesh = true;           // faces meshed anew inside their border (cad_remesh.cpp)
   const std::atomic<bool>* cancel = nullptr;  // raised: stop with CancelledError (mesh/cancel.h)
 };
 

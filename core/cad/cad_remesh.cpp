@@ -1,8 +1,7 @@
-// The inside of each plane, cylinder, cone, sphere and torus face meshed
-// anew: a Delaunay refinement (CGAL's 2D mesher, smallest angle 20.7 deg) in
-// a chart of the face's (u, v) where angles are those on the face, the border
-// nodes kept as they are so that the faces still share their edges'
-// discretisation.
+// The inside of each face meshed anew: a Delaunay refinement (CGAL's 2D
+// mesher, smallest angle 20.7 deg) in a chart of the face's (u, v) where
+// angles are those on the face (or nearly), the border nodes kept as they are
+// so that the faces still share their edges' discretisation.
 //
 // Why: OpenCASCADE tessellates a face from its border nodes and the chord
 // height, and the splits and flips after it cannot undo its fans: half the
@@ -16,7 +15,9 @@
 // tori map conformally, lengths scaled by a factor that varies smoothly over
 // the face, so a small round triangle in the chart is round on the face and
 // the size bound is divided by that factor. Other faces (B-splines, surfaces
-// of revolution and extrusion) keep the refinement.
+// of revolution and extrusion) get an affine chart, an isometry at the
+// face's middle only: their new mesh is kept when its smallest corner on the
+// face is larger than the old one's and it lies as close to the face.
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
 #include <CGAL/Delaunay_mesh_size_criteria_2.h>
@@ -34,9 +35,11 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 
 #include "cad/cad_impl.h"
 #include "surface/edge_map.h"
+#include "surface/face_patches.h"
 
 namespace vd::cad {
 namespace {
@@ -62,8 +65,18 @@ constexpr double kMaxGrowth = 3;
 // bound in the plane is longest(p) / stretch(p).
 class FaceChart {
  public:
-  // False for the surface types no chart is made for.
-  bool make(const BRepAdaptor_Surface& surface, double size, double deflection);
+  // False when no chart is made (a degenerate surface). `corners`: the
+  // (u, v) of the face's facet corners.
+  bool make(const TopoDS_Face& face, double size, double deflection, const std::vector<gp_Pnt2d>& corners);
+  // True where angles in the chart are those on the face; false for the
+  // affine chart of other surfaces, whose meshes are kept only when rounder.
+  bool keeps_angles() const { return kind_ != Kind::kAffine; }
+  double deflection() const { return deflection_; }
+  // The face's point at a point of the chart.
+  gp_Pnt value(const Point2& p) const {
+    const gp_Pnt2d uv = to_uv(p);
+    return surface_->Value(uv.X(), uv.Y());
+  }
 
   Point2 to_plane(const gp_Pnt2d& uv) const {
     const double u = uv.X(), v = uv.Y();
@@ -78,6 +91,8 @@ class FaceChart {
         return {radius_ * u, radius_ * std::atanh(std::sin(v))};
       case Kind::kTorus:
         return {major_ * u, major_ * torus_w(v)};
+      case Kind::kAffine:
+        return {a_ * (u - u0_) + b_ * (v - v0_), c_ * (v - v0_)};
     }
     return {};
   }
@@ -97,6 +112,10 @@ class FaceChart {
         return {p.x() / radius_, std::atan(std::sinh(p.y() / radius_))};
       case Kind::kTorus:
         return {p.x() / major_, torus_v(p.y() / major_)};
+      case Kind::kAffine: {
+        const double dv = p.y() / c_;
+        return {u0_ + (p.x() - b_ * dv) / a_, v0_ + dv};
+      }
     }
     return {};
   }
@@ -110,6 +129,9 @@ class FaceChart {
         return 1 / std::cosh(p.y() / radius_);
       case Kind::kTorus:
         return (major_ + minor_ * std::cos(torus_v(p.y() / major_))) / major_;
+      case Kind::kAffine:
+        // The area's scale, as if the surface's metric stayed isotropic.
+        return std::sqrt(std::sqrt(std::max(metric_determinant(to_uv(p)), 1e-300) / det0_));
     }
     return 1;
   }
@@ -119,13 +141,6 @@ class FaceChart {
     // Curvature cos(semi-angle) / r at distance r from the axis.
     const double r = std::hypot(p.x(), p.y()) * sin_;
     return std::min(longest_, std::sqrt(8 * r * deflection_ / cos_));
-  }
-  // Called with the face's corners before use: where a cone's angle is unwrapped.
-  void centre_on(const std::vector<gp_Pnt2d>& uv) {
-    if (kind_ != Kind::kCone || uv.empty()) return;
-    double lo = uv[0].X(), hi = lo;
-    for (const gp_Pnt2d& p : uv) lo = std::min(lo, p.X()), hi = std::max(hi, p.X());
-    theta_mid_ = 0.5 * (lo + hi) * sin_;
   }
   // A chart can take the face: no corner at a sphere's pole (Mercator's
   // infinity) or a cone's apex.
@@ -141,7 +156,31 @@ class FaceChart {
   }
 
  private:
-  enum class Kind { kScaled, kCone, kSphere, kTorus };
+  enum class Kind { kScaled, kCone, kSphere, kTorus, kAffine };
+
+  bool make_affine(const std::vector<gp_Pnt2d>& corners, double deflection);
+  // The largest principal curvature (absolute) at uv, from the two
+  // fundamental forms: |H| + sqrt(H^2 - K).
+  double largest_curvature(const gp_Pnt2d& uv) const {
+    gp_Pnt p;
+    gp_Vec su, sv, suu, svv, suv;
+    surface_->D2(uv.X(), uv.Y(), p, su, sv, suu, svv, suv);
+    const gp_Vec cross = su.Crossed(sv);
+    const double area2 = cross.SquareMagnitude();
+    if (!(area2 > 0)) return 0;
+    const gp_Vec n = cross / std::sqrt(area2);
+    const double e = su.SquareMagnitude(), f = su.Dot(sv), g = sv.SquareMagnitude();
+    const double l = suu.Dot(n), m = suv.Dot(n), nn = svv.Dot(n);
+    const double gauss = (l * nn - m * m) / area2, mean = (e * nn - 2 * f * m + g * l) / (2 * area2);
+    return std::abs(mean) + std::sqrt(std::max(0.0, mean * mean - gauss));
+  }
+  // E G - F^2 of the first fundamental form at uv.
+  double metric_determinant(const gp_Pnt2d& uv) const {
+    gp_Pnt p;
+    gp_Vec du, dv;
+    surface_->D1(uv.X(), uv.Y(), p, du, dv);
+    return du.CrossSquareMagnitude(dv);
+  }
 
   // On a cone (OpenCASCADE: radius R + v sin a at height v cos a), the
   // distance from the apex along the line through the point.
@@ -164,11 +203,16 @@ class FaceChart {
   double sin_ = 1, cos_ = 1, sign_ = 1, apex_v_ = 0, theta_mid_ = 0;  // cone
   double radius_ = 1;                                               // sphere
   double major_ = 1, minor_ = 0, k_ = 1, w_scale_ = 1;              // torus
+  double u0_ = 0, v0_ = 0, a_ = 1, b_ = 0, c_ = 1, det0_ = 1;       // affine
+  std::shared_ptr<BRepAdaptor_Surface> surface_;
 };
 
 // The longest edge for a face: the size, and on a curved face the chord
 // that keeps the face's chord height (deflection).
-bool FaceChart::make(const BRepAdaptor_Surface& surface, double size, double deflection) {
+bool FaceChart::make(const TopoDS_Face& face, double size, double deflection, const std::vector<gp_Pnt2d>& corners) {
+  if (corners.empty()) return false;
+  surface_ = std::make_shared<BRepAdaptor_Surface>(face);
+  const BRepAdaptor_Surface& surface = *surface_;
   longest_ = size;
   deflection_ = deflection;
   auto chord = [&](double radius) {
@@ -203,6 +247,10 @@ bool FaceChart::make(const BRepAdaptor_Surface& surface, double size, double def
       cos_ = std::cos(a);
       sign_ = std::sin(a) > 0 ? 1 : -1;
       apex_v_ = cone.RefRadius() / std::sin(a);
+      // The angle is unwrapped next to the face's middle.
+      double lo = corners[0].X(), hi = lo;
+      for (const gp_Pnt2d& c : corners) lo = std::min(lo, c.X()), hi = std::max(hi, c.X());
+      theta_mid_ = 0.5 * (lo + hi) * sin_;
       return true;  // its chord varies with the radius: longest(p)
     }
     case GeomAbs_Sphere: {
@@ -226,8 +274,41 @@ bool FaceChart::make(const BRepAdaptor_Surface& surface, double size, double def
       return true;
     }
     default:
-      return false;
+      return make_affine(corners, deflection);
   }
+}
+
+// Any other surface (B-splines, surfaces of revolution or extrusion): (u, v)
+// sheared and scaled so that at the middle of the face's corners the chart
+// is an isometry (the Cholesky factor of the first fundamental form there).
+// Away from the middle the metric drifts; stretch() follows its area scale,
+// and the mesh is kept only when rounder than the old one on the face. The
+// chord is that of the largest principal curvature at the corners.
+bool FaceChart::make_affine(const std::vector<gp_Pnt2d>& corners, double deflection) {
+  kind_ = Kind::kAffine;
+  double lo_u = corners[0].X(), hi_u = lo_u, lo_v = corners[0].Y(), hi_v = lo_v;
+  for (const gp_Pnt2d& c : corners) {
+    lo_u = std::min(lo_u, c.X()), hi_u = std::max(hi_u, c.X());
+    lo_v = std::min(lo_v, c.Y()), hi_v = std::max(hi_v, c.Y());
+  }
+  u0_ = 0.5 * (lo_u + hi_u);
+  v0_ = 0.5 * (lo_v + hi_v);
+  gp_Pnt p;
+  gp_Vec du, dv;
+  surface_->D1(u0_, v0_, p, du, dv);
+  const double e = du.SquareMagnitude(), f = du.Dot(dv), g = dv.SquareMagnitude();
+  det0_ = e * g - f * f;
+  if (!(e > 0) || !(det0_ > 1e-12 * e * g)) return false;  // degenerate at the middle
+  a_ = std::sqrt(e);
+  b_ = f / a_;
+  c_ = std::sqrt(det0_ / e);
+  if (deflection > 0) {
+    const size_t step = std::max<size_t>(1, corners.size() / 256);
+    double curvature = 0;
+    for (size_t k = 0; k < corners.size(); k += step) curvature = std::max(curvature, largest_curvature(corners[k]));
+    if (curvature > 0) longest_ = std::min(longest_, std::sqrt(8 * deflection / curvature));
+  }
+  return true;
 }
 
 // CGAL's size criteria with the size bound of the chart's point: CGAL's
@@ -415,7 +496,9 @@ class FaceRemesher {
   void plan_border_splits(int fi, const std::vector<int>& facets, const FaceChart& chart,
                           std::map<std::uint64_t, int>& pieces) const {
     FaceBorder b;
-    if (!border(fi, facets, chart, b) || too_many(b, facets) || !refine<FullMesher>(b.cdt, chart)) return;
+    if (!border(fi, facets, chart, b) || too_many(b, facets) || !refine<FullMesher>(b.cdt, chart) ||
+        !rounder(b.cdt, facets, chart))
+      return;
     for (const auto& [a, end] : b.segments) {
       // Walk from a along the constraint through the mesher's new nodes.
       auto circulator = b.cdt.incident_edges(a), done = circulator;
@@ -448,17 +531,17 @@ class FaceRemesher {
   // its facets do not make a clean domain or the mesh would not cover it.
   bool remesh(int fi, const std::vector<int>& facets, const FaceChart& chart, std::vector<char>& dead) {
     FaceBorder b;
-    if (!border(fi, facets, chart, b) || too_many(b, facets) || !refine<Mesher>(b.cdt, chart)) return false;
+    if (!border(fi, facets, chart, b) || too_many(b, facets) || !refine<Mesher>(b.cdt, chart) ||
+        !rounder(b.cdt, facets, chart))
+      return false;
     if (std::abs(domain_area(b.cdt) - b.area) > 1e-9 * b.area) return false;
 
     // The new facets, with the old facets' tags and orientation.
     const Triangle like = s_.mesh.triangles[facets.front()];
-    BRepAdaptor_Surface surface(cad_.faces[fi]);
     for (auto v = b.cdt.finite_vertices_begin(); v != b.cdt.finite_vertices_end(); ++v) {
       if (v->info().id != -1) continue;
-      const gp_Pnt2d uv = chart.to_uv(v->point());
       v->info().id = static_cast<int>(s_.mesh.points.size());
-      s_.mesh.points.push_back(to_vec(surface.Value(uv.X(), uv.Y())));
+      s_.mesh.points.push_back(to_vec(chart.value(v->point())));
     }
     for (int f : facets) dead[f] = 1;
     const std::array<int, 3> order = b.sign > 0 ? std::array<int, 3>{0, 1, 2} : std::array<int, 3>{0, 2, 1};
@@ -480,6 +563,37 @@ class FaceRemesher {
   }
 
  private:
+  // Where the chart does not keep angles, is the refined mesh rounder than
+  // the facets it would replace (a larger smallest corner on the face), and
+  // as close to the face (its triangles' centroids within the chord height,
+  // or the old facets' largest distance)?
+  bool rounder(const Cdt& cdt, const std::vector<int>& facets, const FaceChart& chart) const {
+    if (chart.keeps_angles()) return true;
+    const Mesh& m = s_.mesh;
+    double corner_before = M_PI, sag_before = chart.deflection();
+    for (int f : facets) {
+      const Triangle& t = m.triangles[f];
+      corner_before = std::min(corner_before, smallest_corner_angle(m.points, t));
+      const auto& uv = s_.uv[f];
+      const Point2 middle = CGAL::centroid(chart.to_plane(uv[0]), chart.to_plane(uv[1]), chart.to_plane(uv[2]));
+      const Vec3 centroid = (1.0 / 3) * (m.points[t.v[0]] + m.points[t.v[1]] + m.points[t.v[2]]);
+      sag_before = std::max(sag_before, norm(centroid - to_vec(chart.value(middle))));
+    }
+    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+      if (!f->is_in_domain()) continue;
+      std::array<Vec3, 3> p;
+      for (int i = 0; i < 3; ++i) {
+        const auto v = f->vertex(i);
+        p[i] = v->info().id >= 0 ? m.points[v->info().id] : to_vec(chart.value(v->point()));
+      }
+      for (int i = 0; i < 3; ++i)
+        if (corner_angle(p[i], p[(i + 1) % 3], p[(i + 2) % 3]) <= corner_before) return false;
+      const Point2 middle = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+      if (norm((1.0 / 3) * (p[0] + p[1] + p[2]) - to_vec(chart.value(middle))) > sag_before) return false;
+    }
+    return true;
+  }
+
   // CGAL's Delaunay refinement of the marked inside; false when it throws.
   template <class RefineMesher>
   static bool refine(Cdt& cdt, const FaceChart& chart) {
@@ -527,16 +641,12 @@ std::vector<ChartedFace> charted_faces(const CadModel::Impl& cad, const std::vec
   for (size_t fi = 0; fi < cad.faces.size(); ++fi) {
     if (by_face[fi].empty()) continue;
     ChartedFace c{static_cast<int>(fi), {}};
-    try {
-      const BRepAdaptor_Surface surface(cad.faces[fi]);
-      if (!c.chart.make(surface, size, face_deflection[fi])) continue;
-    } catch (const Standard_Failure&) {
-      continue;
-    }
     std::vector<gp_Pnt2d> corners;
     for (int f : by_face[fi]) corners.insert(corners.end(), s.uv[f].begin(), s.uv[f].end());
-    c.chart.centre_on(corners);
-    out.push_back(c);
+    try {
+      if (c.chart.make(cad.faces[fi], size, face_deflection[fi], corners)) out.push_back(std::move(c));
+    } catch (const Standard_Failure&) {
+    }
   }
   return out;
 }

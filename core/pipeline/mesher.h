@@ -79,7 +79,7 @@ struct CadInputReport {
   double tessellation_volume_error = 0;  // largest |tessellated / CAD volume - 1| of a solid
   int occ_triangles = 0, refine_splits = 0, refine_flips = 0, border_splits = 0, collapsed_edges = 0, surface_facets = 0;
   int smoothing_moves = 0;
-  int remeshed_faces = 0;         // plane, cylinder, cone, sphere and torus faces meshed anew
+  int remeshed_faces = 0;         // faces meshed anew inside their border
   bool smoothing_dropped = false;  // the improved tessellation failed; meshed without smoothing
   bool remeshing_dropped = false;  // and without the remeshing
   std::vector<ReferenceMeasure> volumes, areas;

@@ -92,7 +92,7 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
         while a solid's volume is off by more than this many per cent (0: once)
     smoothing (bool, True): move tessellation vertices inside faces, on the CAD face,
         where a corner is poor; False is --no-smoothing
-    face_remesh (bool, True): mesh plane, cylinder, cone, sphere and torus faces anew inside their borders
+    face_remesh (bool, True): mesh the faces anew inside their borders
         (Delaunay refinement); False is --no-face-remesh
 )";
 
