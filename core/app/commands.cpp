@@ -55,7 +55,7 @@ const char* kMeshHelp =
     "                          faces; at least 1, default 2; 0: off. CAD input: off by default; when\n"
     "                          given, done on the CAD faces (size floor: size / 5)\n"
     "  --sliver-angle DEG      tetrahedra under this dihedral angle are slivers, removed or improved\n"
-    "                          (default 20; CAD input 10)\n"
+    "                          (default 20; CAD input 10, then 20 when every tetrahedron reached 10)\n"
     "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
     "  --volume METHOD         delaunay (default): the tetrahedra of the Delaunay tetrahedralization;\n"
     "                          advancing-front: the paper's advancing-front Delaunay from the facets\n"
@@ -225,7 +225,10 @@ int mesh_command(const std::vector<std::string>& raw) {
   }
 
   const bool cad_input = cad::is_cad_file_name(pos[0]);
-  if (cad_input && !sliver_angle_given) opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
+  if (cad_input && !sliver_angle_given) {
+    opt.slivers.sliver_angle_deg = cad::kCadSliverAngleDeg;
+    opt.slivers.raised_angle_deg = cad::kCadRaisedSliverAngleDeg;
+  }
   if (cad_input && !surface_grading_given) opt.surface_grading = cad::kCadSurfaceGrading;
 
   MeshResult partial;

@@ -63,7 +63,8 @@ std::string report_json(const MeshReport& r) {
     s << "  \"advancing_front\": {\"front_faces\": " << r.front.front_faces << ", \"candidates\": "
       << r.front.candidates << ", \"searches\": " << r.front.searches << ", \"ties\": " << r.front.ties << "},\n";
   const auto& sl = r.slivers;
-  s << "  \"slivers\": {\"angle_deg\": " << exact(sl.angle_deg) << ", \"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
+  s << "  \"slivers\": {\"angle_deg\": " << exact(sl.angle_deg) << ", \"raised_to_deg\": " << exact(sl.raised_to_deg)
+    << ", \"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
     << ", \"flips_23\": " << sl.flips_23 << ", \"flips_32\": " << sl.flips_32
     << ", \"edge_removals\": " << sl.edge_removals << ", \"moves\": " << sl.moves
     << ", \"surface_moves\": " << sl.surface_moves
@@ -207,7 +208,8 @@ std::string report_table(const MeshReport& r) {
                                  std::to_string(sl.flips_23) + " 2-3, " + std::to_string(sl.flips_32) + " 3-2, " +
                                  std::to_string(sl.edge_removals) + " edge removals), " +
                                  std::to_string(sl.moves) + " moves; " + std::to_string(sl.slivers_before) +
-                                 " -> " + std::to_string(sl.slivers_after) + " slivers");
+                                 " -> " + std::to_string(sl.slivers_after) + " slivers" +
+                                 (sl.raised_to_deg > 0 ? "; none left, aim raised to " + num(sl.raised_to_deg) + " deg" : ""));
   row("before slivers: min, <5, <10", num(sl.min_dihedral_before_deg) + " deg, " +
                                           std::to_string(sl.below_5_before) + ", " +
                                           std::to_string(sl.below_10_before));

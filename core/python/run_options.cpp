@@ -60,8 +60,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     surface_grading (float, 2; mesh_cad 0): with interior vertices, surface edges longer
         than this times the surface's graded size are split (flips inside faces between;
         on CAD input on the CAD faces); 0: off
-    sliver_angle (float, 20; mesh_cad 10): tetrahedra under this dihedral angle (deg)
-        are slivers, removed or improved
+    sliver_angle (float, 20; mesh_cad 10, then 20 when every tetrahedron reached 10):
+        tetrahedra under this dihedral angle (deg) are slivers, removed or improved
     keep_slivers (bool, False): no sliver removal
     volume (str, "delaunay"): "advancing-front" builds the tetrahedra by the paper's
         advancing-front Delaunay from the facets (the same tetrahedra, slower)
@@ -120,7 +120,10 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
     else if (name == "gradation") opt.size.gradation = number(value, name);
     else if (name == "interior") opt.interior = boolean(value, name);
     else if (name == "surface_grading") opt.surface_grading = number(value, name);
-    else if (name == "sliver_angle") opt.slivers.sliver_angle_deg = number(value, name);
+    else if (name == "sliver_angle") {
+      opt.slivers.sliver_angle_deg = number(value, name);
+      opt.slivers.raised_angle_deg = 0;  // the angle given, and no other
+    }
     else if (name == "keep_slivers") opt.remove_slivers = !boolean(value, name);
     else if (name == "volume") {
       if (!PyUnicode_Check(value.ptr())) throw py::type_error("option volume: expected a str, got " + type_name(value));

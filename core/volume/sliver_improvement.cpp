@@ -723,29 +723,40 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
   // in memory together.
   if (apexes_done) apexes_done();
   TetComplex c(m);
-  for (int pass = 0; pass < o.max_passes; ++pass) {
-    std::vector<std::pair<double, int>> slivers;
+  // The tetrahedra under `angle`, worst first.
+  auto slivers_under = [&c](double angle) {
+    std::vector<std::pair<double, int>> out;
     for (int t = 0; t < c.size(); ++t)
-      if (c.alive(t) && c.quality(t) < o.sliver_angle_deg) slivers.emplace_back(c.quality(t), t);
-    std::sort(slivers.begin(), slivers.end());
-    long changes = 0;
-    size_t tried = 0;
-    for (const auto& [quality, t] : slivers) {
-      // Progress: the share of this pass's slivers looked at.
-      if ((++tried & 255) == 0) set_phase_fraction(static_cast<double>(tried) / static_cast<double>(slivers.size()));
-      if (!c.alive(t) || c.quality(t) >= o.sliver_angle_deg || !c.worth_retrying(t)) continue;
-      Replacement r;
-      if (o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) {
-        ++changes;
-        continue;
+      if (c.alive(t) && c.quality(t) < angle) out.emplace_back(c.quality(t), t);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  double angle = o.sliver_angle_deg;
+  for (;;) {
+    for (int pass = 0; pass < o.max_passes; ++pass) {
+      const std::vector<std::pair<double, int>> slivers = slivers_under(angle);
+      long changes = 0;
+      size_t tried = 0;
+      for (const auto& [quality, t] : slivers) {
+        // Progress: the share of this pass's slivers looked at.
+        if ((++tried & 255) == 0) set_phase_fraction(static_cast<double>(tried) / static_cast<double>(slivers.size()));
+        if (!c.alive(t) || c.quality(t) >= angle || !c.worth_retrying(t)) continue;
+        Replacement r;
+        if (o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) {
+          ++changes;
+          continue;
+        }
+        if (o.moves && move_a_vertex(c, *witnesses, planes, t, stats)) {
+          ++changes;
+          continue;
+        }
+        c.mark_failed(t);
       }
-      if (o.moves && move_a_vertex(c, *witnesses, planes, t, stats)) {
-        ++changes;
-        continue;
-      }
-      c.mark_failed(t);
+      if (!changes) break;
     }
-    if (!changes) break;
+    if (angle >= o.raised_angle_deg || !slivers_under(angle).empty()) break;
+    angle = o.raised_angle_deg;
+    stats.raised_to_deg = angle;
   }
   c.write_back();
 }

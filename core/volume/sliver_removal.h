@@ -28,6 +28,10 @@ namespace vd {
 
 struct SliverOptions {
   double sliver_angle_deg = 20.0;  // tetrahedra with a smaller dihedral angle are slivers
+  // When cases B and C leave no tetrahedron under the sliver angle, they go
+  // on with this one (0 or not larger: they stop). Aiming higher costs
+  // little where the first aim was reached, and much where slivers stay.
+  double raised_angle_deg = 0;
   // Case A: largest angle between the two new facets. Small, because on a
   // curved face the new facets leave the input surface by about this angle
   // times their size, and B and C clear most slivers without it.
@@ -39,6 +43,7 @@ struct SliverOptions {
 
 struct SliverStats {
   double angle_deg = 0;         // the sliver angle used
+  double raised_to_deg = 0;     // the raised angle, when the pass went on to it; else 0
   long slivers_before = 0;      // tetrahedra under the sliver angle
   long removed_boundary = 0;    // case A
   long flips_23 = 0;            // case B: face swaps (two tetrahedra into three)

@@ -199,6 +199,35 @@ TEST(Slivers, PipelineReportsBeforeAndAfter) {
   for (size_t i = 0; i < a.mesh.points.size(); ++i) ASSERT_EQ(a.mesh.points[i].x, b.mesh.points[i].x);
 }
 
+// A raised angle: where the pass leaves nothing under the sliver angle, it
+// goes on to the raised one (the pipeline's figures say so); where slivers
+// stay under it, the raised angle changes nothing.
+TEST(Slivers, RaisedAngleOnlyOnceTheFirstIsReached) {
+  const Mesh in = shapes::box({0, 0, 0}, {1, 1, 1}, 8);
+  MeshOptions o;
+  o.size.uniform = 0.125;
+  o.slivers.sliver_angle_deg = 10;
+  const MeshResult plain = mesh_surface(in, o);
+  ASSERT_EQ(plain.report.quality.below_10_deg, 0);
+  EXPECT_EQ(plain.report.slivers.raised_to_deg, 0);
+  o.slivers.raised_angle_deg = 20;
+  const MeshResult raised = mesh_surface(in, o);
+  EXPECT_EQ(raised.report.slivers.raised_to_deg, 20);
+  EXPECT_GT(raised.report.quality.min_dihedral_deg, plain.report.quality.min_dihedral_deg + 5);
+  EXPECT_TRUE(check_conformity(raised.mesh).ok(1e-9));
+  EXPECT_NE(report_json(raised.report).find("\"raised_to_deg\": 20"), std::string::npos);
+  // A 1 deg wedge keeps its own angle under 10 deg: no raise, the same mesh.
+  MeshOptions w;
+  w.slivers.sliver_angle_deg = 10;
+  const MeshResult stuck_plain = mesh_surface(test::thin_wedge(1.0), w);
+  w.slivers.raised_angle_deg = 20;
+  const MeshResult stuck = mesh_surface(test::thin_wedge(1.0), w);
+  ASSERT_GT(stuck.report.quality.below_10_deg, 0);
+  EXPECT_EQ(stuck.report.slivers.raised_to_deg, 0);
+  ASSERT_EQ(stuck.mesh.tets.size(), stuck_plain.mesh.tets.size());
+  for (size_t i = 0; i < stuck.mesh.tets.size(); ++i) ASSERT_EQ(stuck.mesh.tets[i].v, stuck_plain.mesh.tets[i].v);
+}
+
 }  // namespace
 }  // namespace vd
 

@@ -1,5 +1,6 @@
 #include "test_support.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -39,6 +40,23 @@ Mesh box_in_box() {
   for (Triangle& t : inner.triangles) t.front = 1;  // region 2 inside region 1
   shapes::append(m, inner);
   return m;
+}
+
+Mesh thin_wedge(double deg) {
+  Mesh in;
+  const double h = std::sin(deg * M_PI / 180.0);
+  in.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {1, 0, h}, {1, 1, h}};
+  // Regions front/back as the conventions say: region 1 behind each facet.
+  auto quad = [&](int a, int b, int c, int d, int face) {
+    in.triangles.push_back({{a, b, c}, face, 0, 1});
+    in.triangles.push_back({{a, c, d}, face, 0, 1});
+  };
+  quad(0, 1, 3, 2, 1);  // bottom, normal -z
+  quad(0, 4, 5, 1, 2);  // top
+  in.triangles.push_back({{0, 2, 4}, 3, 0, 1});  // y = 0
+  in.triangles.push_back({{1, 5, 3}, 4, 0, 1});  // y = 1
+  quad(2, 3, 5, 4, 5);  // x = 1
+  return in;
 }
 
 }  // namespace vd::test

@@ -23,6 +23,10 @@ std::string temp_path(const std::string& name);
 // nested in [0,3]^3 (region 1, sides 3 x 3).
 Mesh two_boxes_sharing_a_face(int n);
 Mesh box_in_box();
+// A wedge (region 1) of a 1 x 1 base and a top rising from the edge x = 0
+// to height sin(deg) at x = 1: its edge at x = 0 is a dihedral angle of
+// about deg degrees.
+Mesh thin_wedge(double deg);
 
 }  // namespace vd::test
 

@@ -188,19 +188,8 @@ TEST(Volume, SharpFaceCornersAreNotGraded) {
 // tip (its two facets "fold" by 179 deg), and the end face x = 1 (1 x 0.017)
 // split across its diagonal, a vertex at mid-height.
 TEST(Volume, AThinWedgeKeepsItsOwnAngle) {
-  Mesh in;
+  const Mesh in = test::thin_wedge(1.0);
   const double h = std::sin(M_PI / 180.0);
-  in.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {1, 0, h}, {1, 1, h}};
-  // Regions front/back as the conventions say: region 1 behind each facet.
-  auto quad = [&](int a, int b, int c, int d, int face) {
-    in.triangles.push_back({{a, b, c}, face, 0, 1});
-    in.triangles.push_back({{a, c, d}, face, 0, 1});
-  };
-  quad(0, 1, 3, 2, 1);  // bottom, normal -z
-  quad(0, 4, 5, 1, 2);  // top
-  in.triangles.push_back({{0, 2, 4}, 3, 0, 1});  // y = 0
-  in.triangles.push_back({{1, 5, 3}, 4, 0, 1});  // y = 1
-  quad(2, 3, 5, 4, 5);  // x = 1
   const double wedge = std::atan(h) * 180.0 / M_PI;
   const MeshResult r = mesh_surface(in, MeshOptions{});
   const ConformityReport c = check_conformity(r.mesh);
