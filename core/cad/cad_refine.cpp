@@ -610,9 +610,10 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
       for (int v : s.singular) out[v] = 1;
       return out;
     };
-    for (const auto& [key, pieces] : plan_border_splits(cad, s, face_deflection, size, frozen()))
+    const double growth_limit = remesh_growth_limit(cad, s, face_deflection, size);
+    for (const auto& [key, pieces] : plan_border_splits(cad, s, face_deflection, size, frozen(), growth_limit))
       r->split_into(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), pieces);
-    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, frozen());
+    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, frozen(), growth_limit);
     if (stats.remeshed_faces > 0) {
       r.emplace(cad, s, stats, 0.0, options.gradation);
       r->find_knife_edges();

@@ -57,7 +57,19 @@ using Point2 = K::Point_2;
 // CGAL's bound B on (circumradius / shortest edge)^-2 / 4: 0.125 is a
 // smallest angle of 20.7 deg, the one Ruppert's refinement is sure to reach.
 constexpr double kAngleBound = 0.125;
-constexpr double kMaxGrowth = 3;
+// How many times its facets a face may get (equilateral triangles of its
+// longest edge against its facets): kMaxFaceGrowth while the whole surface
+// would stay within kMaxSurfaceGrowth times its facets, kMaxFaceGrowthOverBudget
+// when it would not. A thin cylinder at a size above its diameter asks for
+// many times its strips' facets (caxif's pins), and left to its strips its
+// tetrahedra are flat; a thin solid whose chord height asks for tiny edges
+// everywhere (pythonocc_11752.stp: 460k -> 10.9M facets) is not remeshed.
+constexpr double kMaxFaceGrowth = 50;
+constexpr double kMaxFaceGrowthOverBudget = 3;
+constexpr double kMaxSurfaceGrowth = 4;
+
+// The facets a face of this area gets with edges of length `longest`.
+double new_facets(double area, double longest) { return area / (std::sqrt(3.0) / 4 * longest * longest); }
 
 // A face's (u, v) mapped to a plane whose angles are those on the face.
 // Lengths on the face are lengths in the plane times stretch(p); the longest
@@ -409,8 +421,8 @@ struct FaceBorder {
 
 class FaceRemesher {
  public:
-  FaceRemesher(const CadModel::Impl& cad, CadSurface& s, const std::vector<char>& frozen)
-      : cad_(cad), s_(s), frozen_(frozen), edges_(s.mesh.triangles) {}
+  FaceRemesher(const CadModel::Impl& cad, CadSurface& s, const std::vector<char>& frozen, double growth_limit)
+      : cad_(cad), s_(s), frozen_(frozen), growth_limit_(growth_limit), edges_(s.mesh.triangles) {}
 
   // False when the facets do not make a clean domain in the plane: folded,
   // a border without CAD parameters, a frozen vertex, crossing segments.
@@ -607,14 +619,9 @@ class FaceRemesher {
     }
   }
 
-  // Would the face get far more facets than it has? Equilateral triangles
-  // of the longest edge, against kMaxGrowth times the facets: a cylinder
-  // whose chord height asks for edges far below the size (a thin solid's
-  // chord height) is left to its strips. pythonocc_11752.stp went from
-  // 460k to 10.9M facets.
-  static bool too_many(const FaceBorder& b, const std::vector<int>& facets) {
-    const double equilateral = std::sqrt(3.0) / 4 * b.shortest * b.shortest;
-    return b.face_area / equilateral > kMaxGrowth * static_cast<double>(facets.size()) + 50;
+  // Would the face get far more facets than it has (growth_limit_ times)?
+  bool too_many(const FaceBorder& b, const std::vector<int>& facets) const {
+    return new_facets(b.face_area, b.shortest) > growth_limit_ * static_cast<double>(facets.size()) + 50;
   }
 
   static double domain_area(const Cdt& cdt) {
@@ -627,6 +634,7 @@ class FaceRemesher {
   const CadModel::Impl& cad_;
   CadSurface& s_;
   const std::vector<char>& frozen_;
+  double growth_limit_;
   EdgeFacetPairs edges_;
 };
 
@@ -659,24 +667,42 @@ std::vector<std::vector<int>> facets_by_face(const CadModel::Impl& cad, const Ca
 
 }  // namespace
 
+double remesh_growth_limit(const CadModel::Impl& cad, const CadSurface& s, const std::vector<double>& face_deflection,
+                           double size) {
+  const auto by_face = facets_by_face(cad, s);
+  double total = static_cast<double>(s.mesh.triangles.size());
+  for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size)) {
+    double area = 0, shortest = std::numeric_limits<double>::infinity();
+    for (int f : by_face[c.face]) {
+      area += facet_area(s.mesh.points, s.mesh.triangles[f]);
+      for (const gp_Pnt2d& uv : s.uv[f])
+        if (c.chart.covers(uv)) shortest = std::min(shortest, c.chart.longest(c.chart.to_plane(uv)));
+    }
+    const double facets = static_cast<double>(by_face[c.face].size()), grown = new_facets(area, shortest);
+    if (grown <= kMaxFaceGrowth * facets + 50) total += grown - facets;
+  }
+  return total <= kMaxSurfaceGrowth * static_cast<double>(s.mesh.triangles.size()) ? kMaxFaceGrowth
+                                                                                    : kMaxFaceGrowthOverBudget;
+}
+
 std::map<std::uint64_t, int> plan_border_splits(const CadModel::Impl& cad, CadSurface& s,
                                                 const std::vector<double>& face_deflection, double size,
-                                                const std::vector<char>& frozen) {
+                                                const std::vector<char>& frozen, double growth_limit) {
   const auto by_face = facets_by_face(cad, s);
   std::map<std::uint64_t, int> pieces;
-  const FaceRemesher remesher(cad, s, frozen);
+  const FaceRemesher remesher(cad, s, frozen, growth_limit);
   for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size))
     remesher.plan_border_splits(c.face, by_face[c.face], c.chart, pieces);
   return pieces;
 }
 
 int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
-                 const std::vector<char>& frozen) {
+                 const std::vector<char>& frozen, double growth_limit) {
   const auto by_face = facets_by_face(cad, s);
   std::vector<char> dead(s.mesh.triangles.size(), 0);
   int remeshed = 0;
   {
-    FaceRemesher remesher(cad, s, frozen);
+    FaceRemesher remesher(cad, s, frozen, growth_limit);
     for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size))
       remeshed += remesher.remesh(c.face, by_face[c.face], c.chart, dead);
   }

@@ -500,6 +500,24 @@ curved_part("torus", lambda occ: occ.addTorus(0, 0, 0, 3, 1))
 curved_part("cone_frustum", lambda occ: occ.addCone(0, 0, 0, 0, 0, 3, 2, 1))
 curved_part("loft", loft, exact_chart=False)
 
+# A pin of radius 5 and length 200 at size 10.55 (caxif's pins at its
+# chosen size): the chord height asks for edges of 1.1 around, 7 times the
+# strips' facets. Remeshed (a face may grow 50 times while the surface stays
+# within 4 times), its tetrahedra are fine; left to its strips (when a face
+# could grow 3 times), 5,345 of 7,406 tetrahedra were under 10 deg and the
+# smallest 4.31 deg (2026-11-25).
+pin = make_brep("pin", lambda occ: occ.addCylinder(0, 0, 0, 200, 0, 0, 5))
+code, rep, target, err = mesh(pin, "--quiet", "--size", "10.55")
+check(code == 0, "pin at size 10.55 meshed (exit %d: %s)" % (code, err.strip()[:200]))
+if code == 0:
+    from tet_angles import dihedral_angles
+    m = check_mesh(target, rep, "pin at size 10.55")
+    smallest = dihedral_angles(m.points, m.cells_dict["tetra"]).min(axis=0)
+    check(rep["cad"]["remeshed_faces"] == 3 and smallest.min() > 15 and (smallest < 10).sum() == 0,
+          "pin at size 10.55: %d of 3 faces remeshed, %d facets, smallest dihedral %.2f deg, %d of %d tetrahedra "
+          "under 10 deg" % (rep["cad"]["remeshed_faces"], rep["cad"]["surface_facets"], smallest.min(),
+                            (smallest < 10).sum(), len(smallest)))
+
 # A face of zero area (the nose of gmsh_simple_plane.brep) comes back from
 # OpenCASCADE as pairs of triangles on the same collinear nodes, facing away
 # from each other. They are dropped, so the surface is valid: one recovery
