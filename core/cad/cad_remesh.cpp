@@ -31,6 +31,7 @@
 #include <GeomAbs_SurfaceType.hxx>
 #include <Standard_Failure.hxx>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -101,6 +102,10 @@ class FaceChart {
       }
       case Kind::kSphere:
         return {radius_ * u, radius_ * std::atanh(std::sin(v))};
+      case Kind::kPolarCap: {
+        const double k = radius_ * std::cos(v) / (1 + pole_ * std::sin(v));
+        return {k * std::cos(u), k * std::sin(u)};
+      }
       case Kind::kTorus:
         return {major_ * u, major_ * torus_w(v)};
       case Kind::kAffine:
@@ -122,6 +127,12 @@ class FaceChart {
       }
       case Kind::kSphere:
         return {p.x() / radius_, std::atan(std::sinh(p.y() / radius_))};
+      case Kind::kPolarCap: {
+        // u is any at the pole and jumps by 2 pi across the seam: tidy()
+        // makes each facet's corners agree.
+        const double r2 = radius_ * radius_, rho2 = p.x() * p.x() + p.y() * p.y();
+        return {std::atan2(p.y(), p.x()), std::asin(std::clamp(pole_ * (r2 - rho2) / (r2 + rho2), -1.0, 1.0))};
+      }
       case Kind::kTorus:
         return {p.x() / major_, torus_v(p.y() / major_)};
       case Kind::kAffine: {
@@ -139,6 +150,10 @@ class FaceChart {
         return 1;
       case Kind::kSphere:
         return 1 / std::cosh(p.y() / radius_);
+      case Kind::kPolarCap: {
+        const double r2 = radius_ * radius_;
+        return 2 * r2 / (r2 + p.x() * p.x() + p.y() * p.y());
+      }
       case Kind::kTorus:
         return (major_ + minor_ * std::cos(torus_v(p.y() / major_))) / major_;
       case Kind::kAffine:
@@ -150,25 +165,58 @@ class FaceChart {
 
   double longest(const Point2& p) const {
     if (kind_ != Kind::kCone || !(deflection_ > 0)) return longest_;
-    // Curvature cos(semi-angle) / r at distance r from the axis.
+    // Curvature cos(semi-angle) / r at distance r from the axis; towards an
+    // apex no more than 10 times finer than the rest.
     const double r = std::hypot(p.x(), p.y()) * sin_;
-    return std::min(longest_, std::sqrt(8 * r * deflection_ / cos_));
+    return std::min(longest_, std::max(0.1 * longest_, std::sqrt(8 * r * deflection_ / cos_)));
   }
-  // A chart can take the face: no corner at a sphere's pole (Mercator's
-  // infinity) or a cone's apex.
+  // A chart can take the face: no corner at the pole a sphere's chart
+  // sends to infinity (Mercator's both, a polar cap's other one).
   bool covers(const gp_Pnt2d& uv) const {
     switch (kind_) {
-      case Kind::kCone:
-        return cone_apex_distance(uv.Y()) > 1e-9 * longest_;
       case Kind::kSphere:
         return std::cos(uv.Y()) > 1e-6;
+      case Kind::kPolarCap:
+        return 1 + pole_ * std::sin(uv.Y()) > 1e-6;
       default:
         return true;
     }
   }
+  // Is uv where a whole segment of (u, v) goes to one point of the chart (a
+  // cone's apex, a polar cap's pole)? A vertex there is a singular one of the
+  // tessellation, which the chart can take.
+  bool at_a_point(const gp_Pnt2d& uv) const {
+    switch (kind_) {
+      case Kind::kCone:
+        return std::abs(cone_apex_distance(uv.Y())) <= 1e-9 * longest_;
+      case Kind::kPolarCap:
+        return std::cos(uv.Y()) <= 1e-6;
+      default:
+        return false;
+    }
+  }
+  // A new facet's corners made to agree: on a polar cap u unwrapped next to
+  // the first corner's; at an apex or pole u taken as the other corners'
+  // mean (any u is that point; the mean keeps mid-points in the facet).
+  void tidy(std::array<gp_Pnt2d, 3>& uv) const {
+    if (kind_ != Kind::kCone && kind_ != Kind::kPolarCap) return;
+    int first = -1, regular = 0;
+    double sum = 0;
+    for (int i = 0; i < 3; ++i) {
+      if (at_a_point(uv[i])) continue;
+      if (first < 0) first = i;
+      if (kind_ == Kind::kPolarCap)
+        uv[i].SetX(uv[first].X() + std::remainder(uv[i].X() - uv[first].X(), 2 * M_PI));
+      sum += uv[i].X();
+      ++regular;
+    }
+    if (regular == 0) return;
+    for (int i = 0; i < 3; ++i)
+      if (at_a_point(uv[i])) uv[i].SetX(sum / regular);
+  }
 
  private:
-  enum class Kind { kScaled, kCone, kSphere, kTorus, kAffine };
+  enum class Kind { kScaled, kCone, kSphere, kPolarCap, kTorus, kAffine };
 
   bool make_affine(const std::vector<gp_Pnt2d>& corners, double deflection);
   // The largest principal curvature (absolute) at uv, from the two
@@ -213,7 +261,7 @@ class FaceChart {
   double longest_ = 0, deflection_ = 0;
   double scale_u_ = 1;                                              // plane, cylinder
   double sin_ = 1, cos_ = 1, sign_ = 1, apex_v_ = 0, theta_mid_ = 0;  // cone
-  double radius_ = 1;                                               // sphere
+  double radius_ = 1, pole_ = 1;                                    // sphere; the polar cap's pole (+1 north)
   double major_ = 1, minor_ = 0, k_ = 1, w_scale_ = 1;              // torus
   double u0_ = 0, v0_ = 0, a_ = 1, b_ = 0, c_ = 1, det0_ = 1;       // affine
   std::shared_ptr<BRepAdaptor_Surface> surface_;
@@ -268,7 +316,14 @@ bool FaceChart::make(const TopoDS_Face& face, double size, double deflection, co
     case GeomAbs_Sphere: {
       const double r = surface.Sphere().Radius();
       if (!(r > 0)) return false;
-      kind_ = Kind::kSphere;
+      // Mercator without a pole; with one, the stereographic projection
+      // from the other (conformal too, stretch 2 R^2 / (R^2 + rho^2)).
+      bool north = false, south = false;
+      for (const gp_Pnt2d& c : corners)
+        if (std::cos(c.Y()) <= 1e-6) (std::sin(c.Y()) > 0 ? north : south) = true;
+      if (north && south) return false;
+      kind_ = north || south ? Kind::kPolarCap : Kind::kSphere;
+      pole_ = south ? -1 : 1;
       radius_ = r;
       chord(r);
       return true;
@@ -415,8 +470,7 @@ struct FaceBorder {
   std::vector<std::pair<Cdt::Vertex_handle, Cdt::Vertex_handle>> segments;
   int sign = 0;              // of the facets' orientation in the plane
   double area = 0;           // twice the facets' area in the plane
-  double face_area = 0;      // the facets' area on the face (through the stretch)
-  double shortest = 0;       // the least longest edge allowed at a corner
+  double expected_facets = 0;  // about how many the refinement makes (the facets' areas over their sizes')
 };
 
 class FaceRemesher {
@@ -430,22 +484,21 @@ class FaceRemesher {
     const Mesh& m = s_.mesh;
     std::vector<std::array<Point2, 2>> points;
     std::vector<std::array<int, 2>> ids;
-    out.shortest = std::numeric_limits<double>::infinity();
     for (int f : facets) {
       const Triangle& t = m.triangles[f];
       std::array<Point2, 3> p;
       for (int i = 0; i < 3; ++i) {
-        if (frozen_[t.v[i]] || !chart.covers(s_.uv[f][i])) return false;
+        if ((frozen_[t.v[i]] && !chart.at_a_point(s_.uv[f][i])) || !chart.covers(s_.uv[f][i])) return false;
         p[i] = chart.to_plane(s_.uv[f][i]);
-        out.shortest = std::min(out.shortest, chart.longest(p[i]));
       }
       const double a = area2(p[0], p[1], p[2]);
       const int sg = a > 0 ? 1 : a < 0 ? -1 : 0;
       if (sg == 0 || (out.sign != 0 && sg != out.sign)) return false;  // folded in (u, v)
       out.sign = sg;
       out.area += std::abs(a);
-      const double stretch = chart.stretch(CGAL::centroid(p[0], p[1], p[2]));
-      out.face_area += 0.5 * std::abs(a) * stretch * stretch;
+      const Point2 centroid = CGAL::centroid(p[0], p[1], p[2]);
+      const double stretch = chart.stretch(centroid);
+      out.expected_facets += new_facets(0.5 * std::abs(a) * stretch * stretch, chart.longest(centroid));
       for (int i = 0; i < 3; ++i) {
         const int a_id = t.v[i], b_id = t.v[(i + 1) % 3];
         const std::uint64_t key = edge_key(a_id, b_id);
@@ -482,12 +535,20 @@ class FaceRemesher {
       return h;
     };
     try {
+      // A seam whose two sides the chart puts together (a polar cap's) is
+      // met from both sides: it is inside the face, not a border.
+      std::map<std::pair<Cdt::Vertex_handle, Cdt::Vertex_handle>, int> seen;
       for (size_t k = 0; k < points.size(); ++k) {
         const Cdt::Vertex_handle a = vertex(ids[k][0], points[k][0]);
         const Cdt::Vertex_handle b = vertex(ids[k][1], points[k][1]);
         if (a == Cdt::Vertex_handle() || b == Cdt::Vertex_handle() || a == b) return false;
         out.segments.emplace_back(a, b);
+        ++seen[std::minmax(a, b)];
       }
+      out.segments.erase(std::remove_if(out.segments.begin(), out.segments.end(),
+                                        [&](const auto& sg) { return seen[std::minmax(sg.first, sg.second)] > 1; }),
+                         out.segments.end());
+      if (out.segments.empty()) return false;
       for (const auto& [a, b] : out.segments) out.cdt.insert_constraint(a, b);
     } catch (const std::exception&) {
       return false;  // crossing segments (CGAL's exact predicates tag refuses them)
@@ -566,6 +627,7 @@ class FaceRemesher {
         t.v[i] = v->info().id;
         uv[i] = chart.to_uv(v->point());
       }
+      chart.tidy(uv);
       s_.mesh.triangles.push_back(t);
       s_.uv.push_back(uv);
       s_.facet_face.push_back(fi);
@@ -621,7 +683,7 @@ class FaceRemesher {
 
   // Would the face get far more facets than it has (growth_limit_ times)?
   bool too_many(const FaceBorder& b, const std::vector<int>& facets) const {
-    return new_facets(b.face_area, b.shortest) > growth_limit_ * static_cast<double>(facets.size()) + 50;
+    return b.expected_facets > growth_limit_ * static_cast<double>(facets.size()) + 50;
   }
 
   static double domain_area(const Cdt& cdt) {
@@ -672,13 +734,15 @@ double remesh_growth_limit(const CadModel::Impl& cad, const CadSurface& s, const
   const auto by_face = facets_by_face(cad, s);
   double total = static_cast<double>(s.mesh.triangles.size());
   for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size)) {
-    double area = 0, shortest = std::numeric_limits<double>::infinity();
+    double grown = 0;
     for (int f : by_face[c.face]) {
-      area += facet_area(s.mesh.points, s.mesh.triangles[f]);
-      for (const gp_Pnt2d& uv : s.uv[f])
-        if (c.chart.covers(uv)) shortest = std::min(shortest, c.chart.longest(c.chart.to_plane(uv)));
+      const auto& uv = s.uv[f];
+      if (!c.chart.covers(uv[0]) || !c.chart.covers(uv[1]) || !c.chart.covers(uv[2])) continue;
+      const Point2 centroid =
+          CGAL::centroid(c.chart.to_plane(uv[0]), c.chart.to_plane(uv[1]), c.chart.to_plane(uv[2]));
+      grown += new_facets(facet_area(s.mesh.points, s.mesh.triangles[f]), c.chart.longest(centroid));
     }
-    const double facets = static_cast<double>(by_face[c.face].size()), grown = new_facets(area, shortest);
+    const double facets = static_cast<double>(by_face[c.face].size());
     if (grown <= kMaxFaceGrowth * facets + 50) total += grown - facets;
   }
   return total <= kMaxSurfaceGrowth * static_cast<double>(s.mesh.triangles.size()) ? kMaxFaceGrowth
