@@ -28,6 +28,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <BRepAdaptor_Surface.hxx>
+#include <ElSLib.hxx>
 #include <GeomAbs_SurfaceType.hxx>
 #include <Standard_Failure.hxx>
 
@@ -102,9 +103,10 @@ class FaceChart {
       }
       case Kind::kSphere:
         return {radius_ * u, radius_ * std::atanh(std::sin(v))};
-      case Kind::kPolarCap: {
-        const double k = radius_ * std::cos(v) / (1 + pole_ * std::sin(v));
-        return {k * std::cos(u), k * std::sin(u)};
+      case Kind::kStereographic: {
+        const gp_Vec w(sphere_.Location(), ElSLib::Value(u, v, sphere_));
+        const double k = radius_ / (radius_ - w.Dot(from_));
+        return {k * w.Dot(e1_), k * w.Dot(e2_)};
       }
       case Kind::kTorus:
         return {major_ * u, major_ * torus_w(v)};
@@ -127,11 +129,14 @@ class FaceChart {
       }
       case Kind::kSphere:
         return {p.x() / radius_, std::atan(std::sinh(p.y() / radius_))};
-      case Kind::kPolarCap: {
-        // u is any at the pole and jumps by 2 pi across the seam: tidy()
+      case Kind::kStereographic: {
+        // u is any at a pole and jumps by 2 pi across the seam: tidy()
         // makes each facet's corners agree.
         const double r2 = radius_ * radius_, rho2 = p.x() * p.x() + p.y() * p.y();
-        return {std::atan2(p.y(), p.x()), std::asin(std::clamp(pole_ * (r2 - rho2) / (r2 + rho2), -1.0, 1.0))};
+        const gp_Vec w = (2 * r2 * (p.x() * e1_ + p.y() * e2_) + radius_ * (rho2 - r2) * from_) / (r2 + rho2);
+        double u = 0, v = 0;
+        ElSLib::Parameters(sphere_, sphere_.Location().Translated(w), u, v);
+        return {u, v};
       }
       case Kind::kTorus:
         return {p.x() / major_, torus_v(p.y() / major_)};
@@ -150,7 +155,7 @@ class FaceChart {
         return 1;
       case Kind::kSphere:
         return 1 / std::cosh(p.y() / radius_);
-      case Kind::kPolarCap: {
+      case Kind::kStereographic: {
         const double r2 = radius_ * radius_;
         return 2 * r2 / (r2 + p.x() * p.x() + p.y() * p.y());
       }
@@ -170,14 +175,14 @@ class FaceChart {
     const double r = std::hypot(p.x(), p.y()) * sin_;
     return std::min(longest_, std::max(0.1 * longest_, std::sqrt(8 * r * deflection_ / cos_)));
   }
-  // A chart can take the face: no corner at the pole a sphere's chart
-  // sends to infinity (Mercator's both, a polar cap's other one).
+  // A chart can take the face: no corner at a point a sphere's chart sends
+  // to infinity (Mercator's poles, the stereographic projection's centre).
   bool covers(const gp_Pnt2d& uv) const {
     switch (kind_) {
       case Kind::kSphere:
         return std::cos(uv.Y()) > 1e-6;
-      case Kind::kPolarCap:
-        return 1 + pole_ * std::sin(uv.Y()) > 1e-6;
+      case Kind::kStereographic:
+        return gp_Vec(sphere_.Location(), ElSLib::Value(uv.X(), uv.Y(), sphere_)).Dot(from_) < kFarFromCentre * radius_;
       default:
         return true;
     }
@@ -189,23 +194,23 @@ class FaceChart {
     switch (kind_) {
       case Kind::kCone:
         return std::abs(cone_apex_distance(uv.Y())) <= 1e-9 * longest_;
-      case Kind::kPolarCap:
+      case Kind::kStereographic:
         return std::cos(uv.Y()) <= 1e-6;
       default:
         return false;
     }
   }
-  // A new facet's corners made to agree: on a polar cap u unwrapped next to
+  // A new facet's corners made to agree: on a sphere u unwrapped next to
   // the first corner's; at an apex or pole u taken as the other corners'
   // mean (any u is that point; the mean keeps mid-points in the facet).
   void tidy(std::array<gp_Pnt2d, 3>& uv) const {
-    if (kind_ != Kind::kCone && kind_ != Kind::kPolarCap) return;
+    if (kind_ != Kind::kCone && kind_ != Kind::kStereographic) return;
     int first = -1, regular = 0;
     double sum = 0;
     for (int i = 0; i < 3; ++i) {
       if (at_a_point(uv[i])) continue;
       if (first < 0) first = i;
-      if (kind_ == Kind::kPolarCap)
+      if (kind_ == Kind::kStereographic)
         uv[i].SetX(uv[first].X() + std::remainder(uv[i].X() - uv[first].X(), 2 * M_PI));
       sum += uv[i].X();
       ++regular;
@@ -216,7 +221,10 @@ class FaceChart {
   }
 
  private:
-  enum class Kind { kScaled, kCone, kSphere, kPolarCap, kTorus, kAffine };
+  enum class Kind { kScaled, kCone, kSphere, kStereographic, kTorus, kAffine };
+  // The stereographic projection's centre stays this far from every corner
+  // (cos 5 deg of arc): near it the chart's lengths blow up.
+  static constexpr double kFarFromCentre = 0.996;
 
   bool make_affine(const std::vector<gp_Pnt2d>& corners, double deflection);
   // The largest principal curvature (absolute) at uv, from the two
@@ -261,7 +269,9 @@ class FaceChart {
   double longest_ = 0, deflection_ = 0;
   double scale_u_ = 1;                                              // plane, cylinder
   double sin_ = 1, cos_ = 1, sign_ = 1, apex_v_ = 0, theta_mid_ = 0;  // cone
-  double radius_ = 1, pole_ = 1;                                    // sphere; the polar cap's pole (+1 north)
+  double radius_ = 1;                                               // sphere
+  gp_Sphere sphere_;                                                // stereographic: projected
+  gp_Vec from_, e1_, e2_;  // from the sphere's point centre + R from_ onto the plane of e1_, e2_
   double major_ = 1, minor_ = 0, k_ = 1, w_scale_ = 1;              // torus
   double u0_ = 0, v0_ = 0, a_ = 1, b_ = 0, c_ = 1, det0_ = 1;       // affine
   std::shared_ptr<BRepAdaptor_Surface> surface_;
@@ -316,16 +326,30 @@ bool FaceChart::make(const TopoDS_Face& face, double size, double deflection, co
     case GeomAbs_Sphere: {
       const double r = surface.Sphere().Radius();
       if (!(r > 0)) return false;
-      // Mercator without a pole; with one, the stereographic projection
-      // from the other (conformal too, stretch 2 R^2 / (R^2 + rho^2)).
-      bool north = false, south = false;
-      for (const gp_Pnt2d& c : corners)
-        if (std::cos(c.Y()) <= 1e-6) (std::sin(c.Y()) > 0 ? north : south) = true;
-      if (north && south) return false;
-      kind_ = north || south ? Kind::kPolarCap : Kind::kSphere;
-      pole_ = south ? -1 : 1;
       radius_ = r;
       chord(r);
+      // Mercator without a pole. With one or both, the stereographic
+      // projection (conformal too, stretch 2 R^2 / (R^2 + rho^2)) from the
+      // point opposite the corners' mean direction: a polar cap's other
+      // pole, a hole's middle. It must stay clear of every corner.
+      bool pole = false;
+      for (const gp_Pnt2d& c : corners) pole |= std::cos(c.Y()) <= 1e-6;
+      if (!pole) {
+        kind_ = Kind::kSphere;
+        return true;
+      }
+      kind_ = Kind::kStereographic;
+      sphere_ = surface.Sphere();
+      gp_Vec mean(0, 0, 0);
+      for (const gp_Pnt2d& c : corners)
+        mean += gp_Vec(sphere_.Location(), ElSLib::Value(c.X(), c.Y(), sphere_)) / r;
+      if (!(mean.Magnitude() > 0.05 * static_cast<double>(corners.size()))) return false;
+      from_ = -mean.Normalized();
+      e1_ = std::abs(from_.X()) < 0.9 ? gp_Vec(1, 0, 0) : gp_Vec(0, 1, 0);
+      e1_ = (e1_ - e1_.Dot(from_) * from_).Normalized();
+      e2_ = from_.Crossed(e1_);
+      for (const gp_Pnt2d& c : corners)
+        if (!covers(c)) return false;
       return true;
     }
     case GeomAbs_Torus: {

@@ -498,10 +498,12 @@ def loft(occ):
 curved_part("sphere_band", sphere_band)
 curved_part("torus", lambda occ: occ.addTorus(0, 0, 0, 3, 1))
 curved_part("cone_frustum", lambda occ: occ.addCone(0, 0, 0, 0, 0, 3, 2, 1))
-# A sphere's pole (a stereographic chart from the other pole) and a cone's
-# apex (the apex is the sector's centre): 42 / 271 -> 0 thin surface
+# A sphere's poles (a stereographic chart from the point opposite the face:
+# the other pole of a dome, the middle of a ball's cut) and a cone's apex
+# (the apex is the sector's centre): 42 / 103 / 271 -> 0 thin surface
 # triangles (2026-11-25).
 curved_part("dome", lambda occ: occ.intersect([(3, occ.addSphere(0, 0, 0, 2))], [(3, occ.addBox(-3, -3, -1, 6, 6, 4))]))
+curved_part("cut_ball", lambda occ: occ.intersect([(3, occ.addSphere(0, 0, 0, 2))], [(3, occ.addBox(-3, -3, -3, 4.5, 6, 6))]))
 curved_part("cone_tip", lambda occ: occ.addCone(0, 0, 0, 0, 0, 3, 2, 0))
 curved_part("loft", loft, exact_chart=False)
 
