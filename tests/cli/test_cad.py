@@ -64,6 +64,19 @@ def check_mesh(path, rep, name):
     return m
 
 
+def meshed_angles(path, name, *extra):
+    """Meshes path (--quiet and `extra`), checks the mesh as check_mesh does,
+    and gives the report and each tetrahedron's smallest dihedral angle; or
+    (None, None) when it did not mesh (a failed check)."""
+    from tet_angles import dihedral_angles
+    code, rep, target, err = mesh(path, "--quiet", *extra)
+    check(code == 0, "%s meshed (exit %d: %s)" % (name, code, err.strip()[:200]))
+    if code != 0:
+        return None, None
+    m = check_mesh(target, rep, name)
+    return rep, dihedral_angles(m.points, m.cells_dict["tetra"]).min(axis=0)
+
+
 # A box with a cylindrical hole: one solid, curved faces.
 boxhole = make_brep("boxhole", lambda occ: occ.cut([(3, occ.addBox(-5, -5, 0, 10, 10, 4))],
                                                    [(3, occ.addCylinder(0, 0, -1, 0, 0, 6, 2))]))
@@ -337,17 +350,12 @@ if head:
 # CAD input with the mid-point on the face (three rounds). gmsh_ring.brep's
 # smallest angle was 2.05 deg (a cap over a 89.9 + 85.7 deg facet pair) before,
 # 4.57 deg after (2026-11-25); with its quarter tori remeshed too (6 of its
-# 7 faces: the sphere holds a pole, where Mercator's chart ends), 10.01 deg,
-# and 961 -> 0 tetrahedra under 10 deg.
+# 7 faces: its sphere is whole, which no chart covers), 10.01 deg, and 961 ->
+# 0 tetrahedra under 10 deg.
 ring = data("cad-assembly/gmsh_ring.brep")
 if ring:
-    code, rep, target, err = mesh(ring, "--quiet")
-    check(code == 0, "gmsh_ring.brep meshes (exit %d: %s)" % (code, err.strip()[:200]))
-    if code == 0:
-        import meshio
-        from tet_angles import dihedral_angles
-        m = check_mesh(target, rep, "gmsh_ring.brep")
-        smallest = dihedral_angles(m.points, m.cells_dict["tetra"]).min(axis=0)
+    rep, smallest = meshed_angles(ring, "gmsh_ring.brep")
+    if rep:
         worst = max(abs(v["mesh"] - v["cad"]) / v["cad"] for v in rep["cad"]["volumes"])
         check(rep["interior"]["cap_folds_split"] > 0 and rep["cad"]["remeshed_faces"] == 6 and smallest.min() > 9.0
               and (smallest < 10).sum() == 0 and worst < 0.005,
@@ -514,12 +522,8 @@ curved_part("loft", loft, exact_chart=False)
 # could grow 3 times), 5,345 of 7,406 tetrahedra were under 10 deg and the
 # smallest 4.31 deg (2026-11-25).
 pin = make_brep("pin", lambda occ: occ.addCylinder(0, 0, 0, 200, 0, 0, 5))
-code, rep, target, err = mesh(pin, "--quiet", "--size", "10.55")
-check(code == 0, "pin at size 10.55 meshed (exit %d: %s)" % (code, err.strip()[:200]))
-if code == 0:
-    from tet_angles import dihedral_angles
-    m = check_mesh(target, rep, "pin at size 10.55")
-    smallest = dihedral_angles(m.points, m.cells_dict["tetra"]).min(axis=0)
+rep, smallest = meshed_angles(pin, "pin at size 10.55", "--size", "10.55")
+if rep:
     check(rep["cad"]["remeshed_faces"] == 3 and smallest.min() > 15 and (smallest < 10).sum() == 0,
           "pin at size 10.55: %d of 3 faces remeshed, %d facets, smallest dihedral %.2f deg, %d of %d tetrahedra "
           "under 10 deg" % (rep["cad"]["remeshed_faces"], rep["cad"]["surface_facets"], smallest.min(),
@@ -530,12 +534,8 @@ if code == 0:
 # while they were left to the refinement, 15.61 deg after (2026-11-25).
 crank = data("cad-part/gmsh_Kurbelwelle_crankshaft.stp")
 if crank:
-    code, rep, target, err = mesh(crank, "--quiet")
-    check(code == 0, "crankshaft meshed (exit %d: %s)" % (code, err.strip()[:200]))
-    if code == 0:
-        from tet_angles import dihedral_angles
-        m = check_mesh(target, rep, "crankshaft")
-        smallest = dihedral_angles(m.points, m.cells_dict["tetra"]).min(axis=0)
+    rep, smallest = meshed_angles(crank, "crankshaft")
+    if rep:
         check(rep["cad"]["remeshed_faces"] >= 54 and smallest.min() > 12 and (smallest < 10).sum() == 0,
               "crankshaft: %d of %d faces remeshed, smallest dihedral %.2f deg, %d tetrahedra under 10 deg"
               % (rep["cad"]["remeshed_faces"], rep["cad"]["faces"], smallest.min(), (smallest < 10).sum()))
