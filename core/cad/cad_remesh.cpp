@@ -200,6 +200,12 @@ class FaceChart {
         return false;
     }
   }
+  // Does the chart know every point where the face's (u, v) degenerates
+  // (a cone's apex, a sphere's poles) and take it as one point? Then a
+  // singular vertex of the tessellation is either such a point or, singular
+  // on another face only (an ellipsoid's pole on a plane's border), a
+  // regular point here. Affine charts do not know.
+  bool knows_its_singular_points() const { return kind_ != Kind::kAffine; }
   // A new facet's corners made to agree: on a sphere u unwrapped next to
   // the first corner's; at an apex or pole u taken as the other corners'
   // mean (any u is that point; the mean keeps mid-points in the facet).
@@ -512,7 +518,7 @@ class FaceRemesher {
       const Triangle& t = m.triangles[f];
       std::array<Point2, 3> p;
       for (int i = 0; i < 3; ++i) {
-        if ((frozen_[t.v[i]] && !chart.at_a_point(s_.uv[f][i])) || !chart.covers(s_.uv[f][i])) return false;
+        if ((frozen_[t.v[i]] && !chart.knows_its_singular_points()) || !chart.covers(s_.uv[f][i])) return false;
         p[i] = chart.to_plane(s_.uv[f][i]);
       }
       const double a = area2(p[0], p[1], p[2]);
