@@ -159,18 +159,20 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
 // cad_remesh.cpp: the faces meshed anew inside their border nodes by
 // Delaunay refinement in a chart of their (u, v) that keeps angles (exactly
 // on planes, cylinders, cones, spheres and tori; elsewhere kept only when
-// rounder); faces touching a `frozen` vertex, and faces that would get over
-// `growth_limit` times their facets, are left. Returns the faces remeshed.
+// rounder); faces at a singular vertex their chart cannot place, and faces
+// that would get over `growth_limit` times their facets, are left. Returns
+// the faces remeshed.
 int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
-                 const std::vector<char>& frozen, double growth_limit);
-// Before it: into how many pieces each border piece (edge_key of its ends)
-// must be cut for those faces' meshes to be round (Ruppert's segment splits).
-std::map<std::uint64_t, int> plan_border_splits(const CadModel::Impl& cad, CadSurface& s,
-                                                const std::vector<double>& face_deflection, double size,
-                                                const std::vector<char>& frozen, double growth_limit);
-// Before both: how many times its facets a face may get, from what the
-// whole surface would get.
-double remesh_growth_limit(const CadModel::Impl& cad, const CadSurface& s, const std::vector<double>& face_deflection,
-                           double size);
+                 double growth_limit);
+// Before it: how many times its facets a face may get, from what the whole
+// surface would get; and into how many pieces each border piece (edge_key
+// of its ends) must be cut for the faces' meshes to be round (Ruppert's
+// segment splits), to be cut before remesh_faces.
+struct RemeshPlan {
+  double growth_limit = 0;
+  std::map<std::uint64_t, int> border_pieces;
+};
+RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
+                          double size);
 
 }  // namespace vd::cad

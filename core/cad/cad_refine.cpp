@@ -441,7 +441,6 @@ class Refiner {
       if (knife_edges_.count(span.edge)) knife_[key >> 32] = knife_[key & 0xffffffffu] = 1;
   }
 
-
   // Edge (p, q) cut in halves until it is in at least `pieces` pieces.
   void split_into(int p, int q, int pieces) {
     if (pieces < 2) return;
@@ -603,21 +602,15 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
   if (options.flips && options.remesh) {
     // The splits above gave the borders their nodes; the faces' insides are
     // replaced, and the vertices renumbered: a fresh refiner goes on.
-    // Faces at a sphere's pole or a cone's apex are left (their (u, v) is a
-    // segment there). Faces at knife edges were left too until 2026-11-25:
-    // remeshed, the crankshaft went 4.08 -> 15.61 deg, TSM 1.05 -> 9.83,
-    // the cylinder head 0.68 -> 3.69, gmsh_dlr_f6.brep 0.79 -> 5.47, no
-    // surface crossing itself on the corpus (the knife edges' own facets
-    // were split on the face before, and flips still keep off them).
-    auto frozen = [&]() {
-      std::vector<char> out(s.mesh.points.size(), 0);
-      for (int v : s.singular) out[v] = 1;
-      return out;
-    };
-    const double growth_limit = remesh_growth_limit(cad, s, face_deflection, size);
-    for (const auto& [key, pieces] : plan_border_splits(cad, s, face_deflection, size, frozen(), growth_limit))
+    // Faces at knife edges were left until 2026-11-25: remeshed, the
+    // crankshaft went 4.08 -> 15.61 deg, TSM 1.05 -> 9.83, the cylinder
+    // head 0.68 -> 3.69, gmsh_dlr_f6.brep 0.79 -> 5.47, no surface crossing
+    // itself on the corpus (the knife edges' own facets were split on the
+    // face before, and flips still keep off them).
+    const RemeshPlan plan = plan_remeshing(cad, s, face_deflection, size);
+    for (const auto& [key, pieces] : plan.border_pieces)
       r->split_into(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), pieces);
-    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, frozen(), growth_limit);
+    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, plan.growth_limit);
     if (stats.remeshed_faces > 0) {
       r.emplace(cad, s, stats, 0.0, options.gradation);
       r->find_knife_edges();

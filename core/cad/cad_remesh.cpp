@@ -188,7 +188,7 @@ class FaceChart {
     }
   }
   // Is uv where a whole segment of (u, v) goes to one point of the chart (a
-  // cone's apex, a polar cap's pole)? A vertex there is a singular one of the
+  // cone's apex, a sphere's pole)? A vertex there is a singular one of the
   // tessellation, which the chart can take.
   bool at_a_point(const gp_Pnt2d& uv) const {
     switch (kind_) {
@@ -505,11 +505,12 @@ struct FaceBorder {
 
 class FaceRemesher {
  public:
-  FaceRemesher(const CadModel::Impl& cad, CadSurface& s, const std::vector<char>& frozen, double growth_limit)
-      : cad_(cad), s_(s), frozen_(frozen), growth_limit_(growth_limit), edges_(s.mesh.triangles) {}
+  FaceRemesher(const CadModel::Impl& cad, CadSurface& s, double growth_limit)
+      : cad_(cad), s_(s), growth_limit_(growth_limit), edges_(s.mesh.triangles) {}
 
   // False when the facets do not make a clean domain in the plane: folded,
-  // a border without CAD parameters, a frozen vertex, crossing segments.
+  // a border without CAD parameters, a singular vertex (a pole, an apex)
+  // the chart cannot place, crossing segments.
   bool border(int fi, const std::vector<int>& facets, const FaceChart& chart, FaceBorder& out) const {
     const Mesh& m = s_.mesh;
     std::vector<std::array<Point2, 2>> points;
@@ -518,7 +519,8 @@ class FaceRemesher {
       const Triangle& t = m.triangles[f];
       std::array<Point2, 3> p;
       for (int i = 0; i < 3; ++i) {
-        if ((frozen_[t.v[i]] && !chart.knows_its_singular_points()) || !chart.covers(s_.uv[f][i])) return false;
+        if ((s_.singular.count(t.v[i]) && !chart.knows_its_singular_points()) || !chart.covers(s_.uv[f][i]))
+          return false;
         p[i] = chart.to_plane(s_.uv[f][i]);
       }
       const double a = area2(p[0], p[1], p[2]);
@@ -725,7 +727,6 @@ class FaceRemesher {
 
   const CadModel::Impl& cad_;
   CadSurface& s_;
-  const std::vector<char>& frozen_;
   double growth_limit_;
   EdgeFacetPairs edges_;
 };
@@ -759,11 +760,13 @@ std::vector<std::vector<int>> facets_by_face(const CadModel::Impl& cad, const Ca
 
 }  // namespace
 
-double remesh_growth_limit(const CadModel::Impl& cad, const CadSurface& s, const std::vector<double>& face_deflection,
-                           double size) {
+RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
+                          double size) {
   const auto by_face = facets_by_face(cad, s);
+  const std::vector<ChartedFace> charted = charted_faces(cad, by_face, s, face_deflection, size);
+  RemeshPlan plan;
   double total = static_cast<double>(s.mesh.triangles.size());
-  for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size)) {
+  for (const ChartedFace& c : charted) {
     double grown = 0;
     for (int f : by_face[c.face]) {
       const auto& uv = s.uv[f];
@@ -775,28 +778,22 @@ double remesh_growth_limit(const CadModel::Impl& cad, const CadSurface& s, const
     const double facets = static_cast<double>(by_face[c.face].size());
     if (grown <= kMaxFaceGrowth * facets + 50) total += grown - facets;
   }
-  return total <= kMaxSurfaceGrowth * static_cast<double>(s.mesh.triangles.size()) ? kMaxFaceGrowth
-                                                                                    : kMaxFaceGrowthOverBudget;
-}
-
-std::map<std::uint64_t, int> plan_border_splits(const CadModel::Impl& cad, CadSurface& s,
-                                                const std::vector<double>& face_deflection, double size,
-                                                const std::vector<char>& frozen, double growth_limit) {
-  const auto by_face = facets_by_face(cad, s);
-  std::map<std::uint64_t, int> pieces;
-  const FaceRemesher remesher(cad, s, frozen, growth_limit);
-  for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size))
-    remesher.plan_border_splits(c.face, by_face[c.face], c.chart, pieces);
-  return pieces;
+  plan.growth_limit = total <= kMaxSurfaceGrowth * static_cast<double>(s.mesh.triangles.size())
+                          ? kMaxFaceGrowth
+                          : kMaxFaceGrowthOverBudget;
+  const FaceRemesher remesher(cad, s, plan.growth_limit);
+  for (const ChartedFace& c : charted)
+    remesher.plan_border_splits(c.face, by_face[c.face], c.chart, plan.border_pieces);
+  return plan;
 }
 
 int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
-                 const std::vector<char>& frozen, double growth_limit) {
+                 double growth_limit) {
   const auto by_face = facets_by_face(cad, s);
   std::vector<char> dead(s.mesh.triangles.size(), 0);
   int remeshed = 0;
   {
-    FaceRemesher remesher(cad, s, frozen, growth_limit);
+    FaceRemesher remesher(cad, s, growth_limit);
     for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size))
       remeshed += remesher.remesh(c.face, by_face[c.face], c.chart, dead);
   }
