@@ -147,6 +147,11 @@ void face_sides(const CadModel::Impl& cad, std::vector<int>& front, std::vector<
 // geometry allows (inner nodes onto a neighbour, edge nodes along their CAD
 // edge); the removed vertices are dropped. Returns the number collapsed.
 int collapse_short_edges(CadSurface& s, double max_length);
+// Inner vertices of three facets of one face with a corner over 170 deg
+// (nearly on the edge of their neighbours' triangle) removed, the three
+// facets made that triangle, when the vertex is within the face's chord
+// height of it. Returns the number removed.
+int remove_flat_inner_vertices(CadSurface& s, const std::vector<double>& face_deflection);
 // Drops the facets marked in `dead_facets` (none when empty) and every vertex
 // no facet uses (drop_unused_points), renumbering the rest with their
 // parameters. Returns the number of vertices dropped.

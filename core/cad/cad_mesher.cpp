@@ -58,6 +58,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.smoothing_dropped = !topt.smooth && options.tessellation.smooth;
   cad.remeshing_dropped = !topt.remesh && options.tessellation.remesh;
   cad.collapsed_edges = stats.collapsed_edges;
+  cad.flat_vertices_removed = stats.flat_vertices_removed;
   cad.recovery_retries = retries;
   cad.surface_facets = static_cast<int>(surface.triangles.size());
   const std::vector<std::pair<std::string, double>> cad_seconds = {

@@ -74,6 +74,7 @@ struct TessellationStats {
   int border_splits = 0;        // facets with two edges on one CAD edge, split at their centre
   int dropped_degenerate = 0;   // collapsed triangles at degenerate edges (cone apexes, poles)
   int dropped_folded = 0;
+  int flat_vertices_removed = 0;  // inner vertices of three facets on their neighbours' edge (cad_collapse.cpp)
   int collapsed_edges = 0;      // edges far below the chord height collapsed (OpenCASCADE's near-duplicate nodes)       // pairs of one face's triangles on the same nodes, facing away from each other
   double seconds_tessellate = 0, seconds_refine = 0;
 };

@@ -623,6 +623,8 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
     if (options.smooth) stats.smoothing_moves = r->smooth_inner_vertices(3);
     r->flip_towards_delaunay(kFlipRidgeDeg, r->all_edges());
   }
+  r.reset();  // its adjacency does not survive the renumbering
+  if (options.flips) stats.flat_vertices_removed = remove_flat_inner_vertices(s, face_deflection);
   stats.seconds_refine = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

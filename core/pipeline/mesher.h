@@ -78,6 +78,7 @@ struct CadInputReport {
   int recovery_retries = 0;        // tessellations after recovery stopped at its guards (CadMeshOptions)
   double tessellation_volume_error = 0;  // largest |tessellated / CAD volume - 1| of a solid
   int occ_triangles = 0, refine_splits = 0, refine_flips = 0, border_splits = 0, collapsed_edges = 0, surface_facets = 0;
+  int flat_vertices_removed = 0;
   int smoothing_moves = 0;
   int remeshed_faces = 0;         // faces meshed anew inside their border
   bool smoothing_dropped = false;  // the improved tessellation failed; meshed without smoothing

@@ -116,6 +116,7 @@ std::string report_json(const MeshReport& r) {
       << ", \"occ_triangles\": " << c.occ_triangles
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
       << ", \"border_splits\": " << c.border_splits << ", \"collapsed_edges\": " << c.collapsed_edges
+      << ", \"flat_vertices_removed\": " << c.flat_vertices_removed
       << ", \"smoothing_moves\": " << c.smoothing_moves << ", \"remeshed_faces\": " << c.remeshed_faces
       << ", \"smoothing_dropped\": " << (c.smoothing_dropped ? "true" : "false")
       << ", \"remeshing_dropped\": " << (c.remeshing_dropped ? "true" : "false")
@@ -152,6 +153,7 @@ std::string report_table(const MeshReport& r) {
                             " flips, " + std::to_string(c.border_splits) + " border slivers split, " +
                             std::to_string(c.smoothing_moves) + " smoothing moves" +
                             (c.smoothing_dropped ? " (smoothing dropped)" : "") + ", " +
+                            std::to_string(c.flat_vertices_removed) + " flat inner vertices removed, " +
                             std::to_string(c.remeshed_faces) + " faces remeshed" +
                             (c.remeshing_dropped ? " (remeshing dropped)" : "") + " -> " + std::to_string(c.surface_facets) + " facets; " +
                             std::to_string(c.tessellation_rounds) + (c.tessellation_rounds > 1 ? " rounds" : " round") +
