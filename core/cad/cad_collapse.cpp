@@ -210,6 +210,71 @@ class Collapser {
     return true;
   }
 
+ public:
+  // A face's inner vertex with three facets around it lies inside the
+  // triangle of its neighbours; where one of its corners is nearly straight
+  // it lies on that triangle's edge, and its facets are a cap and two
+  // needles that no flip changes (the cap's long edge is the triangle's).
+  // OpenCASCADE leaves such vertices on B-spline faces the remeshing keeps as
+  // they are (gmsh_U_Joint_2.stp: a node 0.019 from a 3.53-long border edge,
+  // a 178.4 deg facet, a 0.0007 deg tetrahedron). The three facets become the
+  // triangle when the vertex lies within the face's chord height of it.
+  int remove_flat_inner_vertices(const std::vector<double>& face_deflection) {
+    Mesh& m = s_.mesh;
+    const size_t n = m.points.size();
+    // The ring's vertices of a removed one lost facets: their stars are stale.
+    std::vector<char> stale(n, 0);
+    const double straight = std::cos(kFlatCornerDeg * M_PI / 180.0);
+    int removed = 0;
+    for (size_t v = 0; v < n; ++v) {
+      const std::vector<int>& around = facets_of_[v];
+      if (kind_[v] != Kind::inner || stale[v] || around.size() != 3) continue;
+      // The ring: each facet (v, x, y) gives the ring edge x -> y.
+      std::array<int, 3> from{}, to{};
+      std::array<gp_Pnt2d, 3> from_uv;
+      bool flat = false;
+      for (int k = 0; k < 3; ++k) {
+        const Triangle& t = m.triangles[around[k]];
+        const int c = corner_of(t, static_cast<int>(v));
+        from[k] = t.v[(c + 1) % 3];
+        to[k] = t.v[(c + 2) % 3];
+        from_uv[k] = s_.uv[around[k]][(c + 1) % 3];
+        const Vec3 e1 = m.points[from[k]] - m.points[v], e2 = m.points[to[k]] - m.points[v];
+        flat = flat || dot(e1, e2) < straight * norm(e1) * norm(e2);
+      }
+      if (!flat) continue;
+      // The ring closes: a -> b -> c -> a.
+      std::array<int, 3> order{0, -1, -1};
+      for (int step = 1; step < 3; ++step)
+        for (int k = 0; k < 3; ++k)
+          if (from[k] == to[order[step - 1]]) order[step] = k;
+      if (order[1] < 0 || order[2] < 0 || to[order[2]] != from[order[0]]) continue;
+      Triangle merged = m.triangles[around[0]];
+      merged.v = {from[order[0]], from[order[1]], from[order[2]]};
+      Vec3 before{0, 0, 0};
+      for (int f : around) before = before + area_vector(m, m.triangles[f].v);
+      const Vec3 after = area_vector(m, merged.v);
+      if (!(norm(after) > 0) || !(dot(after, before) > 0)) continue;
+      const double off = std::abs(dot(m.points[v] - m.points[merged.v[0]], after)) / norm(after);
+      if (!(off <= face_deflection[s_.facet_face[around[0]]])) continue;
+      // Only for a rounder triangle: where the neighbours' triangle is itself
+      // a needle, the cap and needles may make better tetrahedra
+      // (gmsh_part.step as refined and smoothed: 79 -> 92 tetrahedra under 10
+      // deg, 3.04 -> 2.31 deg, without this).
+      double before_corner = M_PI;
+      for (int f : around) before_corner = std::min(before_corner, smallest_corner_angle(m.points, m.triangles[f]));
+      if (!(smallest_corner_angle(m.points, merged) > before_corner)) continue;
+      m.triangles[around[0]] = merged;
+      s_.uv[around[0]] = {from_uv[order[0]], from_uv[order[1]], from_uv[order[2]]};
+      dead_[around[1]] = dead_[around[2]] = 1;
+      for (int x : merged.v) stale[x] = 1;
+      ++removed;
+    }
+    if (removed) compact_surface(s_, dead_);
+    return removed;
+  }
+
+ private:
   CadSurface& s_;
   std::vector<std::vector<int>> facets_of_;
   std::vector<char> dead_, removed_;
@@ -221,80 +286,8 @@ class Collapser {
 
 int collapse_short_edges(CadSurface& s, double max_length) { return Collapser(s).run(max_length); }
 
-// A face's inner vertex with three facets around it lies inside the triangle
-// of its neighbours; where one of its corners is nearly straight it lies on
-// that triangle's edge, and its facets are a cap and two needles that no
-// flip changes (the cap's long edge is the triangle's). OpenCASCADE leaves
-// such vertices on B-spline faces the remeshing keeps as they are
-// (gmsh_U_Joint_2.stp: a node 0.019 from a 3.53-long border edge, a 178.4 deg
-// facet, a 0.0007 deg tetrahedron). The three facets become the triangle
-// when the vertex lies within the face's chord height of it.
 int remove_flat_inner_vertices(CadSurface& s, const std::vector<double>& face_deflection) {
-  Mesh& m = s.mesh;
-  const size_t n = m.points.size();
-  std::vector<std::vector<int>> star(n);
-  for (size_t f = 0; f < m.triangles.size(); ++f)
-    for (int v : m.triangles[f].v) star[v].push_back(static_cast<int>(f));
-  std::vector<char> fixed(n, 0), dead(m.triangles.size(), 0);
-  for (const auto& [key, span] : s.edge_spans) fixed[key >> 32] = fixed[key & 0xffffffffu] = 1;
-  for (int v : s.singular) fixed[v] = 1;
-  const double straight = std::cos(kFlatCornerDeg * M_PI / 180.0);
-  int removed = 0;
-  for (size_t v = 0; v < n; ++v) {
-    const std::vector<int>& around = star[v];
-    if (fixed[v] || around.size() != 3) continue;
-    const int face = s.facet_face[around[0]];
-    bool usable = true;
-    for (int f : around) usable = usable && !dead[f] && s.facet_face[f] == face;
-    if (!usable) continue;
-    // The ring: each facet (v, x, y) gives the ring edge x -> y.
-    std::array<int, 3> from{}, to{};
-    std::array<gp_Pnt2d, 3> from_uv;
-    bool flat = false;
-    for (int k = 0; k < 3; ++k) {
-      const Triangle& t = m.triangles[around[k]];
-      int c = 0;
-      while (t.v[c] != static_cast<int>(v)) ++c;
-      from[k] = t.v[(c + 1) % 3];
-      to[k] = t.v[(c + 2) % 3];
-      from_uv[k] = s.uv[around[k]][(c + 1) % 3];
-      const Vec3 e1 = m.points[from[k]] - m.points[v], e2 = m.points[to[k]] - m.points[v];
-      flat = flat || dot(e1, e2) < straight * norm(e1) * norm(e2);
-    }
-    if (!flat) continue;
-    // The ring closes: a -> b -> c -> a.
-    std::array<int, 3> order{0, -1, -1};
-    for (int step = 1; step < 3; ++step)
-      for (int k = 0; k < 3; ++k)
-        if (from[k] == to[order[step - 1]]) order[step] = k;
-    if (order[1] < 0 || order[2] < 0 || to[order[2]] != from[order[0]]) continue;
-    const std::array<int, 3> tri{from[order[0]], from[order[1]], from[order[2]]};
-    Vec3 before{0, 0, 0};
-    for (int f : around) before = before + cross(m.points[m.triangles[f].v[1]] - m.points[m.triangles[f].v[0]],
-                                                 m.points[m.triangles[f].v[2]] - m.points[m.triangles[f].v[0]]);
-    const Vec3 after = cross(m.points[tri[1]] - m.points[tri[0]], m.points[tri[2]] - m.points[tri[0]]);
-    if (!(norm(after) > 0) || !(dot(after, before) > 0)) continue;
-    const double off = std::abs(dot(m.points[v] - m.points[tri[0]], after)) / norm(after);
-    if (!(off <= face_deflection[face])) continue;
-    // Only for a rounder triangle: where the neighbours' triangle is itself
-    // a needle, the cap and needles may make better tetrahedra
-    // (gmsh_part.step as refined and smoothed: 79 -> 92 tetrahedra under 10
-    // deg, 3.04 -> 2.31 deg, without this).
-    double before_corner = M_PI;
-    for (int f : around) before_corner = std::min(before_corner, smallest_corner_angle(m.points, m.triangles[f]));
-    Triangle merged = m.triangles[around[0]];
-    merged.v = tri;
-    if (!(smallest_corner_angle(m.points, merged) > before_corner)) continue;
-    Triangle& kept = m.triangles[around[0]];
-    kept.v = tri;
-    s.uv[around[0]] = {from_uv[order[0]], from_uv[order[1]], from_uv[order[2]]};
-    dead[around[1]] = dead[around[2]] = 1;
-    // The ring's vertices lost facets: their stars are stale for this call.
-    for (int x : tri) fixed[x] = 1;
-    ++removed;
-  }
-  if (removed) compact_surface(s, dead);
-  return removed;
+  return Collapser(s).remove_flat_inner_vertices(face_deflection);
 }
 
 int compact_surface(CadSurface& s, const std::vector<char>& dead_facets) {
