@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <map>
+#include <sstream>
 #include <string>
 
 #include "mesh/error.h"
@@ -18,6 +20,31 @@ std::string format_number(double x) { return number_text(x, "%g"); }
 // 27k vertices went in) and stopped at the guards after 11 s; the third
 // tessellation meshed in 1.5 s.
 constexpr int kPatienceWithAFallback = 8;
+
+// The crossing facets of a tessellation, said by the CAD faces they belong
+// to (the tags a user can find in the part) and where: facet indices alone
+// mean nothing outside vdmesh.
+std::string crossing_faces(const Mesh& surface, const SelfIntersectionError& error) {
+  std::map<std::pair<int, int>, int> first_pair;  // face pair -> first facet pair
+  const auto& pairs = error.facet_pairs();
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    int a = surface.triangles[pairs[i].first].face, b = surface.triangles[pairs[i].second].face;
+    first_pair.emplace(std::minmax(a, b), static_cast<int>(i));
+  }
+  std::ostringstream s;
+  s << "the tessellation of the CAD faces crosses itself:";
+  const char* separator = " ";
+  for (const auto& [faces, i] : first_pair) {
+    const Triangle& t = surface.triangles[pairs[i].first];
+    const Vec3 c = (1.0 / 3.0) * (surface.points[t.v[0]] + surface.points[t.v[1]] + surface.points[t.v[2]]);
+    s << separator << "Face" << faces.first << (faces.first == faces.second ? " with itself" : " with Face")
+      << (faces.first == faces.second ? "" : std::to_string(faces.second)) << " near (" << format_number(c.x) << ", "
+      << format_number(c.y) << ", " << format_number(c.z) << ")";
+    separator = ", ";
+  }
+  s << " (" << error.what() << ")";
+  return s.str();
+}
 
 MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& options, const TessellationOptions& topt,
                              int retries, bool has_fallback, MeshResult* partial) {
@@ -68,13 +95,19 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
       {"refine surface", stats.seconds_refine}};
 
   MeshResult result;
-  try {
-    result = mesh_surface(surface, mopt, partial);
-  } catch (...) {
+  const auto keep_partial = [&] {
     if (partial) {
       partial->report.cad = cad;
       partial->report.seconds.insert(partial->report.seconds.begin(), cad_seconds.begin(), cad_seconds.end());
     }
+  };
+  try {
+    result = mesh_surface(surface, mopt, partial);
+  } catch (const SelfIntersectionError& e) {
+    keep_partial();
+    throw SelfIntersectionError(crossing_faces(surface, e), e.facet_pairs());
+  } catch (...) {
+    keep_partial();
     throw;
   }
   cad.volumes = model.volume_checks(result.mesh);
@@ -127,7 +160,16 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       return result;
     } catch (const RecoveryError&) {
       if (!next(true)) throw;
-    } catch (const InputError&) {  // the surface is checked before recovery
+    } catch (const SelfIntersectionError& e) {  // the surface is checked before recovery
+      if (next(false)) continue;
+      // Every tessellation tried crosses itself: say whether OpenCASCADE
+      // finds the file's geometry faulty (pythonocc_11752.stp: crossing
+      // edges and curves off their faces, on the faces that cross).
+      if (options.mesh.progress) options.mesh.progress("check the CAD shape");
+      const std::string faults = model.geometry_faults();
+      throw InputError(std::string(e.what()) + "; " +
+                       (faults.empty() ? "OpenCASCADE's check of the shape finds it valid" : faults));
+    } catch (const InputError&) {
       if (!next(false)) throw;
     }
   }

@@ -5,6 +5,8 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace vd {
 
@@ -12,6 +14,19 @@ namespace vd {
 class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// The surface crosses itself; the crossing facet pairs (indices into the
+// surface that was checked, each pair ascending), so that a caller who knows
+// where the facets came from (CAD faces) can say more.
+class SelfIntersectionError : public InputError {
+ public:
+  SelfIntersectionError(const std::string& message, std::vector<std::pair<int, int>> facet_pairs)
+      : InputError(message), facet_pairs_(std::move(facet_pairs)) {}
+  const std::vector<std::pair<int, int>>& facet_pairs() const { return facet_pairs_; }
+
+ private:
+  std::vector<std::pair<int, int>> facet_pairs_;
 };
 
 // Some facets could not be made Delaunay within the guards. Exit code 4.

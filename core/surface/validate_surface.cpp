@@ -208,7 +208,7 @@ void throw_self_intersections(const std::vector<std::pair<int, int>>& crossings)
   for (size_t i = 0; i < crossings.size() && i < 10; ++i)
     s << (i ? ", " : " ") << "(" << crossings[i].first << ", " << crossings[i].second << ")";
   if (crossings.size() >= 10) s << ", ...";
-  throw InputError(s.str());
+  throw SelfIntersectionError(s.str(), crossings);
 }
 
 SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* given, bool self_intersections) {

@@ -32,7 +32,8 @@ SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* edges = nullpt
 // `limit` of them, the smallest of those found; the same on any number of
 // threads).
 std::vector<std::pair<int, int>> find_self_intersections(const Mesh& surface, size_t limit = 20);
-// The InputError validate_surface throws for these pairs; nothing when empty.
+// The SelfIntersectionError validate_surface throws for these pairs; nothing
+// when empty.
 void throw_self_intersections(const std::vector<std::pair<int, int>>& crossings);
 
 }  // namespace vd

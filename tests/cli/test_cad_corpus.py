@@ -31,9 +31,15 @@ RETRIED = {"cad-assembly/occt_MODERN_Exhaust_1.brep"}
 # Faces the general fuse cuts into pieces, and the largest piece's CAD area.
 SPLIT_FACES = {"cad-assembly/occt_MODERN_Exhaust_1.brep": {"Face15": 1098.2}}
 FIRST_TRY = {"cad-part/gmsh_917_fusee.stp"}
+# What the refusal must say.
 REFUSED = {
-    "cad-part/occt_bearing.iges": "none closed",          # its faces sew into an open shell
-    "cad-part/pythonocc_11752.stp": "intersects itself",  # its tessellation does
+    "cad-part/occt_bearing.iges": ["none closed"],  # its faces sew into an open shell
+    # Its tessellation crosses itself at every angular deflection; the message
+    # names the CAD faces that cross, and OpenCASCADE's own check finds the
+    # shape faulty on the same faces (so the file is to blame, not the mesher).
+    "cad-part/pythonocc_11752.stp": ["crosses itself: ", "Face793 with Face1016 near (",
+                                     "finds it faulty: 6 crossings of edges or faces (on Face793,",
+                                     "edges whose 3D curve leaves their face's surface"],
 }
 
 for rel in MESH:
@@ -75,13 +81,13 @@ for rel in MESH:
         check(rep is not None and rep["cad"]["recovery_retries"] == 0,
               "%s: recovered on its first tessellation (%s retries)" % (rel, rep["cad"]["recovery_retries"] if rep else "?"))
 
-for rel, reason in REFUSED.items():
+for rel, reasons in REFUSED.items():
     path = data(rel)
     if not path:
         continue
     target = os.path.join(out, "refused.vtu")
     code, _, err = run("mesh", path, "-o", target, "--no-interior", "--quiet")
-    check(code == 3 and reason in err and not os.path.exists(target),
-          "%s: refused, exit 3 saying '%s' (exit %d: %s)" % (rel, reason, code, err.strip()[:160]))
+    check(code == 3 and all(r in err for r in reasons) and not os.path.exists(target),
+          "%s: refused, exit 3 saying %s (exit %d: %s)" % (rel, reasons, code, err.strip()[:1000]))
 
 finish()
