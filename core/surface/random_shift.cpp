@@ -24,6 +24,11 @@ bool is_feature_edge(const Mesh& m, const FacetList& on_edge, double cos_crease)
   return dot(facet_normal(m.points, a), facet_normal(m.points, b)) < cos_crease;
 }
 
+// Twice the area of facet t, along its normal.
+Vec3 area_normal(const Mesh& m, const Triangle& t) {
+  return cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]);
+}
+
 Vec3 random_unit(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
   for (;;) {
@@ -37,24 +42,56 @@ Vec3 random_unit(std::mt19937_64& rng) {
 ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* given) {
   ShiftStats stats;
   const size_t n = m.points.size();
-  std::vector<std::vector<int>> vertex_facets(n);
-  for (size_t f = 0; f < m.triangles.size(); ++f)
-    for (int v : m.triangles[f].v) vertex_facets[v].push_back(static_cast<int>(f));
+  // The facets around each vertex in one array (counted, then filled in
+  // facet order): a vector per vertex was a heap block each.
+  std::vector<int> star_start(n + 1, 0), star;
+  for (const Triangle& t : m.triangles)
+    for (int v : t.v) ++star_start[v + 1];
+  for (size_t v = 0; v < n; ++v) star_start[v + 1] += star_start[v];
+  star.resize(star_start[n]);
+  {
+    std::vector<int> fill(star_start.begin(), star_start.end() - 1);
+    for (size_t f = 0; f < m.triangles.size(); ++f)
+      for (int v : m.triangles[f].v) star[fill[v]++] = static_cast<int>(f);
+  }
   std::optional<EdgeMap> own;
   const EdgeMap& edges = given ? *given : own.emplace(m.triangles);
-
   // Local size: mean length of the incident surface edges, else the given size.
   const std::vector<double> size = surface_vertex_sizes(m, edges);
 
+  // Feature edges, each judged once on the surface as given (judging them
+  // per vertex, against neighbours already moved, was two edge look-ups
+  // and two normals per facet corner: a sixth of a surface-only run). A
+  // vertex keeps how many it is on and, for a vertex on a feature line, the
+  // two other ends (their order does not matter: the step's sign follows
+  // the drawn direction).
+  struct FeatureEnds {
+    int count = 0;
+    int end[2] = {-1, -1};
+  };
   const double cos_crease = std::cos(options.crease_angle_deg * M_PI / 180.0);
+  std::vector<FeatureEnds> features(n);
+  for (const auto& [key, on_edge] : edges.all()) {
+    if (!is_feature_edge(m, on_edge, cos_crease)) continue;
+    const auto [a, b] = edge_of_key(key);
+    for (const auto& [v, w] : {std::pair{a, b}, std::pair{b, a}}) {
+      FeatureEnds& f = features[v];
+      if (f.count < 2) f.end[f.count] = w;
+      ++f.count;
+    }
+  }
+
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> unit(0.5, 1.0);
+  std::vector<Vec3> before;
   for (size_t v = 0; v < n; ++v) {
     // Draw for every vertex so that one vertex's kind does not change the
     // numbers the others get.
     const Vec3 direction = random_unit(rng);
     const double magnitude = options.relative * size[v] * unit(rng);
-    if (vertex_facets[v].empty()) {
+    const int* first = star.data() + star_start[v];
+    const int* last = star.data() + star_start[v + 1];
+    if (first == last) {
       if (size[v] > 0) {
         m.points[v] = m.points[v] + magnitude * direction;
         ++stats.moved_free;
@@ -63,19 +100,14 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* giv
       }
       continue;
     }
-    // Feature edges at v.
-    std::vector<int> feature_ends;
-    Vec3 normal{0, 0, 0};
-    for (int f : vertex_facets[v]) {
-      const Triangle& t = m.triangles[f];
-      normal = normal + facet_area(m.points, t) * facet_normal(m.points, t);
-      for (int w : t.v)
-        if (w != static_cast<int>(v) && is_feature_edge(m, edges.facets(v, w), cos_crease))
-          if (std::find(feature_ends.begin(), feature_ends.end(), w) == feature_ends.end())
-            feature_ends.push_back(w);
-    }
+    const FeatureEnds& feature = features[v];
     Vec3 step;
-    if (feature_ends.empty()) {
+    if (feature.count == 0) {
+      Vec3 normal{0, 0, 0};
+      for (const int* f = first; f != last; ++f) {
+        const Triangle& t = m.triangles[*f];
+        normal = normal + facet_area(m.points, t) * facet_normal(m.points, t);
+      }
       const Vec3 nrm = normalized(normal);
       step = direction - dot(direction, nrm) * nrm;  // into the tangent plane
       if (norm(step) < 1e-6) {
@@ -83,8 +115,8 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* giv
         continue;
       }
       step = magnitude * normalized(step);
-    } else if (feature_ends.size() == 2) {
-      const Vec3 along = normalized(m.points[feature_ends[1]] - m.points[feature_ends[0]]);
+    } else if (feature.count == 2) {
+      const Vec3 along = normalized(m.points[feature.end[1]] - m.points[feature.end[0]]);
       step = (magnitude * (dot(direction, along) >= 0 ? 1.0 : -1.0)) * along;
     } else {
       ++stats.fixed;  // a corner
@@ -93,20 +125,18 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* giv
     // Refuse a move that turns an incident facet over (needles can be thinner
     // than the shift).
     const Vec3 old = m.points[v];
-    std::vector<Vec3> before;
-    for (int f : vertex_facets[v]) before.push_back(cross(m.points[m.triangles[f].v[1]] - m.points[m.triangles[f].v[0]],
-                                                          m.points[m.triangles[f].v[2]] - m.points[m.triangles[f].v[0]]));
+    before.clear();
+    for (const int* f = first; f != last; ++f) before.push_back(area_normal(m, m.triangles[*f]));
     m.points[v] = old + step;
     bool ok = true;
-    for (size_t i = 0; i < vertex_facets[v].size() && ok; ++i) {
-      const Triangle& t = m.triangles[vertex_facets[v][i]];
-      const Vec3 after = cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]);
-      ok = dot(after, before[i]) > 0.5 * dot(before[i], before[i]);
+    for (const int* f = first; f != last && ok; ++f) {
+      const Vec3& was = before[f - first];
+      ok = dot(area_normal(m, m.triangles[*f]), was) > 0.5 * dot(was, was);
     }
     if (!ok) {
       m.points[v] = old;
       ++stats.fixed;
-    } else if (feature_ends.empty()) {
+    } else if (feature.count == 0) {
       ++stats.moved_in_plane;
     } else {
       ++stats.moved_on_edge;
