@@ -14,6 +14,7 @@
 #include "mesh/parallel.h"
 #include "mesh/progress.h"
 #include "mesh/tet_faces.h"
+#include "pipeline/missing_facets.h"
 #include "surface/edge_map.h"
 #include "surface/face_patches.h"
 #include "surface/size_refinement.h"
@@ -211,7 +212,8 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     throw RecoveryError(std::to_string(report.missing_facets.size()) +
                         " facets could not be made Delaunay within the guards (" +
                         std::to_string(report.delaunayzation.passes) + " passes, " +
-                        std::to_string(report.delaunayzation.added_vertices) + " added vertices)");
+                        std::to_string(report.delaunayzation.added_vertices) + " added vertices); " +
+                        where_facets_are_missing(m, pass.missing));
   };
 
   // With interior vertices, a first recovery against the surface vertices

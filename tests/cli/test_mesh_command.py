@@ -245,6 +245,10 @@ code, _, err = run("mesh", pyr, "-o", target, "--max-added", "0")
 missing = os.path.join(out, "pyr.missing.off")
 check(code == 4 and os.path.exists(missing) and not os.path.exists(target),
       "guard: exit 4, pyr.missing.off written, no output (%d: %s)" % (code, err.strip()[:300]))
+# The message says where: the missing facets' places and faces (the
+# pyramids' two bases, faces 1 and 6, are split in two facets each).
+check("4 facets could not be made Delaunay" in err and "most of them near (" in err and "; faces 1 (2), 6 (2)" in err,
+      "guard: the message names the places and faces of the missing facets (%s)" % err.strip()[-300:])
 code, _, err = run("mesh", pyr, "-o", target)
 check(code == 0 and os.path.exists(target), "pyramids mesh without the guard (%d: %s)" % (code, err.strip()[:300]))
 
