@@ -106,7 +106,23 @@ void accumulate(DelaunayzationResult& total, const DelaunayzationResult& pass) {
 // to 1e-12 only, taking a facet off its plane (Slivers.SharedSurfaces).
 constexpr int kCapFoldRoundsCad = 3;
 
-MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial) {
+namespace {
+
+// Patience of the recoveries after the first while a cautious run is left
+// (mesh_surface).
+constexpr int kPatienceWithCautiousRetry = 8;
+
+// Thrown by mesh_surface_once when a recovery after the first stops and a
+// cautious run is left: the seconds spent.
+struct LaterRecoveryStopped {
+  double seconds = 0;
+};
+
+// `cautious`: interior vertices that take no surface facet, and no cap fold
+// splits. `can_retry`: a cautious run is left after this one.
+MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, MeshResult* partial, bool cautious,
+                             bool can_retry) {
+  const auto started = std::chrono::steady_clock::now();
   MeshResult result;
   MeshReport& report = result.report;
   Mesh& m = result.mesh;
@@ -243,7 +259,20 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     InteriorOptions iopt = options.interior_options;
     iopt.seed = options.seed;
     iopt.cancel = options.cancel;
-    timer.start("interior vertices");
+    // Sparing: no candidate may take a facet out of the tetrahedralization
+    // (the conflict zone it would have, asked of dt as the cap vertices do).
+    std::optional<TripleIndex> surface_facets;
+    std::vector<std::array<int, 3>> taken;
+    if (cautious) {
+      surface_facets.emplace(m.triangles, [](const Triangle& t) { return t.v; });
+      iopt.takes_a_facet = [&](const Vec3& p) {
+        if (!dt.faces_taken_by(p, taken)) return true;
+        for (const auto& f : taken)
+          if (surface_facets->find(f) >= 0) return true;
+        return false;
+      };
+    }
+    timer.start(cautious ? "interior vertices sparing the facets" : "interior vertices");
     // A point's region is the label of the tetrahedron it falls in.
     std::vector<int> interior_regions;
     const std::vector<Vec3> interior = generate_interior_vertices(
@@ -286,8 +315,30 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
     const int first = static_cast<int>(m.points.size());
     m.points.insert(m.points.end(), interior.begin(), interior.end());
     if (!m.point_size.empty()) m.point_size.resize(m.points.size(), 0.0);
-    recover_with(first, "an interior vertex", "insert interior vertices", "delaunayzation with interior vertices",
-                 "volume with interior vertices", &interior_regions);
+    // The recoveries after the first one (with interior vertices, after cap
+    // fold splits) are given up, while a cautious run is left, when they
+    // make no headway or add more vertices than the surface has: on the
+    // plane the one after cap fold splits went on taking a few facets off
+    // each pass while adding about 1,400 vertices a pass.
+    auto recover_or_give_up = [&](int from, const char* what, const char* insert_phase, const char* recovery_phase,
+                                  const char* volume_phase, const std::vector<int>* regions) {
+      if (can_retry) {
+        dopt.patience_passes = kPatienceWithCautiousRetry;
+        const int own_guard = std::max(1000, first);
+        if (dopt.max_added_vertices < 0 || dopt.max_added_vertices > own_guard) dopt.max_added_vertices = own_guard;
+      }
+      try {
+        recover_with(from, what, insert_phase, recovery_phase, volume_phase, regions);
+      } catch (const RecoveryError&) {
+        if (!can_retry) throw;
+        throw LaterRecoveryStopped{
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()};
+      }
+      dopt.patience_passes = options.delaunayzation.patience_passes;
+      dopt.max_added_vertices = options.delaunayzation.max_added_vertices;
+    };
+    recover_or_give_up(first, "an interior vertex", "insert interior vertices", "delaunayzation with interior vertices",
+                       "volume with interior vertices", &interior_regions);
     if (options.remove_slivers) {
       // Flat tetrahedra held by two facets over a fold: the sliver pass
       // cannot reach them, a vertex inside the region can.
@@ -315,14 +366,14 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
       // Caps no point can open without taking a facet: their fold edges are
       // split on the surface (on CAD input, onto the faces as recovery's
       // splits), recovered, and the caps looked for again.
-      const int fold_rounds = options.delaunayzation.geometry ? kCapFoldRoundsCad : 1;
+      const int fold_rounds = cautious ? 0 : options.delaunayzation.geometry ? kCapFoldRoundsCad : 1;
       for (int round = 0; round < fold_rounds && !refused_folds.empty(); ++round) {
         timer.start("cap fold splits");
         const int first_split = static_cast<int>(m.points.size());
         report.interior.cap_folds_split += split_cap_folds(m, refused_folds, options.delaunayzation.geometry);
         refused_folds.clear();
-        recover_with(first_split, "a cap fold's mid-point", "insert cap fold splits", "delaunayzation after cap fold splits",
-                     "volume after cap fold splits", nullptr);
+        recover_or_give_up(first_split, "a cap fold's mid-point", "insert cap fold splits",
+                           "delaunayzation after cap fold splits", "volume after cap fold splits", nullptr);
         timer.start("cap vertices after fold splits");
         open_caps();
       }
@@ -361,6 +412,28 @@ MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResul
   }
   timer.stop();
   return result;
+}
+
+}  // namespace
+
+// A recovery after the first can run away where the model has thin wedges:
+// gmsh_simple_plane.brep at --deflection 0.001 recovers its surface alone
+// and with interior vertices, then the recovery after the cap fold splits
+// went on to the guard (89,326 facets missing at the wing's trailing edge
+// root, 136k vertices added). When such a recovery makes no headway, the
+// run is made again cautiously: no cap fold splits, and interior vertices
+// that take no surface facet out of the tetrahedralization before they go in
+// (a conflict zone for each candidate that passed the other tests, which a
+// run that succeeds does not pay for).
+MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial) {
+  try {
+    return mesh_surface_once(input, options, partial, false, options.interior);
+  } catch (const LaterRecoveryStopped& stopped) {
+    MeshResult result = mesh_surface_once(input, options, partial, true, false);
+    result.report.interior.cautious_retry = true;
+    result.report.seconds.insert(result.report.seconds.begin(), {"run given up (a later recovery)", stopped.seconds});
+    return result;
+  }
 }
 
 }  // namespace vd

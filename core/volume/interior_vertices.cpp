@@ -105,6 +105,10 @@ class Acceptor {
       ++stats_.rejected_near_surface;
       return;
     }
+    if (o_.takes_a_facet && o_.takes_a_facet(p)) {
+      ++stats_.rejected_taking_a_facet;
+      return;
+    }
     grid_.update(grid_.size(), p);
     accepted_.push_back(p);
     regions_.push_back(r);

@@ -25,11 +25,20 @@ struct InteriorOptions {
   std::uint64_t seed = 1;
   int max_octree_depth = 14;
   const std::atomic<bool>* cancel = nullptr;  // looked at every few hundred candidates
+  // When set, a candidate for which it answers true is dropped too (the
+  // pipeline's: the point would take a surface facet out of the Delaunay
+  // tetrahedralization). Asked last, of the candidates every other test kept.
+  std::function<bool(const Vec3&)> takes_a_facet;
 };
 
 struct InteriorStats {
   long offset_points = 0, lattice_points = 0;
   long candidates = 0, rejected_outside = 0, rejected_near_vertex = 0, rejected_near_surface = 0;
+  long rejected_taking_a_facet = 0;  // InteriorOptions::takes_a_facet
+  // A recovery after the first stopped, and the run was made again
+  // cautiously: candidates that take no surface facet, no cap fold splits
+  // (pipeline/mesher.cpp).
+  bool cautious_retry = false;
   long cap_points = 0;  // added after the tetrahedra, to open flat caps (volume/cap_vertices.h)
   long cap_points_refused = 0;  // not added: a surface facet would have stopped being Delaunay
   long cap_folds_split = 0;     // fold edges of refused caps split on the surface (volume/cap_vertices.h)
