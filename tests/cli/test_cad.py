@@ -630,4 +630,25 @@ def box_without_lid(occ):
 open_box = make_brep("openbox", box_without_lid)
 bad(os.path.basename(open_box), None, "none closed")
 
+# The cautious run (pipeline/mesher.cpp): gmsh_simple_plane.brep at a chord
+# height of 0.001 recovers its surface and its interior vertices, but the
+# recovery after the cap fold splits ran away at a wing's trailing edge root
+# (89,326 facets missing, exit 4). It is given up, and the run made again
+# without fold splits and with interior vertices that take no facet. Its
+# volumes are not checked: at that chord height the nose pieces lose 11 %.
+path = data("cad-assembly/gmsh_simple_plane.brep")
+if path:
+    code, rep, target, err = mesh(path, "--deflection", "0.001", "--quiet")
+    check(code == 0 and rep["interior"]["cautious_retry"] and rep["interior"]["rejected_taking_a_facet"] > 0
+          and rep["cad"]["solids"] == 27 and rep["complete"],
+          "simple plane at chord 0.001: meshed by the cautious run (exit %d, %s)"
+          % (code, rep["interior"] if rep else err.strip()[-300:]))
+    if code == 0:
+        import meshio
+        m = meshio.read(target)
+        vol = tet_volumes(m)
+        region = [np.asarray(v) for b, v in zip(m.cells, m.cell_data["region"]) if b.type == "tetra"][0]
+        check(vol.min() > 0 and sorted(set(region.tolist())) == list(range(1, 28)),
+              "simple plane: %d tetrahedra, all positive, in the 27 solids (meshio)" % len(vol))
+
 finish()
