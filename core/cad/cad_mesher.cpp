@@ -131,6 +131,9 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   if (topt.deflection == 0)
     angles.insert(angles.end(), options.retry_angles_deg.begin(), options.retry_angles_deg.end());
   double given_up = 0;  // seconds spent on tessellations whose recovery stopped
+  bool uniform_left = !options.retry_angles_deg.empty() && topt.deflection == 0 && options.uniform_chord_divisor > 0;
+  const auto uniform_tried = [&] { return topt.deflection > 0 && options.tessellation.deflection == 0; };
+  std::string last_recovery_failure;  // reported when the uniform chords fail before recovery
   // A smoothed or remeshed tessellation that fails is tried once more
   // without either at the same angle, and the later angles go without: on
   // gmsh_dlr_f6.brep the smoothed 20 deg surface stopped recovery and the
@@ -140,27 +143,43 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
     if (options.mesh.progress)
       options.mesh.progress(attempt == 0 ? "tessellate CAD faces"
                                          : "tessellate CAD faces again at " + format_number(topt.angle_deg) + " deg" +
+                                               (uniform_tried() ? ", chord height " + format_number(topt.deflection) +
+                                                                      " everywhere"
+                                                                : "") +
                                                (topt.smooth || topt.remesh ? "" : ", unsmoothed, not remeshed"));
     const auto start = std::chrono::steady_clock::now();
     const auto next = [&](bool recovery_stopped) {
+      if (uniform_tried()) return false;  // the uniform chords were the last
       if (topt.smooth || topt.remesh) {
         topt.smooth = topt.remesh = false;
-      } else {
-        if (!recovery_stopped || angle + 1 >= angles.size()) return false;
+      } else if (recovery_stopped && angle + 1 < angles.size()) {
         ++angle;
+      } else if (recovery_stopped && uniform_left) {
+        uniform_left = false;
+        angle = 0;
+        topt.smooth = options.tessellation.smooth;
+        topt.remesh = options.tessellation.remesh;
+        topt.deflection = (topt.size > 0 ? topt.size : model.default_size()) / options.uniform_chord_divisor;
+      } else {
+        return false;
       }
       given_up += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return true;
     };
     try {
-      const bool has_fallback = topt.smooth || topt.remesh || angle + 1 < angles.size();
+      const bool has_fallback =
+          !uniform_tried() && (topt.smooth || topt.remesh || angle + 1 < angles.size() || uniform_left);
       MeshResult result = mesh_tessellation(model, options, topt, static_cast<int>(attempt), has_fallback, partial);
       if (attempt > 0)
         result.report.seconds.insert(result.report.seconds.begin(), {"tessellations recovery gave up on", given_up});
       return result;
-    } catch (const RecoveryError&) {
+    } catch (const RecoveryError& e) {
+      last_recovery_failure = e.what();
       if (!next(true)) throw;
     } catch (const SelfIntersectionError& e) {  // the surface is checked before recovery
+      // The uniform chords crossing themselves says nothing of the file:
+      // the failure that led to them stands.
+      if (uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
       if (next(false)) continue;
       // Every tessellation tried crosses itself: say whether OpenCASCADE
       // finds the file's geometry faulty (pythonocc_11752.stp: crossing
@@ -170,6 +189,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       throw InputError(std::string(e.what()) + "; " +
                        (faults.empty() ? "OpenCASCADE's check of the shape finds it valid" : faults));
     } catch (const InputError&) {
+      if (uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
       if (!next(false)) throw;
     }
   }
