@@ -9,7 +9,9 @@ occt_MODERN_Exhaust_1.brep stops in recovery on its first tessellation (the bord
 remeshed faces at a knife edge) and meshes on the next, unsmoothed and not remeshed: it must say
 it tried again. gmsh_917_fusee.stp did the same (OpenCASCADE's triangles along a tangent seam) until
 its B-spline faces were remeshed (2026-11-25): it must now recover at once.
-Not here: gmsh_simple_plane.brep, which still stops in recovery (README)."""
+gmsh_simple_plane.brep stops in recovery at every angle with the automatic chord heights, which
+follow its thin solids down; it must recover on the last tessellation, one chord height of size /
+500 everywhere (2026-11-26)."""
 import json
 import os
 
@@ -26,7 +28,10 @@ MESH = [
     "cad-part/gmsh_part.step", "cad-part/gmsh_t20_component8.step", "cad-part/kicad_CP_Radial_D10.0mm.step",
     "cad-part/kicad_SOIC-8.step", "cad-part/pythonocc_Ventilator.stp",
     "cad-part/pythonocc_face_recognition_sample_part.stp", "cad-part/gmsh_917_fusee.stp",
+    "cad-assembly/gmsh_simple_plane.brep",
 ]
+# Tessellated at one chord height everywhere, after the angles: (retries, size / chord height).
+UNIFORM_CHORDS = {"cad-assembly/gmsh_simple_plane.brep": (4, 500)}
 RETRIED = {"cad-assembly/occt_MODERN_Exhaust_1.brep"}
 # Faces the general fuse cuts into pieces, and the largest piece's CAD area.
 SPLIT_FACES = {"cad-assembly/occt_MODERN_Exhaust_1.brep": {"Face15": 1098.2}}
@@ -77,6 +82,11 @@ for rel in MESH:
         check(rep is not None and rep["cad"]["recovery_retries"] >= 1,
               "%s: tessellated again after recovery stopped (%s retries)"
               % (rel, rep["cad"]["recovery_retries"] if rep else "?"))
+    if rel in UNIFORM_CHORDS:
+        retries, divisor = UNIFORM_CHORDS[rel]
+        check(rep is not None and rep["cad"]["recovery_retries"] == retries
+              and abs(rep["cad"]["deflection"] * divisor / rep["cad"]["size"] - 1) < 1e-9,
+              "%s: recovered on the uniform chords (%s)" % (rel, {k: rep["cad"][k] for k in ("recovery_retries", "deflection", "size")} if rep else "?"))
     if rel in FIRST_TRY:
         check(rep is not None and rep["cad"]["recovery_retries"] == 0,
               "%s: recovered on its first tessellation (%s retries)" % (rel, rep["cad"]["recovery_retries"] if rep else "?"))
