@@ -20,6 +20,7 @@
 #include "surface/size_refinement.h"
 #include "surface/validate_surface.h"
 #include "volume/cap_vertices.h"
+#include "volume/facet_takers.h"
 
 namespace vd {
 namespace {
@@ -259,18 +260,11 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     InteriorOptions iopt = options.interior_options;
     iopt.seed = options.seed;
     iopt.cancel = options.cancel;
-    // Sparing: no candidate may take a facet out of the tetrahedralization
-    // (the conflict zone it would have, asked of dt as the cap vertices do).
-    std::optional<TripleIndex> surface_facets;
-    std::vector<std::array<int, 3>> taken;
+    // Cautious: no candidate may take a facet out of the tetrahedralization.
+    std::optional<FacetTakers> takers;
     if (cautious) {
-      surface_facets.emplace(m.triangles, [](const Triangle& t) { return t.v; });
-      iopt.takes_a_facet = [&](const Vec3& p) {
-        if (!dt.faces_taken_by(p, taken)) return true;
-        for (const auto& f : taken)
-          if (surface_facets->find(f) >= 0) return true;
-        return false;
-      };
+      takers.emplace(m, dt);
+      iopt.takes_a_facet = [&takers](const Vec3& p) { return takers->takes_a_facet(p); };
     }
     timer.start(cautious ? "interior vertices sparing the facets" : "interior vertices");
     // A point's region is the label of the tetrahedron it falls in.

@@ -16,6 +16,7 @@
 #include "pipeline/mesher.h"
 #include "quality/conformity.h"
 #include "surface/size_refinement.h"
+#include "volume/facet_takers.h"
 #include "volume/interior_vertices.h"
 #include "volume/region_tetrahedra.h"
 #include "volume/size_field.h"
@@ -270,6 +271,34 @@ TEST(Volume, CapVerticesOpenCapsOnASurfaceInsideOneRegion) {
     EXPECT_GT(r.report.interior.cap_points, 20);
     EXPECT_GT(r.report.quality.min_dihedral_deg, 10.0);
   }
+}
+
+// The cautious run's test of interior candidates (volume/facet_takers.h):
+// two in-sphere tests per facet near the point must say what the
+// tetrahedralization's own conflict zone says, on cospherical input too (an
+// icosphere inside a box, not shifted: CGAL's symbolic perturbation decides).
+TEST(Volume, FacetTakersAgreeWithTheConflictZone) {
+  Mesh in = shapes::box({-1.3, -1.3, -1.3}, {1.3, 1.3, 1.3}, 3);
+  shapes::append(in, shapes::icosphere({0, 0, 0}, 1.0, 2, 2, 7));
+  DelaunayTetrahedralization dt;
+  dt.insert(in.points);
+  const FacetTakers takers(in, dt);
+  const TripleIndex facets(in.triangles, [](const Triangle& t) { return t.v; });
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.29, 1.29);
+  std::vector<std::array<int, 3>> taken;
+  int taking = 0, disagree = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 p{u(rng), u(rng), u(rng)};
+    ASSERT_TRUE(dt.faces_taken_by(p, taken));
+    bool walk = false;
+    for (const auto& f : taken) walk = walk || facets.find(f) >= 0;
+    taking += walk;
+    disagree += walk != takers.takes_a_facet(p);
+  }
+  std::cout << "[facet takers] " << taking << " of 4000 points take a facet\n";
+  EXPECT_EQ(disagree, 0);
+  EXPECT_GT(taking, 100);  // 141 (seed 5): both answers occur
 }
 
 // An open sheet inside a box, the same region on both sides (the horizons of
