@@ -18,10 +18,6 @@ namespace {
 // as a share of the narrowest split facet's height (see split_edge).
 constexpr double kChordShare = 0.3;
 
-Vec3 area_vector(const std::vector<Vec3>& p, const Triangle& t) {
-  return cross(p[t.v[1]] - p[t.v[0]], p[t.v[2]] - p[t.v[0]]);
-}
-
 class Delaunayzer {
  public:
   Delaunayzer(Mesh& m, DelaunayTetrahedralization& dt, FacetOracle& oracle, const DelaunayzationOptions& o,
@@ -125,7 +121,7 @@ class Delaunayzer {
   }
 
   bool query(const Triangle& t) {
-    return oracle_.is_delaunay(t.v[0], t.v[1], t.v[2], area_vector(m_.points, t));
+    return oracle_.is_delaunay(t.v[0], t.v[1], t.v[2], facet_area_vector(m_.points, t));
   }
 
   void replace_facet(int f, const Triangle& t) {
@@ -210,9 +206,10 @@ class Delaunayzer {
   // Convex quadrilateral, judged in projection to the average plane of the
   // pair: both new triangles keep a fair share of the projected area.
   bool convex_in_average_plane(const Triangle& t, const Triangle& t2, const Triangle& A, const Triangle& B) const {
-    const Vec3 n = normalized(normalized(area_vector(m_.points, t)) + normalized(area_vector(m_.points, t2)));
-    const double a_old1 = dot(area_vector(m_.points, t), n), a_old2 = dot(area_vector(m_.points, t2), n);
-    const double a_new1 = dot(area_vector(m_.points, A), n), a_new2 = dot(area_vector(m_.points, B), n);
+    const Vec3 n =
+        normalized(normalized(facet_area_vector(m_.points, t)) + normalized(facet_area_vector(m_.points, t2)));
+    const double a_old1 = dot(facet_area_vector(m_.points, t), n), a_old2 = dot(facet_area_vector(m_.points, t2), n);
+    const double a_new1 = dot(facet_area_vector(m_.points, A), n), a_new2 = dot(facet_area_vector(m_.points, B), n);
     const double quad = a_old1 + a_old2;
     if (a_old1 <= 0 || a_old2 <= 0 || quad <= 0) return false;
     const double share = 0.02;
@@ -231,7 +228,7 @@ class Delaunayzer {
   }
 
   bool ridge_acceptable(const Triangle& A, const Triangle& B) const {
-    const double c = dot(normalized(area_vector(m_.points, A)), normalized(area_vector(m_.points, B)));
+    const double c = dot(normalized(facet_area_vector(m_.points, A)), normalized(facet_area_vector(m_.points, B)));
     return c >= std::cos(opt_.flip_angle_deg * M_PI / 180.0);
   }
 

@@ -8,13 +8,13 @@
 
 namespace vd {
 
-Vec3 facet_normal(const std::vector<Vec3>& p, const Triangle& t) {
-  return normalized(cross(p[t.v[1]] - p[t.v[0]], p[t.v[2]] - p[t.v[0]]));
+Vec3 facet_area_vector(const std::vector<Vec3>& p, const Triangle& t) {
+  return cross(p[t.v[1]] - p[t.v[0]], p[t.v[2]] - p[t.v[0]]);
 }
 
-double facet_area(const std::vector<Vec3>& p, const Triangle& t) {
-  return 0.5 * norm(cross(p[t.v[1]] - p[t.v[0]], p[t.v[2]] - p[t.v[0]]));
-}
+Vec3 facet_normal(const std::vector<Vec3>& p, const Triangle& t) { return normalized(facet_area_vector(p, t)); }
+
+double facet_area(const std::vector<Vec3>& p, const Triangle& t) { return 0.5 * norm(facet_area_vector(p, t)); }
 
 double corner_angle(const Vec3& apex, const Vec3& p, const Vec3& q) {
   const Vec3 a = p - apex, b = q - apex;

@@ -16,6 +16,8 @@ constexpr double kDefaultSharpAngleDeg = 40.0;
 int assign_face_patches(Mesh& surface, double sharp_angle_deg = kDefaultSharpAngleDeg,
                         const EdgeMap* edges = nullptr);
 
+// Twice the area of facet t, along its normal (right-hand rule).
+Vec3 facet_area_vector(const std::vector<Vec3>& points, const Triangle& t);
 // Unit normal of facet t (right-hand rule); zero for a degenerate facet.
 Vec3 facet_normal(const std::vector<Vec3>& points, const Triangle& t);
 double facet_area(const std::vector<Vec3>& points, const Triangle& t);

@@ -24,11 +24,6 @@ bool is_feature_edge(const Mesh& m, const FacetList& on_edge, double cos_crease)
   return dot(facet_normal(m.points, a), facet_normal(m.points, b)) < cos_crease;
 }
 
-// Twice the area of facet t, along its normal.
-Vec3 area_normal(const Mesh& m, const Triangle& t) {
-  return cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]);
-}
-
 Vec3 random_unit(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
   for (;;) {
@@ -126,12 +121,12 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* giv
     // than the shift).
     const Vec3 old = m.points[v];
     before.clear();
-    for (const int* f = first; f != last; ++f) before.push_back(area_normal(m, m.triangles[*f]));
+    for (const int* f = first; f != last; ++f) before.push_back(facet_area_vector(m.points, m.triangles[*f]));
     m.points[v] = old + step;
     bool ok = true;
     for (const int* f = first; f != last && ok; ++f) {
       const Vec3& was = before[f - first];
-      ok = dot(area_normal(m, m.triangles[*f]), was) > 0.5 * dot(was, was);
+      ok = dot(facet_area_vector(m.points, m.triangles[*f]), was) > 0.5 * dot(was, was);
     }
     if (!ok) {
       m.points[v] = old;
