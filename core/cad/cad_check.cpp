@@ -29,7 +29,7 @@ const char* fault_name(BOPAlgo_CheckStatus status) {
     case BOPAlgo_IncompatibilityOfFace: return "faces incompatible with their neighbours";
     case BOPAlgo_GeomAbs_C0: return "curves or surfaces with a kink (only C0)";
     case BOPAlgo_InvalidCurveOnSurface: return "edges whose 3D curve leaves their face's surface";
-        case BOPAlgo_BadType: return "shapes of a type it cannot check";
+    case BOPAlgo_BadType: return "shapes of a type it cannot check";
     case BOPAlgo_OperationAborted: return "checks aborted";
     default: return "unknown faults";
   }

@@ -131,7 +131,10 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   if (topt.deflection == 0)
     angles.insert(angles.end(), options.retry_angles_deg.begin(), options.retry_angles_deg.end());
   double given_up = 0;  // seconds spent on tessellations whose recovery stopped
-  bool uniform_left = !options.retry_angles_deg.empty() && topt.deflection == 0 && options.uniform_chord_divisor > 0;
+  // The last retry, one chord height everywhere: on automatic chord heights
+  // with retries only; tried once topt.deflection is set.
+  const bool uniform_allowed =
+      !options.retry_angles_deg.empty() && topt.deflection == 0 && options.uniform_chord_divisor > 0;
   const auto uniform_tried = [&] { return topt.deflection > 0 && options.tessellation.deflection == 0; };
   std::string last_recovery_failure;  // reported when the uniform chords fail before recovery
   // A smoothed or remeshed tessellation that fails is tried once more
@@ -154,8 +157,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
         topt.smooth = topt.remesh = false;
       } else if (recovery_stopped && angle + 1 < angles.size()) {
         ++angle;
-      } else if (recovery_stopped && uniform_left) {
-        uniform_left = false;
+      } else if (recovery_stopped && uniform_allowed) {
         angle = 0;
         topt.smooth = options.tessellation.smooth;
         topt.remesh = options.tessellation.remesh;
@@ -168,7 +170,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
     };
     try {
       const bool has_fallback =
-          !uniform_tried() && (topt.smooth || topt.remesh || angle + 1 < angles.size() || uniform_left);
+          !uniform_tried() && (topt.smooth || topt.remesh || angle + 1 < angles.size() || uniform_allowed);
       MeshResult result = mesh_tessellation(model, options, topt, static_cast<int>(attempt), has_fallback, partial);
       if (attempt > 0)
         result.report.seconds.insert(result.report.seconds.begin(), {"tessellations recovery gave up on", given_up});

@@ -417,8 +417,8 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
 // root, 136k vertices added). When such a recovery makes no headway, the
 // run is made again cautiously: no cap fold splits, and interior vertices
 // that take no surface facet out of the tetrahedralization before they go in
-// (a conflict zone for each candidate that passed the other tests, which a
-// run that succeeds does not pay for).
+// (volume/facet_takers.h, asked of each candidate that passed the other
+// tests, which a run that succeeds does not pay for).
 MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial) {
   try {
     return mesh_surface_once(input, options, partial, false, options.interior);
