@@ -39,6 +39,7 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   std::vector<std::uint8_t> walls(static_cast<size_t>(n), 0);
   std::vector<std::array<int, 3>> faces_on_surface;  // (tet, face, facet), by tet
   for (int t = 0; t < n; ++t) {
+    dt.prefetch_cell(t + DelaunayTetrahedralization::kCellsAhead);
     const auto tet = dt.cell(t);
     int touching = 0;
     for (int v : tet) touching += on_facet[static_cast<size_t>(v)];
@@ -135,6 +136,7 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
       ++stats.tets_in_exterior;
       continue;
     }
+    dt.prefetch_cell(t + DelaunayTetrahedralization::kCellsAhead);
     m.tets.push_back({dt.cell(t), r});
     if (r >= static_cast<int>(seen_region.size())) seen_region.resize(r + 1, false);
     seen_region[r] = true;
