@@ -279,24 +279,36 @@ int DelaunayTetrahedralization::cell_across(int t, int i) const {
   return impl_->numbered[static_cast<size_t>(t)]->neighbor(i)->info().value;
 }
 
-void DelaunayTetrahedralization::flood(int seed, int id, const std::vector<std::uint8_t>& walls,
-                                       std::vector<int>& component) const {
+std::vector<int> DelaunayTetrahedralization::joined_cells(const std::vector<std::uint8_t>& walls) const {
   const auto& numbered = impl_->numbered;
-  std::vector<int> stack{seed};
-  component[static_cast<size_t>(seed)] = id;
-  while (!stack.empty()) {
-    const int t = stack.back();
-    stack.pop_back();
-    const DT::Cell_handle c = numbered[static_cast<size_t>(t)];
-    const std::uint8_t wall = walls[static_cast<size_t>(t)];
+  const size_t n = numbered.size();
+  std::vector<int> root(n);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&root](int t) {
+    while (root[static_cast<size_t>(t)] != t) {
+      const int up = root[static_cast<size_t>(root[static_cast<size_t>(t)])];
+      root[static_cast<size_t>(t)] = up;  // path halving
+      t = up;
+    }
+    return t;
+  };
+  for (size_t t = 0; t < n; ++t) {
+    if (t + kCellsAhead < n) {
+      const DT::Cell_handle ahead = numbered[t + kCellsAhead];
+      for (int i = 0; i < 4; ++i) __builtin_prefetch(&*ahead->neighbor(i));
+    }
+    const DT::Cell_handle c = numbered[t];
+    const std::uint8_t wall = walls[t];
     for (int i = 0; i < 4; ++i) {
       if (wall & (1u << i)) continue;
       const int u = c->neighbor(i)->info().value;
-      if (u < 0 || component[static_cast<size_t>(u)] >= 0) continue;
-      component[static_cast<size_t>(u)] = id;
-      stack.push_back(u);
+      if (u <= static_cast<int>(t)) continue;  // infinite, or joined from u's side
+      const int a = find(static_cast<int>(t)), b = find(u);
+      if (a != b) root[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
     }
   }
+  for (size_t t = 0; t < n; ++t) root[t] = find(static_cast<int>(t));
+  return root;
 }
 
 std::vector<std::array<int, 2>> DelaunayTetrahedralization::hull_faces() const {

@@ -55,11 +55,20 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
 
   // Components of tetrahedra joined across non-facet faces; component 0 is
   // the one reached from infinity through a non-facet hull face.
-  std::vector<int> comp(n, -1);
-  int components = 0;
-  const int outside = components++;
+  // comp[t] is first a representative tetrahedron r of t's component
+  // (comp[r] == r); once the component is numbered c, comp[r] holds
+  // -(c + 1) in place (a table by representative would add 4 bytes a
+  // tetrahedron at the run's peak).
+  std::vector<int> comp = dt.joined_cells(walls);
+  const int outside = 0;
+  int components = 1;
+  auto representative = [&comp](int t) { return comp[static_cast<size_t>(t)] < 0 ? t : comp[static_cast<size_t>(t)]; };
+  auto number = [&](int t) {
+    int& code = comp[static_cast<size_t>(representative(t))];
+    if (code >= 0) code = -(components++ + 1);
+  };
   for (const auto& [t, i] : dt.hull_faces())
-    if (comp[t] < 0 && !(walls[static_cast<size_t>(t)] & (1u << i))) dt.flood(t, outside, walls, comp);
+    if (!(walls[static_cast<size_t>(t)] & (1u << i))) comp[static_cast<size_t>(representative(t))] = -(outside + 1);
   // Other components in the order of their lowest bounding facet, so that the
   // numbering depends on the input, not on CGAL's cell order. For every
   // facet, the component on each side.
@@ -69,10 +78,11 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
     seeds.back().first = std::min(seeds.back().first, f);
   }
   std::sort(seeds.begin(), seeds.end());
-  for (const auto& [f, t] : seeds)
-    if (comp[t] < 0) dt.flood(t, components++, walls, comp);
+  for (const auto& [f, t] : seeds) number(t);
+  for (int t = 0; t < n; ++t) number(t);  // enclosed without touching a facet: impossible, but safe
   for (int t = 0; t < n; ++t)
-    if (comp[t] < 0) dt.flood(t, components++, walls, comp);  // enclosed without touching a facet: impossible, but safe
+    if (comp[t] >= 0) comp[t] = comp[static_cast<size_t>(comp[t])];  // a representative's code
+  for (int& c : comp) c = -c - 1;
 
   std::vector<std::array<int, 2>> sides(m.triangles.size(), {-2, -2});  // [front, back]
   for (const auto& [t, i, f] : faces_on_surface) {
