@@ -18,12 +18,13 @@ void set_thread_count(int threads);
 int thread_count();
 
 // Calls body(chunk, begin, end) for the chunks [chunk * size, ...) of [0, n),
-// each once, on up to thread_count() threads. The first exception a body
-// throws is rethrown here after every thread has stopped.
+// each once, on up to thread_count() threads (up to `threads` when that is
+// given, > 0). The first exception a body throws is rethrown here after
+// every thread has stopped.
 template <class Body>
-void for_each_chunk(long n, long chunk_size, Body body) {
+void for_each_chunk(long n, long chunk_size, Body body, int threads = 0) {
   const long chunks = n <= 0 ? 0 : (n + chunk_size - 1) / chunk_size;
-  const long workers = std::min<long>(thread_count(), chunks);
+  const long workers = std::min<long>(threads > 0 ? threads : thread_count(), chunks);
   if (workers <= 1) {
     for (long c = 0; c < chunks; ++c) body(c, c * chunk_size, std::min(n, (c + 1) * chunk_size));
     return;

@@ -37,8 +37,10 @@ class SelfIntersectionCheck {
     auto copy = std::make_shared<Mesh>();
     copy->points = m.points;
     copy->triangles = m.triangles;
+    // On this one thread: a second worker of its own took the core the
+    // tetrahedralization runs on (three busy threads on two cores).
     result_ = std::async(std::launch::async, [copy, this] {
-      std::vector<std::pair<int, int>> found = find_self_intersections(*copy);
+      std::vector<std::pair<int, int>> found = find_self_intersections(*copy, 20, 1);
       if (!found.empty()) found_ = true;
       return found;
     });

@@ -143,7 +143,7 @@ bool facets_intersect(const Mesh& m, const Triangle& t1, const Triangle& t2) {
 
 }  // namespace
 
-std::vector<std::pair<int, int>> find_self_intersections(const Mesh& m, size_t limit) {
+std::vector<std::pair<int, int>> find_self_intersections(const Mesh& m, size_t limit, int threads) {
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int>;
   std::vector<Box> boxes;
   boxes.reserve(m.triangles.size());
@@ -193,7 +193,7 @@ std::vector<std::pair<int, int>> find_self_intersections(const Mesh& m, size_t l
     } catch (size_t) {
       // enough examples collected
     }
-  });
+  }, threads);
   std::vector<std::pair<int, int>> all;
   for (const auto& part : found) all.insert(all.end(), part.begin(), part.end());
   std::sort(all.begin(), all.end());

@@ -31,7 +31,8 @@ SurfaceCheck validate_surface(const Mesh& surface, const EdgeMap* edges = nullpt
 // Only the self-intersection part: pairs of intersecting facets (at most
 // `limit` of them, the smallest of those found; the same on any number of
 // threads).
-std::vector<std::pair<int, int>> find_self_intersections(const Mesh& surface, size_t limit = 20);
+// `threads`: at most this many (0: thread_count()); 1 beside other work.
+std::vector<std::pair<int, int>> find_self_intersections(const Mesh& surface, size_t limit = 20, int threads = 0);
 // The SelfIntersectionError validate_surface throws for these pairs; nothing
 // when empty.
 void throw_self_intersections(const std::vector<std::pair<int, int>>& crossings);
