@@ -55,11 +55,33 @@ const FacetList& EdgeMap::facets(int a, int b) const {
 }
 
 EdgeFacetPairs::EdgeFacetPairs(const std::vector<Triangle>& facets) {
-  pairs.reserve(3 * facets.size());
+  // Sorted by the edge's lower vertex with one counting pass (the pairs go
+  // out in facet order), then each vertex's few by the upper one, stably:
+  // the order std::sort gives the (key, facet) pairs, without its
+  // comparisons (the sort was most of the adjacency's cost, which the size
+  // refinement rebuilds after every sweep of flips).
+  size_t vertices = 0;
+  for (const Triangle& t : facets)
+    for (int v : t.v) vertices = std::max(vertices, static_cast<size_t>(v) + 1);
+  std::vector<size_t> start(vertices + 1, 0);
+  for (const Triangle& t : facets)
+    for (int i = 0; i < 3; ++i) ++start[static_cast<size_t>(std::min(t.v[i], t.v[(i + 1) % 3])) + 1];
+  for (size_t v = 0; v < vertices; ++v) start[v + 1] += start[v];
+  pairs.resize(3 * facets.size());
+  std::vector<size_t> fill(start.begin(), start.end() - 1);
   for (size_t f = 0; f < facets.size(); ++f)
-    for (int i = 0; i < 3; ++i)
-      pairs.emplace_back(edge_key(facets[f].v[i], facets[f].v[(i + 1) % 3]), static_cast<int>(f));
-  std::sort(pairs.begin(), pairs.end());
+    for (int i = 0; i < 3; ++i) {
+      const int a = facets[f].v[i], b = facets[f].v[(i + 1) % 3];
+      pairs[fill[static_cast<size_t>(std::min(a, b))]++] = {edge_key(a, b), static_cast<int>(f)};
+    }
+  for (size_t v = 0; v < vertices; ++v) {
+    if (start[v + 1] - start[v] > 32) {  // a vertex of many edges (a fan's apex): (key, facet) order
+      std::sort(pairs.begin() + static_cast<long>(start[v]), pairs.begin() + static_cast<long>(start[v + 1]));
+      continue;
+    }
+    for (size_t i = start[v] + 1; i < start[v + 1]; ++i)  // insertion sort: stable, and runs are short
+      for (size_t j = i; j > start[v] && pairs[j - 1].first > pairs[j].first; --j) std::swap(pairs[j - 1], pairs[j]);
+  }
 }
 
 std::vector<int> EdgeFacetPairs::facets(std::uint64_t key) const {
