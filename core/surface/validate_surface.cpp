@@ -7,12 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 
 #include "mesh/error.h"
 #include "mesh/parallel.h"
-#include "mesh/tet_faces.h"
 #include "surface/edge_map.h"
 
 namespace vd {
@@ -58,14 +58,14 @@ void check_degenerate(const Mesh& m) {
 }
 
 void check_duplicates(const Mesh& m) {
-  // The index keeps the first facet of each triple: a later one that finds
-  // another is its duplicate (a std::map of triples was a tenth of validation).
-  const TripleIndex first(m.triangles, [](const Triangle& t) { return t.v; });
+  std::map<std::array<int, 3>, int> seen;
   std::vector<int> bad;
   for (size_t f = 0; f < m.triangles.size(); ++f) {
-    const int g = first.find(m.triangles[f].v);
-    if (g != static_cast<int>(f)) {
-      bad.push_back(g);
+    auto key = m.triangles[f].v;
+    std::sort(key.begin(), key.end());
+    auto [it, inserted] = seen.emplace(key, static_cast<int>(f));
+    if (!inserted) {
+      bad.push_back(it->second);
       bad.push_back(static_cast<int>(f));
     }
   }
