@@ -173,9 +173,15 @@ std::vector<std::pair<int, int>> find_self_intersections(const Mesh& m, size_t l
       if (b.max_coord(0) >= right_lo) left_reach.push_back(b);
     for (const Box& b : right)
       if (b.min_coord(0) <= left_hi) right_reach.push_back(b);
+    std::vector<Box>().swap(boxes);
   } else {
     left = std::move(boxes);
   }
+  // Each search lets its boxes go when it is done (CGAL copies a self
+  // search's boxes again): beside the pipeline the three run one after the
+  // other while the tetrahedralization grows, and holding them all to the
+  // end raised a 1.3M-facet surface's peak by 130 MB.
+  auto release = [](std::vector<Box>& v) { std::vector<Box>().swap(v); };
   std::vector<std::pair<int, int>> found[3];
   for_each_chunk(3, 1, [&](long task, long, long) {
     auto& out = found[task];
@@ -193,6 +199,9 @@ std::vector<std::pair<int, int>> find_self_intersections(const Mesh& m, size_t l
     } catch (size_t) {
       // enough examples collected
     }
+    if (task == 0) release(left);
+    if (task == 1) release(right);
+    if (task == 2) release(left_reach), release(right_reach);
   }, threads);
   std::vector<std::pair<int, int>> all;
   for (const auto& part : found) all.insert(all.end(), part.begin(), part.end());
