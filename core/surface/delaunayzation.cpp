@@ -206,9 +206,9 @@ class Delaunayzer {
   // Convex quadrilateral, judged in projection to the average plane of the
   // pair: both new triangles keep a fair share of the projected area.
   bool convex_in_average_plane(const Triangle& t, const Triangle& t2, const Triangle& A, const Triangle& B) const {
-    const Vec3 n =
-        normalized(normalized(facet_area_vector(m_.points, t)) + normalized(facet_area_vector(m_.points, t2)));
-    const double a_old1 = dot(facet_area_vector(m_.points, t), n), a_old2 = dot(facet_area_vector(m_.points, t2), n);
+    const Vec3 old1 = facet_area_vector(m_.points, t), old2 = facet_area_vector(m_.points, t2);
+    const Vec3 n = normalized(normalized(old1) + normalized(old2));
+    const double a_old1 = dot(old1, n), a_old2 = dot(old2, n);
     const double a_new1 = dot(facet_area_vector(m_.points, A), n), a_new2 = dot(facet_area_vector(m_.points, B), n);
     const double quad = a_old1 + a_old2;
     if (a_old1 <= 0 || a_old2 <= 0 || quad <= 0) return false;
