@@ -34,14 +34,6 @@ double average_spacing(const Vec3& lo, const Vec3& hi, int n) {
 
 }  // namespace
 
-size_t PointGrid::CellHash::operator()(const CellKey& k) const {
-  // Large odd multipliers spread neighbouring cells over the buckets.
-  const auto h = static_cast<std::uint64_t>(k[0]) * 0x9E3779B97F4A7C15ULL ^
-                 static_cast<std::uint64_t>(k[1]) * 0xC2B2AE3D27D4EB4FULL ^
-                 static_cast<std::uint64_t>(k[2]) * 0x165667B19E3779F9ULL;
-  return static_cast<size_t>(h ^ (h >> 29));
-}
-
 void PointGrid::build(const std::vector<Vec3>& points) {
   position_ = points;
   rebuild();
@@ -57,6 +49,7 @@ void PointGrid::update(int id, const Vec3& p) {
     // out of range (the missing ones sit at p until updated).
     const size_t first_new = position_.size();
     position_.resize(static_cast<size_t>(id) + 1, p);
+    next_.resize(position_.size(), -1);
     for (size_t i = first_new; i + 1 < position_.size(); ++i) {
       grow_bounds(position_[i]);
       insert_into_cell(static_cast<int>(i));
@@ -75,20 +68,42 @@ PointGrid::CellKey PointGrid::cell_of(const Vec3& p) const {
   for (int i = 0; i < 3; ++i) {
     double c = std::floor((p[i] - origin_[i]) / cell_size_);
     if (!(c == c)) c = 0;  // NaN coordinates all land in one cell
-    key[static_cast<size_t>(i)] =
-        static_cast<std::int64_t>(std::clamp(c, -kMaxCellIndex, kMaxCellIndex));
+    key[static_cast<size_t>(i)] = static_cast<std::int64_t>(std::clamp(c, 0.0, static_cast<double>(dims_[i] - 1)));
   }
   return key;
 }
 
-void PointGrid::insert_into_cell(int id) { cells_[cell_of(position(id))].push_back(id); }
+void PointGrid::insert_into_cell(int id) {
+  const Vec3& p = position(id);
+  for (int i = 0; i < 3; ++i)
+    if (!(p[i] >= origin_[i] && p[i] < origin_[i] + static_cast<double>(dims_[i]) * cell_size_)) {
+      ++outside_;
+      break;
+    }
+  const size_t cell = index_of(cell_of(p));
+  next_[static_cast<size_t>(id)] = -1;
+  if (head_[cell] < 0) {
+    head_[cell] = id;
+    ++occupied_;
+  } else {
+    next_[static_cast<size_t>(tail_[cell])] = id;
+  }
+  tail_[cell] = id;
+}
 
 void PointGrid::remove_from_cell(int id) {
-  const auto it = cells_.find(cell_of(position(id)));
-  if (it == cells_.end()) return;
-  std::vector<int>& ids = it->second;
-  ids.erase(std::remove(ids.begin(), ids.end(), id), ids.end());
-  if (ids.empty()) cells_.erase(it);
+  const size_t cell = index_of(cell_of(position(id)));
+  int before = -1;
+  for (int at = head_[cell]; at >= 0 && at != id; at = next_[static_cast<size_t>(at)]) before = at;
+  const int after = next_[static_cast<size_t>(id)];
+  if (before < 0) {
+    if (head_[cell] != id) return;
+    head_[cell] = after;
+    if (after < 0) --occupied_;
+  } else {
+    next_[static_cast<size_t>(before)] = after;
+  }
+  if (tail_[cell] == id) tail_[cell] = before;
 }
 
 void PointGrid::grow_bounds(const Vec3& p) {
@@ -106,22 +121,35 @@ void PointGrid::grow_bounds(const Vec3& p) {
 bool PointGrid::needs_rebuild() const {
   // The cells were sized for built_for_count_ points over built_for_extent_;
   // far more points per cell, or a set that spread far beyond, makes queries
-  // slow (too many points per cell, or too many cells per axis).
+  // slow (too many points per cell, too many cells per axis, or too many
+  // points crowded into the border cells).
   if (size() >= 2 * std::max(built_for_count_, 4)) return true;
+  if (outside_ > std::max<long>(16, built_for_count_ / 16)) return true;
   const double extent = largest_extent(lower_, upper_);
   return extent > 2 * built_for_extent_ && extent / cell_size_ > kMaxCellsPerAxis / 4;
 }
 
 void PointGrid::rebuild() {
-  cells_.clear();
   has_bounds_ = false;
   for (const Vec3& p : position_) grow_bounds(p);
+  if (!has_bounds_) lower_ = upper_ = Vec3{0, 0, 0};
   origin_ = lower_;
   const double extent = largest_extent(lower_, upper_);
   cell_size_ = average_spacing(lower_, upper_, size());
   if (extent > 0 && std::isfinite(extent))
     cell_size_ = std::max(cell_size_, extent / kMaxCellsPerAxis);
   if (!(cell_size_ > 0) || !std::isfinite(cell_size_)) cell_size_ = 1;
+  size_t cells = 1;
+  for (int i = 0; i < 3; ++i) {
+    const double span = std::floor((upper_[i] - lower_[i]) / cell_size_) + 1;
+    dims_[i] = static_cast<std::int64_t>(std::clamp(span == span ? span : 1.0, 1.0, kMaxCellsPerAxis + 1));
+    cells *= static_cast<size_t>(dims_[i]);
+  }
+  head_.assign(cells, -1);
+  tail_.assign(cells, -1);
+  next_.assign(position_.size(), -1);
+  occupied_ = 0;
+  outside_ = 0;
   built_for_count_ = size();
   built_for_extent_ = extent;
   for (int id = 0; id < size(); ++id) insert_into_cell(id);
@@ -145,7 +173,7 @@ void PointGrid::in_box(const Vec3& lo_in, const Vec3& hi_in, std::vector<int>& o
   const CellKey first = cell_of(lo), last = cell_of(hi);
   double cell_count = 1;
   for (size_t i = 0; i < 3; ++i) cell_count *= static_cast<double>(last[i] - first[i] + 1);
-  if (cell_count > static_cast<double>(cells_.size())) {
+  if (cell_count > static_cast<double>(occupied_)) {
     // More cells in the range than occupied cells: scanning the points is cheaper.
     for (int id = 0; id < size(); ++id)
       if (inside(position(id))) out.push_back(id);
@@ -153,13 +181,13 @@ void PointGrid::in_box(const Vec3& lo_in, const Vec3& hi_in, std::vector<int>& o
   }
   CellKey key;
   for (key[0] = first[0]; key[0] <= last[0]; ++key[0])
-    for (key[1] = first[1]; key[1] <= last[1]; ++key[1])
-      for (key[2] = first[2]; key[2] <= last[2]; ++key[2]) {
-        const auto it = cells_.find(key);
-        if (it == cells_.end()) continue;
-        for (int id : it->second)
+    for (key[1] = first[1]; key[1] <= last[1]; ++key[1]) {
+      key[2] = first[2];
+      const size_t row = index_of(key);
+      for (std::int64_t k = 0; k <= last[2] - first[2]; ++k)
+        for (int id = head_[row + static_cast<size_t>(k)]; id >= 0; id = next_[static_cast<size_t>(id)])
           if (inside(position(id))) out.push_back(id);
-      }
+    }
 }
 
 void PointGrid::in_ball(const Vec3& centre, double radius, std::vector<int>& out) const {
