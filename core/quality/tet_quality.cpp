@@ -119,8 +119,9 @@ double degrees_between_faces(double cosine) { return 180.0 - std::acos(cosine) *
 // in degrees grows with the cosine, so the chunk's extremes are converted
 // once at the end, and a tetrahedron's smallest angle only when it may be
 // under 10 degrees (the acos were a tenth of the summary).
-void summarize_into(const Mesh& m, long begin, long end, const BinEdges& edges, QualitySummary& q, double& sum_rr) {
-  static const double maybe_under_10 = std::cos((180.0 - 10.5) * M_PI / 180.0);
+void summarize_into(const Mesh& m, long begin, long end, const BinEdges& edges, double asked_deg, QualitySummary& q,
+                    double& sum_rr) {
+  const double maybe_under = std::cos((180.0 - (std::max(10.0, asked_deg) + 0.5)) * M_PI / 180.0);
   double lowest = 1, highest = -1;
   for (long i = begin; i < end; ++i) {
     const Tetrahedron& t = m.tets[i];
@@ -139,10 +140,11 @@ void summarize_into(const Mesh& m, long begin, long end, const BinEdges& edges, 
         q.dihedral_histogram[edges.bin(c)]++;
       }
     lowest = std::min(lowest, lo), highest = std::max(highest, hi);
-    if (lo < maybe_under_10) {
+    if (lo < maybe_under) {
       const double smallest = degrees_between_faces(lo);
       q.below_5_deg += smallest < 5;
       q.below_10_deg += smallest < 10;
+      q.below_asked_deg += smallest < asked_deg;
     }
     const double rr = radius_ratio(p[0], p[1], p[2], p[3]);
     sum_rr += rr;
@@ -157,13 +159,14 @@ void summarize_into(const Mesh& m, long begin, long end, const BinEdges& edges, 
 
 }  // namespace
 
-QualitySummary summarize_quality(const Mesh& m) {
+QualitySummary summarize_quality(const Mesh& m, double count_below_deg) {
   static const BinEdges edges;
   constexpr long kChunk = 1 << 16;
   const long n = static_cast<long>(m.tets.size());
   std::vector<QualitySummary> parts((n + kChunk - 1) / kChunk);
   std::vector<double> sums(parts.size(), 0.0);
-  for_each_chunk(n, kChunk, [&](long c, long begin, long end) { summarize_into(m, begin, end, edges, parts[c], sums[c]); });
+  for_each_chunk(n, kChunk, [&](long c, long begin, long end) { summarize_into(m, begin, end, edges, count_below_deg, parts[c], sums[c]);
+  });
   QualitySummary q;
   double sum_rr = 0;
   for (size_t c = 0; c < parts.size(); ++c) {
@@ -178,6 +181,7 @@ QualitySummary summarize_quality(const Mesh& m) {
       q.radius_ratio_histogram[k] += p.radius_ratio_histogram[k];
     q.below_5_deg += p.below_5_deg;
     q.below_10_deg += p.below_10_deg;
+    q.below_asked_deg += p.below_asked_deg;
     sum_rr += sums[c];
   }
   if (q.tets) q.mean_radius_ratio = sum_rr / q.tets;

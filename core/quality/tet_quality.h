@@ -38,8 +38,11 @@ struct QualitySummary {
   std::array<long, 18> dihedral_histogram{};      // 10-degree bins of all six angles
   std::array<long, 10> radius_ratio_histogram{};  // bins of 0.1
   long below_5_deg = 0, below_10_deg = 0;         // tets with a dihedral angle under 5 / 10 degrees
+  long below_asked_deg = 0;                       // ... under summarize_quality's count_below_deg
 };
 
-QualitySummary summarize_quality(const Mesh& mesh);
+// count_below_deg: a third angle to count tetrahedra under (below_asked_deg),
+// so that a caller needing one does not measure the mesh again.
+QualitySummary summarize_quality(const Mesh& mesh, double count_below_deg = 0);
 
 }  // namespace vd

@@ -133,12 +133,11 @@ SliverStats remove_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& a
   remove_boundary_slivers(m, o, before.slivers, stats);
   if (o.flips || o.moves) improve_slivers(m, o, apexes, stats, apexes_done);
   else if (apexes_done) apexes_done();
-  const QualitySummary after = summarize_quality(m);
+  const QualitySummary after = summarize_quality(m, o.sliver_angle_deg);
   stats.min_dihedral_after_deg = after.min_dihedral_deg;
   stats.below_5_after = after.below_5_deg;
   stats.below_10_after = after.below_10_deg;
-  stats.slivers_after = o.sliver_angle_deg == 10.0 ? after.below_10_deg
-                                                  : static_cast<long>(smallest_angles(m, o.sliver_angle_deg).slivers.size());
+  stats.slivers_after = after.below_asked_deg;
   if (after_out) *after_out = after;
   return stats;
 }
