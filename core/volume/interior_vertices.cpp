@@ -27,7 +27,10 @@ Box facet_box(const Mesh& m, const Triangle& t) {
 }
 
 // Facets hashed into a uniform grid by their bounding boxes, to find the
-// facets near a point.
+// facets near a point. Most points asked about are deep inside, their cells
+// empty: a bit per hashed cell (16 bits per occupied cell, 6 % false hits)
+// answers them without the hash map, whose bucket and node reads were four
+// fifths of a candidate's test on the 6.6M-tetrahedron box.
 class FacetGrid {
  public:
   FacetGrid(const Mesh& m, double cell) : m_(m), cell_(cell) {
@@ -38,6 +41,14 @@ class FacetGrid {
         for (long j = a[1]; j <= b[1]; ++j)
           for (long i = a[0]; i <= b[0]; ++i) cells_[pack({i, j, k})].push_back(static_cast<int>(f));
     }
+    int log2_bits = 6;
+    while ((std::uint64_t(1) << log2_bits) < 16 * cells_.size()) ++log2_bits;
+    occupied_.assign((std::uint64_t(1) << log2_bits) / 64, 0);
+    shift_ = 64 - log2_bits;
+    for (const auto& cell : cells_) {
+      const std::uint64_t b = bit_of(cell.first);
+      occupied_[b >> 6] |= std::uint64_t(1) << (b & 63);
+    }
   }
   // Is any facet closer to p than r?
   bool any_within(const Vec3& p, double r) const {
@@ -45,7 +56,9 @@ class FacetGrid {
     for (long k = a[2]; k <= b[2]; ++k)
       for (long j = a[1]; j <= b[1]; ++j)
         for (long i = a[0]; i <= b[0]; ++i) {
-          auto it = cells_.find(pack({i, j, k}));
+          const std::uint64_t packed = pack({i, j, k}), b = bit_of(packed);
+          if (!(occupied_[b >> 6] >> (b & 63) & 1)) continue;
+          auto it = cells_.find(packed);
           if (it == cells_.end()) continue;
           for (int f : it->second) {
             const auto& t = m_.triangles[f].v;
@@ -62,9 +75,13 @@ class FacetGrid {
   static std::uint64_t pack(const std::array<long, 3>& k) {
     return (std::uint64_t(k[0] & 0x1fffff) << 42) | (std::uint64_t(k[1] & 0x1fffff) << 21) | std::uint64_t(k[2] & 0x1fffff);
   }
+  // Fibonacci hashing: the top bits of the product.
+  std::uint64_t bit_of(std::uint64_t packed) const { return packed * 0x9E3779B97F4A7C15ull >> shift_; }
   const Mesh& m_;
   double cell_;
   std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+  std::vector<std::uint64_t> occupied_;
+  int shift_ = 58;
 };
 
 class Acceptor {
