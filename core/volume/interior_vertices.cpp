@@ -4,7 +4,6 @@
 #include <cmath>
 #include <random>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "geometry/point_grid.h"
 #include "mesh/cancel.h"
@@ -165,6 +164,41 @@ class Acceptor {
 // none meets lies in one region, found by locating its centre once: outside
 // the model the whole subtree is skipped (half the bounding cube of a
 // sphere), inside it its points need no location of their own.
+// The lattice keys offered so far: open addressing over one array (a key
+// is at most 63 bits, so all ones marks an empty slot). std::unordered_set's
+// node per key and its rehashes were most of the octree walk's time.
+class KeySet {
+ public:
+  // True when k was not in the set (it is now).
+  bool insert(std::uint64_t k) {
+    if (2 * (count_ + 1) > slots_.size()) grow();
+    for (size_t i = slot_of(k);; i = (i + 1) & (slots_.size() - 1)) {
+      if (slots_[i] == k) return false;
+      if (slots_[i] == kEmpty) {
+        slots_[i] = k;
+        ++count_;
+        return true;
+      }
+    }
+  }
+
+ private:
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
+  size_t slot_of(std::uint64_t k) const { return static_cast<size_t>(k * 0x9E3779B97F4A7C15ull >> shift_); }
+  void grow() {
+    log2_slots_ = slots_.empty() ? 10 : log2_slots_ + 1;
+    std::vector<std::uint64_t> old(size_t(1) << log2_slots_, kEmpty);
+    old.swap(slots_);
+    shift_ = 64 - log2_slots_;
+    count_ = 0;
+    for (std::uint64_t k : old)
+      if (k != kEmpty) insert(k);
+  }
+  std::vector<std::uint64_t> slots_;
+  size_t count_ = 0;
+  int log2_slots_ = 0, shift_ = 64;
+};
+
 class OctreeLattice {
  public:
   using Offer = std::function<void(const Vec3& p, int known_region)>;
@@ -189,7 +223,7 @@ class OctreeLattice {
   }
   void offer(const Key& k, int region) {
     const std::uint64_t packed = (std::uint64_t(k[0]) << 42) | (std::uint64_t(k[1]) << 21) | std::uint64_t(k[2]);
-    if (seen_.insert(packed).second) offer_(at(k), region);
+    if (seen_.insert(packed)) offer_(at(k), region);
   }
   // Facets of `from` whose boxes meet the closed node box.
   std::vector<int> meeting(const std::vector<int>& from, const Key& lo, std::int64_t side) const {
@@ -254,7 +288,7 @@ class OctreeLattice {
   const std::function<int(const Vec3&)>& region_at_;
   const Offer& offer_;
   std::vector<Box> boxes_;
-  std::unordered_set<std::uint64_t> seen_;
+  KeySet seen_;
 };
 
 }  // namespace
