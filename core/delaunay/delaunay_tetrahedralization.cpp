@@ -183,6 +183,36 @@ std::array<int, 2> DelaunayTetrahedralization::facet_apexes(int a, int b, int c)
   return {id_of(cell->vertex(opposite)), id_of(across->vertex(across->index(cell)))};
 }
 
+std::vector<std::array<int, 2>> DelaunayTetrahedralization::facet_apexes(const std::vector<Triangle>& triangles) const {
+  const DT& dt = impl_->dt;
+  std::vector<std::array<int, 2>> out(triangles.size(), {-2, -2});
+  if (dt.number_of_cells() > 60 * triangles.size()) {
+    for (size_t f = 0; f < triangles.size(); ++f) out[f] = facet_apexes(triangles[f].v[0], triangles[f].v[1], triangles[f].v[2]);
+    return out;
+  }
+  const TripleIndex index(triangles, [](const Triangle& t) { return t.v; });
+  std::vector<char> on_surface(impl_->handle.size(), 0), seen(triangles.size(), 0);
+  for (const Triangle& t : triangles)
+    for (int v : t.v) on_surface[static_cast<size_t>(v)] = 1;
+  auto& cells = impl_->dt.tds().cells();  // non-const: its iterators are cell handles
+  auto ahead = cells.begin();
+  for (int k = 0; k < kCellsAhead && ahead != cells.end(); ++k) ++ahead;
+  for (auto c = cells.begin(); c != cells.end(); ++c) {
+    if (ahead != cells.end()) prefetch_vertices(ahead++);
+    // An infinite cell's one finite face is a hull side: its apex is -1.
+    int id[4];
+    for (int i = 0; i < 4; ++i) id[i] = dt.is_infinite(c->vertex(i)) ? -1 : c->vertex(i)->info();
+    for (int i = 0; i < 4; ++i) {
+      const std::array<int, 3> face{id[(i + 1) & 3], id[(i + 2) & 3], id[(i + 3) & 3]};
+      if (face[0] < 0 || face[1] < 0 || face[2] < 0) continue;
+      if (!on_surface[face[0]] || !on_surface[face[1]] || !on_surface[face[2]]) continue;
+      const int f = index.find(face);
+      if (f >= 0 && seen[f] < 2) out[f][seen[f]++] = id[i];
+    }
+  }
+  return out;
+}
+
 bool DelaunayTetrahedralization::has_edge(int a, int b) const {
   DT::Cell_handle cell;
   int i, j;

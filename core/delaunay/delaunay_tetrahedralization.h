@@ -49,6 +49,11 @@ class DelaunayTetrahedralization {
   // -1 for a side on the convex hull (the infinite vertex); {-2, -2} when the
   // triangle is not a face.
   std::array<int, 2> facet_apexes(int a, int b, int c) const;
+  // facet_apexes for every triangle at once, in no particular order within
+  // a pair: by one sweep over the tetrahedra unless they are far more than
+  // the triangles (a facet's star search costs as much as 60 tetrahedra of
+  // the sweep; it was half of the sliver pass's set-up on a sphere).
+  std::vector<std::array<int, 2>> facet_apexes(const std::vector<Triangle>& triangles) const;
   bool has_edge(int a, int b) const;
   // Ids of the Delaunay neighbours of vertex `id`.
   std::vector<int> neighbours(int id) const;

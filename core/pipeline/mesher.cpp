@@ -386,7 +386,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   if (options.remove_slivers) {
     timer.start("slivers");
     report.slivers = remove_slivers(
-        m, sliver_options, [&dt](int a, int b, int c) { return dt.facet_apexes(a, b, c); }, &report.quality,
+        m, sliver_options, [&dt](const std::vector<Triangle>& t) { return dt.facet_apexes(t); }, &report.quality,
         [&dt_owner] {
           dt_owner.reset();  // nothing below looks at dt
           return_free_memory();

@@ -10,8 +10,10 @@ namespace vd {
 
 FacetTakers::FacetTakers(const Mesh& m, const DelaunayTetrahedralization& dt) : points_(m.points) {
   std::vector<Ball> balls;  // the smaller circumsphere of each kept facet
-  for (const Triangle& t : m.triangles) {
-    const std::array<int, 2> apex = dt.facet_apexes(t.v[0], t.v[1], t.v[2]);
+  const std::vector<std::array<int, 2>> apexes = dt.facet_apexes(m.triangles);
+  for (size_t k = 0; k < m.triangles.size(); ++k) {
+    const Triangle& t = m.triangles[k];
+    const std::array<int, 2>& apex = apexes[k];
     if (apex[0] < 0 || apex[1] < 0) continue;  // on the hull, or not a face (nothing to take)
     Facet f{t.v, apex};
     const Vec3 &a = points_[f.v[0]], &b = points_[f.v[1]], &c = points_[f.v[2]];

@@ -19,8 +19,10 @@ FacetWitnesses::FacetWitnesses(const std::vector<Vec3>& points, const std::vecto
     for (int e = 0; e < 3; ++e) edge_sum += norm(points[t.v[(e + 1) % 3]] - points[t.v[e]]);
   cell_ = triangles.empty() ? 1.0 : 2.0 * edge_sum / (3.0 * triangles.size());
   facets_.reserve(triangles.size());
-  for (const Triangle& t : triangles) {
-    const std::array<int, 2> apex = apexes(t.v[0], t.v[1], t.v[2]);
+  const std::vector<std::array<int, 2>> apexes_of = apexes(triangles);
+  for (size_t k = 0; k < triangles.size(); ++k) {
+    const Triangle& t = triangles[k];
+    const std::array<int, 2>& apex = apexes_of[k];
     if (apex[0] == -2) throw std::logic_error("facet witnesses: a surface facet is not a Delaunay face");
     Facet f;
     f.v = t.v;

@@ -61,10 +61,11 @@ struct SliverStats {
 // Case A alone (counts into stats.removed_boundary).
 void remove_boundary_slivers(Mesh& m, const SliverOptions& options, SliverStats& stats);
 
-// The vertices opposite triangle (a, b, c) in the two tetrahedra beside it in
-// the Delaunay tetrahedralization of the mesh's points, -1 for a convex-hull
-// side, {-2, -2} when it is not a face (DelaunayTetrahedralization::facet_apexes).
-using FacetApexes = std::function<std::array<int, 2>(int a, int b, int c)>;
+// For each triangle, the vertices opposite it in the two tetrahedra beside it
+// in the Delaunay tetrahedralization of the mesh's points (in either order),
+// -1 for a convex-hull side, {-2, -2} when it is not a face
+// (DelaunayTetrahedralization::facet_apexes).
+using FacetApexes = std::function<std::vector<std::array<int, 2>>(const std::vector<Triangle>& triangles)>;
 
 // Cases A, B and C in that order, with the before / after figures; the
 // quality summary of the result into *after when given (the same as

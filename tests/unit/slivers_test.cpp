@@ -51,7 +51,7 @@ struct DelaunayApexes {
   DelaunayTetrahedralization dt;
   explicit DelaunayApexes(const Mesh& m) { dt.insert(m.points); }
   FacetApexes apexes() const {
-    return [this](int a, int b, int c) { return dt.facet_apexes(a, b, c); };
+    return [this](const std::vector<Triangle>& t) { return dt.facet_apexes(t); };
   }
 };
 
