@@ -119,6 +119,9 @@ class TetComplex {
     const int* begin() const { return first; }
     const int* end() const { return last; }
   };
+  size_t star_size(int v) const {
+    return own_star_[v] >= 0 ? owned_stars_[own_star_[v]].size() : static_cast<size_t>(star_start_[v + 1] - star_start_[v]);
+  }
   Star star(int v) const {
     if (own_star_[v] >= 0) {
       const std::vector<int>& s = owned_stars_[own_star_[v]];
@@ -274,8 +277,13 @@ class TetComplex {
   // is left alone: fixed in all of them.
   void resolve(int t, int i) const {
     const Triple f = face_opposite(tets_[t].v, i);
+    // Every tetrahedron on the face is in each of its vertices' stars: the
+    // smallest one is searched.
+    int pivot = f[0];
+    for (int k = 1; k < 3; ++k)
+      if (star_size(f[k]) < star_size(pivot)) pivot = f[k];
     int other = -1, j_other = -1, count = 0;
-    for (int u : star(f[0])) {
+    for (int u : star(pivot)) {
       if (u == t) continue;
       const int j = face_index(tets_[u].v, f);
       if (j < 0) continue;
@@ -293,7 +301,7 @@ class TetComplex {
     }
     nbr_[t][i] = -1;
     fixed_[t] |= 1 << i;
-    for (int u : star(f[0])) {
+    for (int u : star(pivot)) {
       const int j = u == t ? -1 : face_index(tets_[u].v, f);
       if (j < 0) continue;
       nbr_[u][j] = -1;
