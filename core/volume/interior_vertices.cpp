@@ -146,24 +146,6 @@ class Acceptor {
   CancelPoll poll_;
 };
 
-// Octree leaves no larger than 2 h at their centre; each leaf offers its
-// centre and its twelve edge mid-points, an FCC lattice of spacing side/sqrt(2):
-// between 0.71 h and 1.41 h, within sqrt(2) of h either way. With leaves up to
-// sqrt(2) h (spacing 0.5 h to h) the vertex-gap test (0.65 h) thinned the finer
-// lattices into irregular subsets full of flat tetrahedra: a unit sphere at
-// size 0.0395 had 919k tetrahedra, 140k of them slivers before the sliver
-// pass (24.5 s in all), against 494k and 5.8k at size 0.05; now 540k and 10k
-// (3.8 s).
-//
-// Nodes and points live on an integer lattice (the bounding cube's side is
-// 2^(depth+1) units, the root's twice that), so an edge mid-point shared by
-// up to four leaves is the same key from each and is offered once (21 bits
-// per axis: depth at most 18): the copies were two thirds of the candidates.
-//
-// Each node carries the facets whose bounding boxes meet it. A node that
-// none meets lies in one region, found by locating its centre once: outside
-// the model the whole subtree is skipped (half the bounding cube of a
-// sphere), inside it its points need no location of their own.
 // The lattice keys offered so far: open addressing over one array (a key
 // is at most 63 bits, so all ones marks an empty slot). std::unordered_set's
 // node per key and its rehashes were most of the octree walk's time.
@@ -199,6 +181,24 @@ class KeySet {
   int log2_slots_ = 0, shift_ = 64;
 };
 
+// Octree leaves no larger than 2 h at their centre; each leaf offers its
+// centre and its twelve edge mid-points, an FCC lattice of spacing side/sqrt(2):
+// between 0.71 h and 1.41 h, within sqrt(2) of h either way. With leaves up to
+// sqrt(2) h (spacing 0.5 h to h) the vertex-gap test (0.65 h) thinned the finer
+// lattices into irregular subsets full of flat tetrahedra: a unit sphere at
+// size 0.0395 had 919k tetrahedra, 140k of them slivers before the sliver
+// pass (24.5 s in all), against 494k and 5.8k at size 0.05; now 540k and 10k
+// (3.8 s).
+//
+// Nodes and points live on an integer lattice (the bounding cube's side is
+// 2^(depth+1) units, the root's twice that), so an edge mid-point shared by
+// up to four leaves is the same key from each and is offered once (21 bits
+// per axis: depth at most 18): the copies were two thirds of the candidates.
+//
+// Each node carries the facets whose bounding boxes meet it. A node that
+// none meets lies in one region, found by locating its centre once: outside
+// the model the whole subtree is skipped (half the bounding cube of a
+// sphere), inside it its points need no location of their own.
 class OctreeLattice {
  public:
   using Offer = std::function<void(const Vec3& p, int known_region)>;
@@ -223,10 +223,10 @@ class OctreeLattice {
   using Key = std::array<std::int64_t, 3>;
   // The lattice is stretched by -3 %, 0 and +3 % along x, y and z. A cubic
   // FCC lattice has six vertices on the sphere of each octahedral hole, and
-  // the jitter split about one hole in twenty with a flat tetrahedron across
-  // its middle: 519 slivers deep inside the 861k-tetrahedron box. Stretched,
-  // each hole's shortest diagonal is shorter by 6 % than the next, more than
-  // the jitter moves it, so every hole splits into four tetrahedra around it
+  // the jitter split some holes with a flat tetrahedron across the middle:
+  // 519 slivers deep inside the 861k-tetrahedron box. Stretched, a hole's
+  // three diagonals differ by 3 % in length, more than the jitter (1 %)
+  // moves them, so every hole splits into four tetrahedra around the shortest
   // (12 slivers deep inside; 9,416 -> 7,171 in all, with those near the
   // surface; 6,192 -> 4,780 on the 159k box, 10,000 -> 9,939 on the 507k
   // sphere, whose lattice is cut up by the curved surface).
