@@ -145,29 +145,44 @@ bool DelaunayTetrahedralization::has_facet(int a, int b, int c) const {
   return impl_->dt.is_facet(impl_->at(a), impl_->at(b), impl_->at(c), cell, i, j, k);
 }
 
-std::vector<char> DelaunayTetrahedralization::has_facets(const std::vector<Triangle>& triangles) const {
-  const DT& dt = impl_->dt;
-  const TripleIndex index(triangles, [](const Triangle& t) { return t.v; });
-  std::vector<char> on_surface(impl_->handle.size(), 0), found(triangles.size(), 0);
-  for (const Triangle& t : triangles)
-    for (int v : t.v) on_surface[static_cast<size_t>(v)] = 1;
-  auto& cells = impl_->dt.tds().cells();  // non-const: its iterators are cell handles
+// Calls visit(f, apex) for every side of every tetrahedron (the infinite ones
+// included) that is triangle f of `index`, apex the id of the tetrahedron's
+// other vertex (-1 when infinite): one sweep in memory order, with the
+// vertices of the cell kCellsAhead on fetched early. Inner faces are looked up
+// from both sides: telling which side comes first would read the neighbour,
+// a cache miss dearer than a lookup.
+template <class Visit>
+void for_each_facet_side(const DT& dt, const TripleIndex& index, const std::vector<char>& on_surface, Visit visit) {
+  auto& cells = const_cast<DT&>(dt).tds().cells();  // non-const: its iterators are cell handles
   auto ahead = cells.begin();
-  for (int k = 0; k < kCellsAhead && ahead != cells.end(); ++k) ++ahead;
+  for (int k = 0; k < DelaunayTetrahedralization::kCellsAhead && ahead != cells.end(); ++k) ++ahead;
   for (auto c = cells.begin(); c != cells.end(); ++c) {
     if (ahead != cells.end()) prefetch_vertices(ahead++);
-    if (dt.is_infinite(DT::Cell_handle(c))) continue;
     int id[4];
-    for (int i = 0; i < 4; ++i) id[i] = c->vertex(i)->info();
+    for (int i = 0; i < 4; ++i) id[i] = dt.is_infinite(c->vertex(i)) ? -1 : c->vertex(i)->info();
     for (int i = 0; i < 4; ++i) {
       const std::array<int, 3> face{id[(i + 1) & 3], id[(i + 2) & 3], id[(i + 3) & 3]};
+      if (face[0] < 0 || face[1] < 0 || face[2] < 0) continue;
       if (!on_surface[face[0]] || !on_surface[face[1]] || !on_surface[face[2]]) continue;
-      // Inner faces are looked up from both sides: telling which side comes
-      // first would read the neighbour, a cache miss dearer than a lookup.
       const int f = index.find(face);
-      if (f >= 0) found[f] = 1;
+      if (f >= 0) visit(f, id[i]);
     }
   }
+}
+
+// 1 for each vertex of a triangle.
+std::vector<char> surface_vertices(size_t vertices, const std::vector<Triangle>& triangles) {
+  std::vector<char> on_surface(vertices, 0);
+  for (const Triangle& t : triangles)
+    for (int v : t.v) on_surface[static_cast<size_t>(v)] = 1;
+  return on_surface;
+}
+
+std::vector<char> DelaunayTetrahedralization::has_facets(const std::vector<Triangle>& triangles) const {
+  const TripleIndex index(triangles, [](const Triangle& t) { return t.v; });
+  std::vector<char> found(triangles.size(), 0);
+  for_each_facet_side(impl_->dt, index, surface_vertices(impl_->handle.size(), triangles),
+                      [&](int f, int) { found[f] = 1; });
   std::vector<char> out(triangles.size());
   for (size_t f = 0; f < triangles.size(); ++f) out[f] = found[index.find(triangles[f].v)];
   return out;
@@ -191,25 +206,10 @@ std::vector<std::array<int, 2>> DelaunayTetrahedralization::facet_apexes(const s
     return out;
   }
   const TripleIndex index(triangles, [](const Triangle& t) { return t.v; });
-  std::vector<char> on_surface(impl_->handle.size(), 0), seen(triangles.size(), 0);
-  for (const Triangle& t : triangles)
-    for (int v : t.v) on_surface[static_cast<size_t>(v)] = 1;
-  auto& cells = impl_->dt.tds().cells();  // non-const: its iterators are cell handles
-  auto ahead = cells.begin();
-  for (int k = 0; k < kCellsAhead && ahead != cells.end(); ++k) ++ahead;
-  for (auto c = cells.begin(); c != cells.end(); ++c) {
-    if (ahead != cells.end()) prefetch_vertices(ahead++);
-    // An infinite cell's one finite face is a hull side: its apex is -1.
-    int id[4];
-    for (int i = 0; i < 4; ++i) id[i] = dt.is_infinite(c->vertex(i)) ? -1 : c->vertex(i)->info();
-    for (int i = 0; i < 4; ++i) {
-      const std::array<int, 3> face{id[(i + 1) & 3], id[(i + 2) & 3], id[(i + 3) & 3]};
-      if (face[0] < 0 || face[1] < 0 || face[2] < 0) continue;
-      if (!on_surface[face[0]] || !on_surface[face[1]] || !on_surface[face[2]]) continue;
-      const int f = index.find(face);
-      if (f >= 0 && seen[f] < 2) out[f][seen[f]++] = id[i];
-    }
-  }
+  std::vector<char> seen(triangles.size(), 0);
+  for_each_facet_side(impl_->dt, index, surface_vertices(impl_->handle.size(), triangles), [&](int f, int apex) {
+    if (seen[f] < 2) out[f][seen[f]++] = apex;
+  });
   return out;
 }
 
