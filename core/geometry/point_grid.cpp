@@ -12,9 +12,6 @@ namespace {
 // Cells per axis never exceed this, so that a query box spanning the whole
 // set stays a bounded loop even when the points are very unevenly spread.
 constexpr double kMaxCellsPerAxis = 1024;
-// Cell indices are clamped to this so that far-away or huge coordinates
-// cannot overflow the integer keys.
-constexpr double kMaxCellIndex = 1e15;
 
 double largest_extent(const Vec3& lo, const Vec3& hi) {
   return std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 0.0});
@@ -93,11 +90,11 @@ void PointGrid::insert_into_cell(int id) {
 
 void PointGrid::remove_from_cell(int id) {
   const size_t cell = index_of(cell_of(position(id)));
-  int before = -1;
-  for (int at = head_[cell]; at >= 0 && at != id; at = next_[static_cast<size_t>(at)]) before = at;
+  int before = -1, at = head_[cell];
+  while (at >= 0 && at != id) before = at, at = next_[static_cast<size_t>(at)];
+  if (at < 0) return;  // not listed
   const int after = next_[static_cast<size_t>(id)];
   if (before < 0) {
-    if (head_[cell] != id) return;
     head_[cell] = after;
     if (after < 0) --occupied_;
   } else {

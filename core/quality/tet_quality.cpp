@@ -118,7 +118,7 @@ double degrees_between_faces(double cosine) { return 180.0 - std::acos(cosine) *
 // One chunk's figures; the mean radius ratio's sum kept apart. The angle
 // in degrees grows with the cosine, so the chunk's extremes are converted
 // once at the end, and a tetrahedron's smallest angle only when it may be
-// under 10 degrees (the acos were a tenth of the summary).
+// under 10 degrees or asked_deg (the acos were a tenth of the summary).
 void summarize_into(const Mesh& m, long begin, long end, const BinEdges& edges, double asked_deg, QualitySummary& q,
                     double& sum_rr) {
   const double maybe_under = std::cos((180.0 - (std::max(10.0, asked_deg) + 0.5)) * M_PI / 180.0);
@@ -165,7 +165,8 @@ QualitySummary summarize_quality(const Mesh& m, double count_below_deg) {
   const long n = static_cast<long>(m.tets.size());
   std::vector<QualitySummary> parts((n + kChunk - 1) / kChunk);
   std::vector<double> sums(parts.size(), 0.0);
-  for_each_chunk(n, kChunk, [&](long c, long begin, long end) { summarize_into(m, begin, end, edges, count_below_deg, parts[c], sums[c]);
+  for_each_chunk(n, kChunk, [&](long c, long begin, long end) {
+    summarize_into(m, begin, end, edges, count_below_deg, parts[c], sums[c]);
   });
   QualitySummary q;
   double sum_rr = 0;

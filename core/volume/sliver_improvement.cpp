@@ -120,7 +120,8 @@ class TetComplex {
     const int* end() const { return last; }
   };
   size_t star_size(int v) const {
-    return own_star_[v] >= 0 ? owned_stars_[own_star_[v]].size() : static_cast<size_t>(star_start_[v + 1] - star_start_[v]);
+    const Star s = star(v);
+    return static_cast<size_t>(s.end() - s.begin());
   }
   Star star(int v) const {
     if (own_star_[v] >= 0) {
