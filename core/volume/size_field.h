@@ -23,6 +23,8 @@ class SizeField {
   SizeField(const Mesh& m, const std::vector<double>& vertex_sizes, const SizeFieldOptions& options);
   double at(const Vec3& p) const;
   double smallest() const { return smallest_; }
+  // The --size H the field is capped at (0: none, sizes from the surface).
+  double requested() const { return uniform_; }
 
  private:
   // A background grid over the bounding box holds h at its nodes, relaxed by

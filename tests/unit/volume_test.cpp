@@ -47,6 +47,49 @@ TEST(Volume, UniformSizeFillsACubeWithALattice) {
             << "\n";
 }
 
+// With --size H the lattice's spacing is H, whatever the model's extent:
+// sized by the bounding box alone it fell anywhere between 0.71 H and 1.41 H,
+// and 0.062 and 0.0632 on a unit cube, either side of 2.002 / 32, gave 2.8
+// times the interior vertices of the other.
+TEST(Volume, LatticeSpacingIsTheRequestedSize) {
+  // Three facets a side: the surface splits alike at both sizes (edges of
+  // 1/3 split twice, diagonals of 0.059 not).
+  const Mesh in = shapes::box({0, 0, 0}, {1, 1, 1}, 3);
+  long counts[2] = {0, 0};
+  const double sizes[2] = {0.062, 0.0632};
+  for (int run = 0; run < 2; ++run) {
+    const double h = sizes[run];
+    const MeshResult r = mesh_with_interior(in, h);
+    ASSERT_TRUE(check_conformity(r.mesh).ok());
+    counts[run] = r.report.interior_vertices;
+    // The shortest edge at each vertex at least 2 h deep: a lattice
+    // neighbour (0.985 h to 1.015 h with the 3 % stretch, 1 % jitter).
+    std::vector<double> shortest(r.mesh.points.size(), 1e300);
+    for (const auto& t : r.mesh.tets)
+      for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b) {
+          const double l = norm(r.mesh.points[t.v[a]] - r.mesh.points[t.v[b]]);
+          shortest[t.v[a]] = std::min(shortest[t.v[a]], l);
+          shortest[t.v[b]] = std::min(shortest[t.v[b]], l);
+        }
+    std::vector<double> deep;
+    for (size_t v = 0; v < r.mesh.points.size(); ++v) {
+      const Vec3& p = r.mesh.points[v];
+      if (std::min({p.x, p.y, p.z, 1 - p.x, 1 - p.y, 1 - p.z}) > 2 * h) deep.push_back(shortest[v] / h);
+    }
+    ASSERT_GT(deep.size(), 500u);
+    std::nth_element(deep.begin(), deep.begin() + deep.size() / 2, deep.end());
+    const double median = deep[deep.size() / 2];
+    EXPECT_GT(median, 0.93) << "size " << h;
+    EXPECT_LT(median, 1.03) << "size " << h;
+    std::cout << "[cube h=" << h << "] " << counts[run] << " interior vertices, median shortest edge deep inside "
+              << median << " h\n";
+  }
+  // (0.0632 / 0.062)^3 = 1.06 the other way.
+  EXPECT_LT(double(counts[0]) / double(counts[1]), 1.2);
+  EXPECT_GT(double(counts[0]) / double(counts[1]), 0.95);
+}
+
 TEST(Volume, InterfaceBetweenTwoRegionsWithInteriorVertices) {
   Mesh in = shapes::box({0, 0, 0}, {1, 1, 1}, 4, 1, 1);
   shapes::append(in, shapes::box({1, 0, 0}, {2, 1, 1}, 4, 2, 7));
