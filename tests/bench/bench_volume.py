@@ -31,8 +31,8 @@ from surface_shapes import icosphere, write_off  # noqa: E402
 BOX = ("OFF\n8 12 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
        "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n")
 # Sizes measured to give about 100k, 1M and 5M tetrahedra (tetrahedra grow as size^-3).
-SPHERE_SIZES = [0.085, 0.0395, 0.023]
-BOX_SIZES = [0.0385, 0.0245, 0.0143]
+SPHERE_SIZES = [0.089, 0.0415, 0.0222]
+BOX_SIZES = [0.0425, 0.0222, 0.0116]
 
 
 def vdmesh_run(vdmesh, path, size, work, threads=1):
