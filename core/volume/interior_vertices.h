@@ -1,10 +1,10 @@
 // Interior vertices (paper §2): first vertices offset inward from the facet
 // barycentres (on both sides of an interface), then an octree whose leaves
 // follow the size field, with points at leaf centres and edge mid-points so
-// that a uniform size gives a face-centred cubic lattice (stretched by 3 %
-// along two axes, so that its Delaunay tetrahedralization has no
-// cospherical vertices to split into slivers). A candidate is
-// dropped when it is too close to another vertex or to the surface, or (unlike
+// that a uniform size gives a face-centred cubic lattice (of spacing H under
+// --size H; stretched by 3 % along two axes, so that its Delaunay
+// tetrahedralization has no cospherical vertices to split into slivers).
+// A candidate is dropped when it is too close to another vertex or to the surface, or (unlike
 // the paper) when it is not inside a region, so that exterior points cannot
 // spoil the surface's Delaunayhood. About 1% jitter.
 #pragma once
