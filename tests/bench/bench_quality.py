@@ -137,6 +137,7 @@ def quality(pts, tets):
     angles = dihedral_angles(pts, tets)
     lowest = angles.min(axis=0)
     return {"tets": len(tets), "min": float(lowest.min()), "under10": int((lowest < 10).sum()),
+            "under5": int((lowest < 5).sum()),
             "pct10": 100.0 * float((lowest < 10).mean()), "inverted": int((vol <= 0).sum())}
 
 
@@ -296,11 +297,12 @@ def bench_one(binary, name, path, work, timeout):
 
 def fmt_row(r):
     if "vdmesh" not in r:
-        return "| %s | %s | %s | | | | | | |" % (r["input"], r.get("facets", "-"), r.get("note", "-"))
+        return "| %s | %s | %s | | | | | | | | | | |" % (r["input"], r.get("facets", "-"), r.get("note", "-"))
     s, v, t = r["slivers"], r["vdmesh"], r["tetgen10"]
     tq = t["q"]
-    return "| %s | %d | %d | %.2f / %.2f | %d / %d (%.2f %%) | %d (%.2f %%) | %s | %s | %s | %s | %s | %.1f / %s |" % (
+    return "| %s | %d | %d | %.2f / %.2f | %d / %d | %d / %d (%.2f %%) | %d (%.2f %%) | %s | %s | %s | %s | %s | %.1f / %s |" % (
         r["input"], r["facets"], v["tets"], s["min_dihedral_before_deg"], v["min"],
+        s["tets_below_5_deg_before"], v["under5"],
         s["tets_below_10_deg_before"], v["under10"], v["pct10"], v["under10_away"], v["pct10_away"],
         r["vdmesh_status"],
         tq["tets"] if tq else t["note"], "%.2f" % tq["min"] if tq else "-", "%.2f %%" % tq["pct10"] if tq else "-",
@@ -336,10 +338,10 @@ def main():
     lines = ["%s; %s; %d inputs in %.1f min (limit %g s per mesher run); raw figures in %s." % (
         datetime.date.today().isoformat(), header, len(rows), (time.time() - started) / 60, timeout,
         os.path.join(work, "bench_quality.json")), "",
-        "| input | facets | vdmesh tets | vdmesh min dihedral before / after sliver pass | vdmesh tets < 10 deg "
-        "before / after (% after) | of those, away from input angles < 20 deg (% of all) | vdmesh checks | tetgen -q1.414/10 tets | tetgen min dihedral | "
+        "| input | facets | vdmesh tets | vdmesh min dihedral before / after sliver pass | vdmesh tets < 5 deg "
+        "before / after | vdmesh tets < 10 deg before / after (% after) | of those, away from input angles < 20 deg (% of all) | vdmesh checks | tetgen -q1.414/10 tets | tetgen min dihedral | "
         "tetgen % < 10 deg | issue target met | s vdmesh / tetgen |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     lines += [fmt_row(r) for r in rows]
     text = "\n".join(lines) + "\n"
     print(text)
