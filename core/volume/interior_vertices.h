@@ -4,9 +4,9 @@
 // that a uniform size gives a face-centred cubic lattice (of spacing H under
 // --size H; stretched by 3 % along two axes, so that its Delaunay
 // tetrahedralization has no cospherical vertices to split into slivers).
-// A candidate is dropped when it is too close to another vertex or to the surface, or (unlike
-// the paper) when it is not inside a region, so that exterior points cannot
-// spoil the surface's Delaunayhood. About 1% jitter.
+// A candidate is dropped when it is too close to another vertex or to the
+// surface, or (unlike the paper) when it is not inside a region, so that
+// exterior points cannot spoil the surface's Delaunayhood. About 1% jitter.
 #pragma once
 
 #include <atomic>
