@@ -170,18 +170,10 @@ void for_each_facet_side(const DT& dt, const TripleIndex& index, const std::vect
   }
 }
 
-// 1 for each vertex of a triangle.
-std::vector<char> surface_vertices(size_t vertices, const std::vector<Triangle>& triangles) {
-  std::vector<char> on_surface(vertices, 0);
-  for (const Triangle& t : triangles)
-    for (int v : t.v) on_surface[static_cast<size_t>(v)] = 1;
-  return on_surface;
-}
-
 std::vector<char> DelaunayTetrahedralization::has_facets(const std::vector<Triangle>& triangles) const {
   const TripleIndex index(triangles, [](const Triangle& t) { return t.v; });
   std::vector<char> found(triangles.size(), 0);
-  for_each_facet_side(impl_->dt, index, surface_vertices(impl_->handle.size(), triangles),
+  for_each_facet_side(impl_->dt, index, surface_vertex_flags(impl_->handle.size(), triangles),
                       [&](int f, int) { found[f] = 1; });
   std::vector<char> out(triangles.size());
   for (size_t f = 0; f < triangles.size(); ++f) out[f] = found[index.find(triangles[f].v)];
@@ -207,7 +199,7 @@ std::vector<std::array<int, 2>> DelaunayTetrahedralization::facet_apexes(const s
   }
   const TripleIndex index(triangles, [](const Triangle& t) { return t.v; });
   std::vector<char> seen(triangles.size(), 0);
-  for_each_facet_side(impl_->dt, index, surface_vertices(impl_->handle.size(), triangles), [&](int f, int apex) {
+  for_each_facet_side(impl_->dt, index, surface_vertex_flags(impl_->handle.size(), triangles), [&](int f, int apex) {
     if (seen[f] < 2) out[f][seen[f]++] = apex;
   });
   return out;

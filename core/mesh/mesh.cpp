@@ -48,4 +48,11 @@ std::vector<int> drop_unused_points(Mesh& m) {
   return id;
 }
 
+std::vector<char> surface_vertex_flags(size_t points, const std::vector<Triangle>& triangles) {
+  std::vector<char> on_surface(points, 0);
+  for (const Triangle& t : triangles)
+    for (int v : t.v) on_surface[static_cast<size_t>(v)] = 1;
+  return on_surface;
+}
+
 }  // namespace vd

@@ -86,4 +86,7 @@ struct Mesh {
 // facets beside it from ever becoming Delaunay.
 std::vector<int> drop_unused_points(Mesh& m);
 
+// 1 for each of the first `points` ids that is a vertex of a triangle, else 0.
+std::vector<char> surface_vertex_flags(size_t points, const std::vector<Triangle>& triangles);
+
 }  // namespace vd

@@ -32,10 +32,8 @@ struct Cap {
 
 std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt,
                                           double sliver_angle_deg, double ridge_angle_deg) {
-  std::vector<char> on_surface(m.points.size(), 0);
+  const std::vector<char> on_surface = surface_vertex_flags(m.points.size(), m.triangles);
   const TripleIndex facet_of(m.triangles, [](const Triangle& t) { return t.v; });
-  for (const Triangle& t : m.triangles)
-    for (int v : t.v) on_surface[v] = 1;
   const double cos_ridge = std::cos(ridge_angle_deg * M_PI / 180.0);
   const double cos_sliver = std::cos(sliver_angle_deg * M_PI / 180.0);
   std::vector<std::vector<int>> facets_at;

@@ -718,14 +718,6 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, 
   return true;
 }
 
-// Is some vertex of m on no surface facet?
-bool has_interior_vertex(const Mesh& m) {
-  std::vector<char> on_surface(m.points.size(), 0);
-  for (const Triangle& t : m.triangles)
-    for (int v : t.v) on_surface[v] = 1;
-  return std::find(on_surface.begin(), on_surface.end(), 0) != on_surface.end();
-}
-
 }  // namespace
 
 void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, SliverStats& stats,
@@ -737,7 +729,9 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
   // plane. Without either (a surface-only run on a curved surface) nothing
   // can move, and the witnesses, 1.4 s of the elephant's 6.7 s pass with
   // --no-interior, would never be asked.
-  const bool can_move = o.moves && (!planes.empty() || has_interior_vertex(m));
+  const std::vector<char> on_surface = surface_vertex_flags(m.points.size(), m.triangles);
+  const bool has_interior_vertex = std::find(on_surface.begin(), on_surface.end(), 0) != on_surface.end();
+  const bool can_move = o.moves && (!planes.empty() || has_interior_vertex);
   if (can_move) witnesses = std::make_unique<FacetWitnesses>(m.points, m.triangles, apexes);
   // Before the complex: what answers `apexes` and the complex need not be
   // in memory together.
