@@ -15,6 +15,8 @@
 #include "app/args.h"
 #include "app/commands.h"
 #include "app/cad_plugin_loader.h"
+#include "cad/cad_mesher.h"
+#include "cad/tessellation_chain.h"
 #include "compare/child_process.h"
 #include "compare/compare_report.h"
 #include "compare/mesh_checks.h"
@@ -38,6 +40,8 @@ const char* kCompareHelp =
     "    quality   vdmesh [--size H]      against  tetgen -pq1.414aV A, V chosen for a similar count\n"
     "  and checks both meshes the same way: validity, boundary conformity with the input, face and region\n"
     "  tags, region volumes against the input surface, quality. Prints a side-by-side table.\n"
+    "  CAD input: both get the tessellation at vdmesh's default size; when vdmesh's recovery stops on it,\n"
+    "  the next one `vdmesh mesh` would try (unsmoothed, then 30 and 40 deg), and the table says which.\n"
     "options:\n"
     "  --size H            vdmesh's edge length in the quality run (default: vdmesh's own size field)\n"
     "  --json FILE.json    everything measured, per run and mesher\n"
@@ -69,11 +73,12 @@ void write_text(const std::string& path, const std::string& text) {
 // here (smooth patches, as `vdmesh mesh` would), so that TetGen's facet
 // markers and vdmesh's face ids are the same. Returns the patch count in
 // `patches` (0 when the input had face ids).
-// CAD input is tessellated at vdmesh's default CAD size (the same in every
-// process, so the parent and both workers see one surface), and both
-// meshers get that surface.
-Mesh load_compare_input(const std::string& path, double sharp_angle_deg, int* patches = nullptr) {
-  Mesh m = cad::is_cad_file_name(path) ? app::cad_plugin().tessellate_file(path, {}) : io::read_mesh(path);
+// CAD input is tessellated at vdmesh's default CAD size with `tessellation`
+// (the same in every process, so the parent and both workers see one
+// surface), and both meshers get that surface.
+Mesh load_compare_input(const std::string& path, double sharp_angle_deg, const cad::TessellationOptions& tessellation,
+                        int* patches = nullptr) {
+  Mesh m = cad::is_cad_file_name(path) ? app::cad_plugin().tessellate_file(path, tessellation) : io::read_mesh(path);
   m.tets.clear();
   m.tet_mid.clear();
   m.triangle_mid.clear();
@@ -93,10 +98,17 @@ int compare_worker(const std::vector<std::string>& raw) {
   opt.seed = static_cast<std::uint64_t>(args.number("--seed", 1));
   const double sharp = args.number("--sharp-angle", kDefaultSharpAngleDeg);
   opt.sharp_angle_deg = sharp;
+  cad::TessellationOptions tessellation;
+  tessellation.angle_deg = args.number("--angular-deflection", tessellation.angle_deg);
+  tessellation.smooth = !args.flag("--no-smoothing");
+  tessellation.remesh = !args.flag("--no-face-remesh");
+  // Another tessellation to fall back on: a recovery that runs away stops
+  // early, as in `vdmesh mesh`.
+  if (args.flag("--has-fallback")) opt.delaunayzation.patience_passes = cad::kPatienceWithAFallback;
   const auto pos = args.positionals();
   if (pos.size() != 2) throw UsageError("compare --worker INPUT BASE [options]");
   const std::string base = pos[1];
-  const Mesh input = load_compare_input(pos[0], sharp);
+  const Mesh input = load_compare_input(pos[0], sharp, tessellation);
   MeshResult partial;
   try {
     const MeshResult result = mesh_surface(input, opt, &partial);
@@ -109,6 +121,8 @@ int compare_worker(const std::vector<std::string>& raw) {
   }
 }
 
+std::string format_g(double x) { return number_text(x); }
+
 struct Settings {
   std::string input;
   std::string dir;
@@ -118,7 +132,26 @@ struct Settings {
   double seed = 1;
   double sharp = kDefaultSharpAngleDeg;
   bool quiet = false;
+  // CAD input: the tessellation both meshers get (a link of the chain of
+  // `vdmesh mesh`), given to the vdmesh workers as options.
+  bool cad = false;
+  cad::TessellationOptions tessellation;
+  bool has_fallback = false;
 };
+
+std::string tessellation_text(const cad::TessellationOptions& t) {
+  return "angular deflection " + format_g(t.angle_deg) + " deg" +
+         (t.smooth || t.remesh ? "" : ", unsmoothed, not remeshed");
+}
+
+std::vector<std::string> tessellation_arguments(const Settings& s) {
+  if (!s.cad) return {};
+  std::vector<std::string> out = {"--angular-deflection", format_g(s.tessellation.angle_deg)};
+  if (!s.tessellation.smooth) out.push_back("--no-smoothing");
+  if (!s.tessellation.remesh) out.push_back("--no-face-remesh");
+  if (s.has_fallback) out.push_back("--has-fallback");
+  return out;
+}
 
 void progress(const Settings& s, const std::string& what) {
   throw_if_stopped();
@@ -150,6 +183,8 @@ CheckedRun run_vdmesh(const Settings& s, const std::string& name, const std::vec
   std::vector<std::string> argv = {self_executable(), "compare", "--worker", s.input, base, "--seed",
                                    std::to_string(static_cast<long>(s.seed)), "--sharp-angle", std::to_string(s.sharp)};
   argv.insert(argv.end(), options.begin(), options.end());
+  const std::vector<std::string> tessellation = tessellation_arguments(s);
+  argv.insert(argv.end(), tessellation.begin(), tessellation.end());
   for (size_t i = 0; i < argv.size(); ++i) run.command += (i ? " " : "") + argv[i];
   run.process = run_child(argv, run.log_path, s.timeout);
   r.report_json = read_text(base + ".report.json");
@@ -172,8 +207,6 @@ double total_volume(const MeshChecks& c) {
   for (const auto& r : c.regions) v += r.volume;
   return v;
 }
-
-std::string format_g(double x) { return number_text(x); }
 
 // Exit code for vdmesh's side of one run (0: fine).
 int vdmesh_exit(const CheckedRun& r) {
@@ -219,11 +252,16 @@ int compare_command(const std::vector<std::string>& raw) {
   // Unreadable input: nothing to compare (exit 3 through main).
   Comparison cmp;
   int patches = 0;
-  const Mesh input = load_compare_input(s.input, s.sharp, &patches);
+  s.cad = cad::is_cad_file_name(s.input);
+  // CAD input: the tessellations of `vdmesh mesh`, in turn, while vdmesh's
+  // recovery stops on one (or its surface is refused): both meshers are
+  // compared on the surface vdmesh meshes, as `vdmesh mesh` would find it.
+  // Not the last link of that chain (one chord height everywhere): its
+  // height comes from the CAD model, which this process does not read.
+  cad::TessellationChain chain(s.tessellation, s.cad ? cad::CadMeshOptions().retry_angles_deg : std::vector<double>{},
+                               0);
+  Mesh input = load_compare_input(s.input, s.sharp, s.tessellation, &patches);
   cmp.input = pos[0];
-  cmp.input_vertices = static_cast<long>(input.points.size());
-  cmp.input_facets = static_cast<long>(input.triangles.size());
-  cmp.face_patches = patches;
   cmp.size = size;
   cmp.tetgen_program = s.tetgen;
   cmp.timeout_seconds = s.timeout;
@@ -248,6 +286,42 @@ int compare_command(const std::vector<std::string>& raw) {
     }
   } cleanup{s.keep ? std::string() : s.dir};
 
+  CheckedRun boundary_vdmesh, quality_vdmesh;
+  std::vector<std::string> quality_options;
+  if (size > 0) quality_options = {"--size", format_g(size)};
+  for (;;) {
+    s.tessellation = chain.options();
+    s.has_fallback = s.cad && chain.has_fallback();
+    if (chain.attempt() > 0) input = load_compare_input(s.input, s.sharp, s.tessellation, &patches);
+    // False: this run stands. True: the next tessellation is to be tried.
+    const auto try_next = [&](const CheckedRun& r, const std::string& run) {
+      const int code = r.run.meshed ? 0 : vdmesh_exit(r);
+      if (!s.cad || (code != 3 && code != 4)) return false;
+      cad::TessellationChain after = chain;
+      if (!after.next(code == 4)) return false;
+      cmp.tessellations_given_up.push_back(tessellation_text(chain.options()) + ": " + run + " run, vdmesh exit " +
+                                           std::to_string(code));
+      chain = after;
+      progress(s, "CAD tessellation again, " + tessellation_text(chain.options()));
+      return true;
+    };
+    if (do_boundary) {
+      progress(s, "boundary run, vdmesh --no-interior");
+      boundary_vdmesh = run_vdmesh(s, "boundary-vdmesh", {"--no-interior"});
+      if (try_next(boundary_vdmesh, "boundary")) continue;
+    }
+    if (do_quality) {
+      progress(s, "quality run, vdmesh" + (size > 0 ? " --size " + format_g(size) : std::string()));
+      quality_vdmesh = run_vdmesh(s, "quality-vdmesh", quality_options);
+      if (try_next(quality_vdmesh, "quality")) continue;
+    }
+    break;
+  }
+  if (s.cad) cmp.tessellation = tessellation_text(s.tessellation);
+  cmp.input_vertices = static_cast<long>(input.points.size());
+  cmp.input_facets = static_cast<long>(input.triangles.size());
+  cmp.face_patches = patches;
+
   const InputSurface surface(input);
   const std::vector<RegionPoint> regions = region_points(surface);
   cmp.region_tags = surface.region_tags();
@@ -259,8 +333,7 @@ int compare_command(const std::vector<std::string>& raw) {
     RunPair r;
     r.name = "boundary";
     r.title = "boundary-preserving";
-    progress(s, "boundary run, vdmesh --no-interior");
-    r.vdmesh = run_vdmesh(s, "boundary-vdmesh", {"--no-interior"});
+    r.vdmesh = std::move(boundary_vdmesh);
     check_run(r.vdmesh, surface, s, "boundary-vdmesh");
     progress(s, "boundary run, tetgen -pYA");
     r.tetgen.run = run_tetgen(input, regions, "pYA", at("boundary-tetgen"), s.tetgen, s.timeout);
@@ -272,10 +345,7 @@ int compare_command(const std::vector<std::string>& raw) {
     RunPair r;
     r.name = "quality";
     r.title = "quality";
-    std::vector<std::string> vopt;
-    if (size > 0) vopt = {"--size", format_g(size)};
-    progress(s, "quality run, vdmesh" + (size > 0 ? " --size " + format_g(size) : std::string()));
-    r.vdmesh = run_vdmesh(s, "quality-vdmesh", vopt);
+    r.vdmesh = std::move(quality_vdmesh);
     check_run(r.vdmesh, surface, s, "quality-vdmesh");
     // TetGen's volume bound, for a count near vdmesh's N: first TetGen
     // without a bound (its count N0 then comes from the surface alone); when

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "cad/tessellation_chain.h"
 #include "mesh/error.h"
 #include "mesh/number_text.h"
 
@@ -14,12 +15,6 @@ namespace vd::cad {
 namespace {
 
 std::string format_number(double x) { return number_text(x, "%g"); }
-
-// Patience of a recovery that has another tessellation to fall back on:
-// gmsh_917_fusee.stp's first two ran away (752 -> 8,428 facets missing while
-// 27k vertices went in) and stopped at the guards after 11 s; the third
-// tessellation meshed in 1.5 s.
-constexpr int kPatienceWithAFallback = 8;
 
 // The crossing facets of a tessellation, said by the CAD faces they belong
 // to (the tags a user can find in the part) and where: facet indices alone
@@ -127,52 +122,34 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   const bool grade = options.mesh.interior && options.mesh.delaunayzation.flips;
   topt.grading = grade ? options.mesh.surface_grading : 0;
   topt.gradation = options.mesh.size.gradation;
-  std::vector<double> angles = {topt.angle_deg};
-  if (topt.deflection == 0)
-    angles.insert(angles.end(), options.retry_angles_deg.begin(), options.retry_angles_deg.end());
-  double given_up = 0;  // seconds spent on tessellations whose recovery stopped
   // The last retry, one chord height everywhere: on automatic chord heights
-  // with retries only; tried once topt.deflection is set.
-  const bool uniform_allowed =
-      !options.retry_angles_deg.empty() && topt.deflection == 0 && options.uniform_chord_divisor > 0;
-  const auto uniform_tried = [&] { return topt.deflection > 0 && options.tessellation.deflection == 0; };
+  // with retries only.
+  const double uniform_deflection =
+      options.uniform_chord_divisor > 0
+          ? (topt.size > 0 ? topt.size : model.default_size()) / options.uniform_chord_divisor
+          : 0;
+  TessellationChain chain(topt, options.retry_angles_deg, uniform_deflection);
+  double given_up = 0;  // seconds spent on tessellations whose recovery stopped
   std::string last_recovery_failure;  // reported when the uniform chords fail before recovery
-  // A smoothed or remeshed tessellation that fails is tried once more
-  // without either at the same angle, and the later angles go without: on
-  // gmsh_dlr_f6.brep the smoothed 20 deg surface stopped recovery and the
-  // smoothed 30 deg one crossed itself (the surface itself is fine unsmoothed).
-  for (size_t attempt = 0, angle = 0;; ++attempt) {
-    topt.angle_deg = angles[angle];
+  for (;;) {
+    const TessellationOptions& t = chain.options();
     if (options.mesh.progress)
-      options.mesh.progress(attempt == 0 ? "tessellate CAD faces"
-                                         : "tessellate CAD faces again at " + format_number(topt.angle_deg) + " deg" +
-                                               (uniform_tried() ? ", chord height " + format_number(topt.deflection) +
-                                                                      " everywhere"
-                                                                : "") +
-                                               (topt.smooth || topt.remesh ? "" : ", unsmoothed, not remeshed"));
+      options.mesh.progress(chain.attempt() == 0
+                                ? "tessellate CAD faces"
+                                : "tessellate CAD faces again at " + format_number(t.angle_deg) + " deg" +
+                                      (chain.uniform_tried()
+                                           ? ", chord height " + format_number(t.deflection) + " everywhere"
+                                           : "") +
+                                      (t.smooth || t.remesh ? "" : ", unsmoothed, not remeshed"));
     const auto start = std::chrono::steady_clock::now();
     const auto next = [&](bool recovery_stopped) {
-      if (uniform_tried()) return false;  // the uniform chords were the last
-      if (topt.smooth || topt.remesh) {
-        topt.smooth = topt.remesh = false;
-      } else if (recovery_stopped && angle + 1 < angles.size()) {
-        ++angle;
-      } else if (recovery_stopped && uniform_allowed) {
-        angle = 0;
-        topt.smooth = options.tessellation.smooth;
-        topt.remesh = options.tessellation.remesh;
-        topt.deflection = (topt.size > 0 ? topt.size : model.default_size()) / options.uniform_chord_divisor;
-      } else {
-        return false;
-      }
+      if (!chain.next(recovery_stopped)) return false;
       given_up += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return true;
     };
     try {
-      const bool has_fallback =
-          !uniform_tried() && (topt.smooth || topt.remesh || angle + 1 < angles.size() || uniform_allowed);
-      MeshResult result = mesh_tessellation(model, options, topt, static_cast<int>(attempt), has_fallback, partial);
-      if (attempt > 0)
+      MeshResult result = mesh_tessellation(model, options, t, chain.attempt(), chain.has_fallback(), partial);
+      if (chain.attempt() > 0)
         result.report.seconds.insert(result.report.seconds.begin(), {"tessellations recovery gave up on", given_up});
       return result;
     } catch (const RecoveryError& e) {
@@ -181,7 +158,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
     } catch (const SelfIntersectionError& e) {  // the surface is checked before recovery
       // The uniform chords crossing themselves says nothing of the file:
       // the failure that led to them stands.
-      if (uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
+      if (chain.uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
       if (next(false)) continue;
       // Every tessellation tried crosses itself: say whether OpenCASCADE
       // finds the file's geometry faulty (pythonocc_11752.stp: crossing
@@ -191,7 +168,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       throw InputError(std::string(e.what()) + "; " +
                        (faults.empty() ? "OpenCASCADE's check of the shape finds it valid" : faults));
     } catch (const InputError&) {
-      if (uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
+      if (chain.uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
       if (!next(false)) throw;
     }
   }

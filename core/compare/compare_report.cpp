@@ -133,6 +133,10 @@ std::string comparison_json(const Comparison& c) {
     << ", \"region_points_for_tetgen\": " << c.region_points << ",\n";
   s << "  \"size\": " << num(c.size) << ", \"tetgen_program\": " << json_string(c.tetgen_program)
     << ", \"timeout_seconds\": " << num(c.timeout_seconds) << ",\n";
+  s << "  \"cad_tessellation\": " << json_string(c.tessellation) << ", \"cad_tessellations_given_up\": [";
+  for (size_t i = 0; i < c.tessellations_given_up.size(); ++i)
+    s << (i ? ", " : "") << json_string(c.tessellations_given_up[i]);
+  s << "],\n";
   s << "  \"work_dir\": " << json_string(c.kept ? c.work_dir : "") << ",\n";
   s << "  \"measurement\": \"each mesher runs in its own process (vdmesh: this program's compare worker); seconds are "
        "wall clock from start to exit, including reading the input and writing the output; memory is the "
@@ -159,6 +163,12 @@ std::string comparison_table(const Comparison& c) {
   std::ostringstream s;
   s << "vdmesh compare: " << c.input << " (" << c.input_vertices << " vertices, " << c.input_facets << " facets"
     << (c.region_tags ? ", region tags" : "") << (c.face_patches > 0 ? ", face ids from sharp edges" : "") << ")\n";
+  if (!c.tessellation.empty()) {
+    s << "  CAD tessellation: " << c.tessellation;
+    for (size_t i = 0; i < c.tessellations_given_up.size(); ++i)
+      s << (i ? "; " : " (given up before: ") << c.tessellations_given_up[i];
+    s << (c.tessellations_given_up.empty() ? "" : ")") << "\n";
+  }
   // Columns: the quantity, then vdmesh and TetGen of each run.
   std::vector<const CheckedRun*> cols;
   std::vector<std::string> head1, head2;

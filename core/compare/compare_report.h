@@ -44,6 +44,10 @@ struct Comparison {
   bool region_tags = false;
   int region_points = 0;      // given to TetGen
   double size = 0;            // --size (0: vdmesh's default)
+  // CAD input: the tessellation both meshers got, and those given up
+  // before it (vdmesh's recovery stopped on them), each with its run.
+  std::string tessellation;
+  std::vector<std::string> tessellations_given_up;
   std::string tetgen_program;
   double timeout_seconds = 0;
   std::string work_dir;

@@ -1,0 +1,76 @@
+// The tessellations of a CAD model tried in turn when the mesher cannot go
+// on with one: `vdmesh mesh` (cad_mesher.cpp) and `vdmesh compare` walk the
+// same chain, so a file that meshes gets compared on the surface it meshes
+// on. Needs no OpenCASCADE: the program's compare runs it without the plugin.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "cad/cad_model.h"
+
+namespace vd::cad {
+
+// Patience of a recovery that has another tessellation to fall back on:
+// gmsh_917_fusee.stp's first two ran away (752 -> 8,428 facets missing while
+// 27k vertices went in) and stopped at the guards after 11 s; the third
+// tessellation meshed in 1.5 s.
+constexpr int kPatienceWithAFallback = 8;
+
+class TessellationChain {
+ public:
+  // `first`: the first tessellation's options. `retry_angles_deg`: the
+  // angular deflections tried after it when recovery stops, on automatic
+  // chord heights only. `uniform_deflection` > 0: after the last angle, one
+  // more at the first angle with this chord height on every face.
+  TessellationChain(const TessellationOptions& first, const std::vector<double>& retry_angles_deg,
+                    double uniform_deflection)
+      : first_(first), options_(first), angles_{first.angle_deg} {
+    if (first.deflection == 0) angles_.insert(angles_.end(), retry_angles_deg.begin(), retry_angles_deg.end());
+    uniform_deflection_ = !retry_angles_deg.empty() && first.deflection == 0 ? uniform_deflection : 0;
+  }
+
+  const TessellationOptions& options() const { return options_; }
+  // Tessellations given up so far.
+  int attempt() const { return attempt_; }
+  bool uniform_tried() const { return uniform_; }
+  bool has_fallback() const {
+    return !uniform_ && (options_.smooth || options_.remesh || angle_ + 1 < angles_.size() || uniform_deflection_ > 0);
+  }
+
+  // The next tessellation after one that failed: its recovery stopped at the
+  // guards, or (false) its surface was refused. A smoothed or remeshed
+  // tessellation is tried once more without either at the same angle, and
+  // the later angles go without: on gmsh_dlr_f6.brep the smoothed 20 deg
+  // surface stopped recovery and the smoothed 30 deg one crossed itself
+  // (the surface itself is fine unsmoothed). False: nothing left to try.
+  bool next(bool recovery_stopped) {
+    if (uniform_) return false;  // the uniform chords were the last
+    if (options_.smooth || options_.remesh) {
+      options_.smooth = options_.remesh = false;
+    } else if (recovery_stopped && angle_ + 1 < angles_.size()) {
+      ++angle_;
+    } else if (recovery_stopped && uniform_deflection_ > 0) {
+      angle_ = 0;
+      options_.smooth = first_.smooth;
+      options_.remesh = first_.remesh;
+      options_.deflection = uniform_deflection_;
+      uniform_ = true;
+    } else {
+      return false;
+    }
+    options_.angle_deg = angles_[angle_];
+    ++attempt_;
+    return true;
+  }
+
+ private:
+  TessellationOptions first_, options_;
+  std::vector<double> angles_;
+  double uniform_deflection_ = 0;
+  size_t angle_ = 0;
+  int attempt_ = 0;
+  bool uniform_ = false;
+};
+
+}  // namespace vd::cad
