@@ -133,9 +133,9 @@ SizeRefinementStats refine_surface_to_size(Mesh& m, double size, GradedSizes* gr
   const bool per_vertex = !m.point_size.empty();
   if (size <= 0 && !per_vertex && !graded) return stats;
   auto limit = [&](int a, int b) {
-    double h = size > 0 ? size : std::numeric_limits<double>::infinity();
+    double h = size > 0 ? kLongestEdgeOverSize * size : std::numeric_limits<double>::infinity();
     if (per_vertex && m.point_size[a] > 0 && m.point_size[b] > 0)
-      h = std::min(h, 0.5 * (m.point_size[a] + m.point_size[b]));
+      h = std::min(h, kLongestEdgeOverSize * 0.5 * (m.point_size[a] + m.point_size[b]));
     if (!graded || graded->at_sharp_corner(a) || graded->at_sharp_corner(b)) return h;
     if (graded->size[a] > 0 && graded->size[b] > 0)
       h = std::min(h, graded->factor * 0.5 * (graded->size[a] + graded->size[b]));

@@ -114,7 +114,7 @@ if len(fronts) == 2:
           "the report has the advancing front's figures only when it ran")
 
 # Flat caps over the folds of a faceted sphere (two facets of one tetrahedron
-# on the surface): before cap vertices, icosphere(3) at size 0.15 kept 38
+# on the surface): before cap vertices, icosphere(3) with its edges over 0.15 split kept 38
 # tetrahedra under 10 deg, the smallest 3.0 deg. Checked from the file with
 # meshio and numpy: every angle at least 10 deg, the boundary faces are the
 # output surface, the volume is the surface's.
@@ -129,8 +129,10 @@ if meshio:
     ico_path = os.path.join(out, "ico3.off")
     write_off(ico_path, *icosphere(3))
     target, rep_path = os.path.join(out, "ico3.vtu"), os.path.join(out, "ico3.json")
-    code, _, err = run("mesh", ico_path, "-o", target, "--size", "0.15", "--quiet", "--report", rep_path)
-    check(code == 0, "icosphere(3) at size 0.15 meshes (exit %d: %s)" % (code, err.strip()[-300:]))
+    # Size 0.15 / sqrt(2): surface edges over 0.15 split, as before edges
+    # were kept up to sqrt(2) times the size.
+    code, _, err = run("mesh", ico_path, "-o", target, "--size", "0.106", "--quiet", "--report", rep_path)
+    check(code == 0, "icosphere(3) at size 0.106 meshes (exit %d: %s)" % (code, err.strip()[-300:]))
     if code == 0:
         rep = json.load(open(rep_path))
         check(rep["interior"]["cap_points"] > 0, "cap vertices added: %d" % rep["interior"]["cap_points"])

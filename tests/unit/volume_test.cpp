@@ -303,7 +303,7 @@ TEST(Volume, CapVerticesOpenCapsOnASurfaceInsideOneRegion) {
     }
     shapes::append(in, ball);
     MeshOptions o;
-    o.size.uniform = 0.15;
+    o.size.uniform = 0.15 / kLongestEdgeOverSize;  // the ball's edges split at 0.15
     const MeshResult r = mesh_surface(in, o);
     const ConformityReport c = check_conformity(r.mesh);
     EXPECT_TRUE(c.ok()) << c.summary();
