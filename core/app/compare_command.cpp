@@ -132,11 +132,9 @@ struct Settings {
   double seed = 1;
   double sharp = kDefaultSharpAngleDeg;
   bool quiet = false;
-  // CAD input: the tessellation both meshers get (a link of the chain of
-  // `vdmesh mesh`), given to the vdmesh workers as options.
-  bool cad = false;
-  cad::TessellationOptions tessellation;
-  bool has_fallback = false;
+  // CAD input: the worker's options for the tessellation both meshers get
+  // (a link of the chain of `vdmesh mesh`).
+  std::vector<std::string> tessellation_arguments;
 };
 
 std::string tessellation_text(const cad::TessellationOptions& t) {
@@ -144,12 +142,12 @@ std::string tessellation_text(const cad::TessellationOptions& t) {
          (t.smooth || t.remesh ? "" : ", unsmoothed, not remeshed");
 }
 
-std::vector<std::string> tessellation_arguments(const Settings& s) {
-  if (!s.cad) return {};
-  std::vector<std::string> out = {"--angular-deflection", format_g(s.tessellation.angle_deg)};
-  if (!s.tessellation.smooth) out.push_back("--no-smoothing");
-  if (!s.tessellation.remesh) out.push_back("--no-face-remesh");
-  if (s.has_fallback) out.push_back("--has-fallback");
+std::vector<std::string> tessellation_arguments(const cad::TessellationChain& chain) {
+  const cad::TessellationOptions& t = chain.options();
+  std::vector<std::string> out = {"--angular-deflection", format_g(t.angle_deg)};
+  if (!t.smooth) out.push_back("--no-smoothing");
+  if (!t.remesh) out.push_back("--no-face-remesh");
+  if (chain.has_fallback()) out.push_back("--has-fallback");
   return out;
 }
 
@@ -183,8 +181,7 @@ CheckedRun run_vdmesh(const Settings& s, const std::string& name, const std::vec
   std::vector<std::string> argv = {self_executable(), "compare", "--worker", s.input, base, "--seed",
                                    std::to_string(static_cast<long>(s.seed)), "--sharp-angle", std::to_string(s.sharp)};
   argv.insert(argv.end(), options.begin(), options.end());
-  const std::vector<std::string> tessellation = tessellation_arguments(s);
-  argv.insert(argv.end(), tessellation.begin(), tessellation.end());
+  argv.insert(argv.end(), s.tessellation_arguments.begin(), s.tessellation_arguments.end());
   for (size_t i = 0; i < argv.size(); ++i) run.command += (i ? " " : "") + argv[i];
   run.process = run_child(argv, run.log_path, s.timeout);
   r.report_json = read_text(base + ".report.json");
@@ -252,15 +249,15 @@ int compare_command(const std::vector<std::string>& raw) {
   // Unreadable input: nothing to compare (exit 3 through main).
   Comparison cmp;
   int patches = 0;
-  s.cad = cad::is_cad_file_name(s.input);
+  const bool cad_input = cad::is_cad_file_name(s.input);
   // CAD input: the tessellations of `vdmesh mesh`, in turn, while vdmesh's
   // recovery stops on one (or its surface is refused): both meshers are
   // compared on the surface vdmesh meshes, as `vdmesh mesh` would find it.
   // Not the last link of that chain (one chord height everywhere): its
   // height comes from the CAD model, which this process does not read.
-  cad::TessellationChain chain(s.tessellation, s.cad ? cad::CadMeshOptions().retry_angles_deg : std::vector<double>{},
-                               0);
-  Mesh input = load_compare_input(s.input, s.sharp, s.tessellation, &patches);
+  cad::TessellationChain chain(cad::TessellationOptions{},
+                               cad_input ? cad::CadMeshOptions().retry_angles_deg : std::vector<double>{}, 0);
+  Mesh input = load_compare_input(s.input, s.sharp, chain.options(), &patches);
   cmp.input = pos[0];
   cmp.size = size;
   cmp.tetgen_program = s.tetgen;
@@ -290,13 +287,12 @@ int compare_command(const std::vector<std::string>& raw) {
   std::vector<std::string> quality_options;
   if (size > 0) quality_options = {"--size", format_g(size)};
   for (;;) {
-    s.tessellation = chain.options();
-    s.has_fallback = s.cad && chain.has_fallback();
-    if (chain.attempt() > 0) input = load_compare_input(s.input, s.sharp, s.tessellation, &patches);
+    if (cad_input) s.tessellation_arguments = tessellation_arguments(chain);
+    if (chain.attempt() > 0) input = load_compare_input(s.input, s.sharp, chain.options(), &patches);
     // False: this run stands. True: the next tessellation is to be tried.
     const auto try_next = [&](const CheckedRun& r, const std::string& run) {
       const int code = r.run.meshed ? 0 : vdmesh_exit(r);
-      if (!s.cad || (code != 3 && code != 4)) return false;
+      if (!cad_input || (code != 3 && code != 4)) return false;
       cad::TessellationChain after = chain;
       if (!after.next(code == 4)) return false;
       cmp.tessellations_given_up.push_back(tessellation_text(chain.options()) + ": " + run + " run, vdmesh exit " +
@@ -317,7 +313,7 @@ int compare_command(const std::vector<std::string>& raw) {
     }
     break;
   }
-  if (s.cad) cmp.tessellation = tessellation_text(s.tessellation);
+  if (cad_input) cmp.tessellation = tessellation_text(chain.options());
   cmp.input_vertices = static_cast<long>(input.points.size());
   cmp.input_facets = static_cast<long>(input.triangles.size());
   cmp.face_patches = patches;
