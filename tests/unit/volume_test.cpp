@@ -53,7 +53,7 @@ TEST(Volume, UniformSizeFillsACubeWithALattice) {
 // 12,167 and 3,566 interior vertices (spacing 0.69 H and 1.37 H).
 TEST(Volume, LatticeSpacingIsTheRequestedSize) {
   // Three facets a side: the surface splits alike at both sizes (edges of
-  // 1/3 split twice, diagonals of 0.059 not).
+  // 1/3 split twice, to 0.083, under sqrt(2) h; diagonals of 0.059 not).
   const Mesh in = shapes::box({0, 0, 0}, {1, 1, 1}, 3);
   long counts[2] = {0, 0};
   const double sizes[2] = {0.062, 0.0632};
