@@ -9,9 +9,12 @@
 #include <memory>
 #include <set>
 
+#include <CGAL/version.h>
+
 #include "app/cad_plugin_loader.h"
 #include "app/terminal_progress.h"
 #include "converters/registry.h"
+#include "delaunay/oracles.h"
 #include "mesh/error.h"
 #include "mesh/parallel.h"
 #include "mesh/second_order.h"
@@ -277,6 +280,19 @@ int convert_command(const std::vector<std::string>& raw) {
   else if (order == "1") make_first_order(mesh);
   else if (!order.empty()) throw UsageError("--order must be 1 or 2");
   io::write_mesh(mesh, pos[1], wopt, to);
+  return 0;
+}
+
+int version_command() {
+  std::printf("vdmesh %s\n", VDMESH_VERSION);
+  std::printf("  CGAL %s, GLPK %s\n", CGAL_VERSION_STR, lp_solver_version());
+  // The plugin is loaded only to say which OpenCASCADE it was built with, or
+  // why CAD input will not work on this installation.
+  try {
+    std::printf("  CAD input: OpenCASCADE %s\n", cad_plugin().opencascade_version);
+  } catch (const std::exception& e) {
+    std::printf("  CAD input: unavailable (%s)\n", e.what());
+  }
   return 0;
 }
 

@@ -18,6 +18,7 @@ const char* kUsage =
     "  vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--from FMT] [--to FMT]\n"
     "  vdmesh info MESH                         counts, regions, faces, quality\n"
     "  vdmesh compare INPUT [--size H] [--json OUT.json] [--svg OUT.svg]   vdmesh and TetGen side by side\n"
+    "  vdmesh --version                         versions of vdmesh and of the libraries it runs on\n"
     "run 'vdmesh mesh --help' for the meshing options\n";
 
 }  // namespace
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
     std::fputs(kUsage, args.empty() ? stderr : stdout);
     return args.empty() ? 2 : 0;
   }
+  if (args[0] == "--version" || args[0] == "version") return vd::app::version_command();
   const std::string command = args[0];
   args.erase(args.begin());
   try {

@@ -1,5 +1,7 @@
 #include "cad/cad_plugin.h"
 
+#include <Standard_Version.hxx>
+
 #include "cad/cad_model.h"
 
 namespace vd::cad {
@@ -18,6 +20,7 @@ Mesh tessellate_file(const std::string& path, const TessellationOptions& options
 }  // namespace vd::cad
 
 extern "C" const vd::cad::CadEntryPoints* vdmesh_cad_entry_points() {
-  static const vd::cad::CadEntryPoints entry{vd::cad::kCadPluginAbi, vd::cad::mesh_file, vd::cad::tessellate_file};
+  static const vd::cad::CadEntryPoints entry{vd::cad::kCadPluginAbi, vd::cad::mesh_file, vd::cad::tessellate_file,
+                                             OCC_VERSION_COMPLETE};
   return &entry;
 }

@@ -19,11 +19,12 @@ struct CadEntryPoints {
   int abi = 0;  // kCadPluginAbi of the plugin's build
   MeshResult (*mesh_file)(const std::string& path, const CadMeshOptions& options, MeshResult* partial) = nullptr;
   Mesh (*tessellate_file)(const std::string& path, const TessellationOptions& options) = nullptr;
+  const char* opencascade_version = "";  // OCC_VERSION_COMPLETE of the plugin's build, for `vdmesh --version`
 };
 
 // Bumped when CadEntryPoints or the option structs change shape, so that a
 // stale plugin beside a newer program is refused rather than misread.
-constexpr int kCadPluginAbi = 1;
+constexpr int kCadPluginAbi = 2;
 
 }  // namespace vd::cad
 

@@ -475,4 +475,6 @@ std::unique_ptr<FacetOracle> make_lp_oracle(const OracleOptions& options) {
   return std::make_unique<LpOracle>(options);
 }
 
+const char* lp_solver_version() { return glp_version(); }
+
 }  // namespace vd

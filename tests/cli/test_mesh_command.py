@@ -254,4 +254,16 @@ check("4 facets could not be made Delaunay" in err and "most of them near (" in 
 code, _, err = run("mesh", pyr, "-o", target)
 check(code == 0 and os.path.exists(target), "pyramids mesh without the guard (%d: %s)" % (code, err.strip()[:300]))
 
+# --version: vdmesh's version as CMake's project() gives it, and the
+# libraries the run would use, the CAD plugin loaded (exit 0, on stdout).
+import re as _re
+project_version = _re.search(r"project\(vdmesh VERSION ([0-9.]+)", open(os.path.join(SOURCE, "CMakeLists.txt")).read())
+code, stdout, err = run("--version")
+lines = stdout.splitlines()
+check(code == 0 and project_version and lines and lines[0] == "vdmesh " + project_version.group(1),
+      "--version: first line 'vdmesh %s' (%d: %s)" % (project_version and project_version.group(1), code, stdout[:200]))
+check(_re.search(r"CGAL 5\.\d+(\.\d+)?, GLPK \d+\.\d+", stdout) is not None, "--version: CGAL and GLPK versions (%s)" % stdout)
+check(_re.search(r"CAD input: OpenCASCADE 7\.\d+\.\d+", stdout) is not None,
+      "--version: the CAD plugin loads and names OpenCASCADE's version (%s)" % stdout)
+
 finish()
