@@ -38,6 +38,8 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <set>
+#include <unordered_set>
 
 #include "cad/cad_impl.h"
 #include "surface/edge_map.h"
@@ -510,9 +512,14 @@ class FaceRemesher {
 
   // False when the facets do not make a clean domain in the plane: folded,
   // a border without CAD parameters, a singular vertex (a pole, an apex)
-  // the chart cannot place, crossing segments.
-  bool border(int fi, const std::vector<int>& facets, const FaceChart& chart, FaceBorder& out) const {
+  // the chart cannot place, crossing segments. `piece`: the facets are a
+  // part of the face (ChartedFace), and its edges with the rest of the face,
+  // the cut, are a border too, kept as they are.
+  bool border(int fi, const std::vector<int>& facets, const FaceChart& chart, FaceBorder& out,
+              bool piece) const {
     const Mesh& m = s_.mesh;
+    std::unordered_set<int> member;
+    if (piece) member.insert(facets.begin(), facets.end());
     std::vector<std::array<Point2, 2>> points;
     std::vector<std::array<int, 2>> ids;
     for (int f : facets) {
@@ -535,9 +542,12 @@ class FaceRemesher {
         const int a_id = t.v[i], b_id = t.v[(i + 1) % 3];
         const std::uint64_t key = edge_key(a_id, b_id);
         const std::vector<int> around = edges_.facets(key);
-        bool inner = around.size() == 2;
-        for (int g : around) inner &= s_.facet_face[g] == fi;
-        if (s_.edge_spans.count(key)) {
+        bool on_face = around.size() == 2, inner = on_face;
+        for (int g : around) {
+          on_face &= s_.facet_face[g] == fi;
+          inner &= s_.facet_face[g] == fi && (!piece || member.count(g));
+        }
+        if (s_.edge_spans.count(key) || (on_face && !inner)) {
           points.push_back({p[i], p[(i + 1) % 3]});
           ids.push_back({a_id, b_id});
         } else if (!inner) {
@@ -598,10 +608,10 @@ class FaceRemesher {
   // The border pieces the face needs split for a mesh of round triangles:
   // CGAL's mesher with segment splits is run, and for each border piece
   // (a, b) the pieces it was cut into are counted.
-  void plan_border_splits(int fi, const std::vector<int>& facets, const FaceChart& chart,
+  void plan_border_splits(int fi, const std::vector<int>& facets, const FaceChart& chart, bool piece,
                           std::map<std::uint64_t, int>& pieces) const {
     FaceBorder b;
-    if (!border(fi, facets, chart, b) || too_many(b, facets) || !refine<FullMesher>(b.cdt, chart) ||
+    if (!border(fi, facets, chart, b, piece) || too_many(b, facets) || !refine<FullMesher>(b.cdt, chart) ||
         !rounder(b.cdt, facets, chart))
       return;
     for (const auto& [a, end] : b.segments) {
@@ -624,7 +634,8 @@ class FaceRemesher {
           at = next;
           ++count;
         }
-        if (at == end && count > 1) {
+        // A piece's cut is kept: only CAD borders are split.
+        if (at == end && count > 1 && s_.edge_spans.count(edge_key(a->info().id, end->info().id))) {
           int& n = pieces[edge_key(a->info().id, end->info().id)];
           n = std::max(n, count);
         }
@@ -634,9 +645,9 @@ class FaceRemesher {
 
   // Meshes face fi anew inside its border; false (nothing changed) when
   // its facets do not make a clean domain or the mesh would not cover it.
-  bool remesh(int fi, const std::vector<int>& facets, const FaceChart& chart, std::vector<char>& dead) {
+  bool remesh(int fi, const std::vector<int>& facets, const FaceChart& chart, bool piece, std::vector<char>& dead) {
     FaceBorder b;
-    if (!border(fi, facets, chart, b) || too_many(b, facets) || !refine<Mesher>(b.cdt, chart) ||
+    if (!border(fi, facets, chart, b, piece) || too_many(b, facets) || !refine<Mesher>(b.cdt, chart) ||
         !rounder(b.cdt, facets, chart))
       return false;
     if (std::abs(domain_area(b.cdt) - b.area) > 1e-9 * b.area) return false;
@@ -731,21 +742,54 @@ class FaceRemesher {
   EdgeFacetPairs edges_;
 };
 
-// The faces a chart is made for.
+// The faces, or pieces of faces, a chart is made for.
 struct ChartedFace {
   int face;
   FaceChart chart;
+  std::vector<int> facets;  // the face's, or the piece's
+  bool piece = false;
 };
+
+// A sphere's facets on each side of its equator (by their centroids), for
+// a sphere no one chart covers: a whole one has no point to project from
+// (gmsh_ring.brep's, whose poles kept OpenCASCADE's fans of 30 facets with
+// 10.6 deg corners, and 11.2 deg tetrahedra on them).
+std::array<std::vector<int>, 2> hemispheres(const TopoDS_Face& face, const CadSurface& s,
+                                            const std::vector<int>& facets) {
+  const gp_Sphere sphere = BRepAdaptor_Surface(face).Sphere();
+  const gp_Pnt c = sphere.Location();
+  const gp_Dir axis = sphere.Position().Direction();
+  std::array<std::vector<int>, 2> halves;
+  for (int f : facets) {
+    const Triangle& t = s.mesh.triangles[f];
+    const Vec3 m = (1.0 / 3) * (s.mesh.points[t.v[0]] + s.mesh.points[t.v[1]] + s.mesh.points[t.v[2]]);
+    const double up = (m.x - c.X()) * axis.X() + (m.y - c.Y()) * axis.Y() + (m.z - c.Z()) * axis.Z();
+    halves[up >= 0 ? 0 : 1].push_back(f);
+  }
+  return halves;
+}
+
 std::vector<ChartedFace> charted_faces(const CadModel::Impl& cad, const std::vector<std::vector<int>>& by_face,
                                        const CadSurface& s, const std::vector<double>& face_deflection, double size) {
   std::vector<ChartedFace> out;
-  for (size_t fi = 0; fi < cad.faces.size(); ++fi) {
-    if (by_face[fi].empty()) continue;
-    ChartedFace c{static_cast<int>(fi), {}};
+  auto chart_of = [&](size_t fi, const std::vector<int>& facets, bool piece) {
+    ChartedFace c{static_cast<int>(fi), {}, facets, piece};
     std::vector<gp_Pnt2d> corners;
-    for (int f : by_face[fi]) corners.insert(corners.end(), s.uv[f].begin(), s.uv[f].end());
+    for (int f : facets) corners.insert(corners.end(), s.uv[f].begin(), s.uv[f].end());
     try {
-      if (c.chart.make(cad.faces[fi], size, face_deflection[fi], corners)) out.push_back(std::move(c));
+      if (!c.chart.make(cad.faces[fi], size, face_deflection[fi], corners)) return false;
+    } catch (const Standard_Failure&) {
+      return false;
+    }
+    out.push_back(std::move(c));
+    return true;
+  };
+  for (size_t fi = 0; fi < cad.faces.size(); ++fi) {
+    if (by_face[fi].empty() || chart_of(fi, by_face[fi], false)) continue;
+    try {
+      if (BRepAdaptor_Surface(cad.faces[fi]).GetType() != GeomAbs_Sphere) continue;
+      for (const std::vector<int>& half : hemispheres(cad.faces[fi], s, by_face[fi]))
+        if (!half.empty()) chart_of(fi, half, true);
     } catch (const Standard_Failure&) {
     }
   }
@@ -768,14 +812,14 @@ RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::v
   double total = static_cast<double>(s.mesh.triangles.size());
   for (const ChartedFace& c : charted) {
     double grown = 0;
-    for (int f : by_face[c.face]) {
+    for (int f : c.facets) {
       const auto& uv = s.uv[f];
       if (!c.chart.covers(uv[0]) || !c.chart.covers(uv[1]) || !c.chart.covers(uv[2])) continue;
       const Point2 centroid =
           CGAL::centroid(c.chart.to_plane(uv[0]), c.chart.to_plane(uv[1]), c.chart.to_plane(uv[2]));
       grown += new_facets(facet_area(s.mesh.points, s.mesh.triangles[f]), c.chart.longest(centroid));
     }
-    const double facets = static_cast<double>(by_face[c.face].size());
+    const double facets = static_cast<double>(c.facets.size());
     if (grown <= kMaxFaceGrowth * facets + 50) total += grown - facets;
   }
   plan.growth_limit = total <= kMaxSurfaceGrowth * static_cast<double>(s.mesh.triangles.size())
@@ -783,7 +827,7 @@ RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::v
                           : kMaxFaceGrowthOverBudget;
   const FaceRemesher remesher(cad, s, plan.growth_limit);
   for (const ChartedFace& c : charted)
-    remesher.plan_border_splits(c.face, by_face[c.face], c.chart, plan.border_pieces);
+    remesher.plan_border_splits(c.face, c.facets, c.chart, c.piece, plan.border_pieces);
   return plan;
 }
 
@@ -791,14 +835,16 @@ int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<dou
                  double growth_limit) {
   const auto by_face = facets_by_face(cad, s);
   std::vector<char> dead(s.mesh.triangles.size(), 0);
-  int remeshed = 0;
+  std::set<int> remeshed;  // faces with any piece remeshed
   {
+    // A piece's cut is found through the facets as they were: the other
+    // piece's old facets, dead once it is remeshed, still mark it.
     FaceRemesher remesher(cad, s, growth_limit);
     for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size))
-      remeshed += remesher.remesh(c.face, by_face[c.face], c.chart, dead);
+      if (remesher.remesh(c.face, c.facets, c.chart, c.piece, dead)) remeshed.insert(c.face);
   }
-  if (remeshed) compact_surface(s, dead);
-  return remeshed;
+  if (!remeshed.empty()) compact_surface(s, dead);
+  return static_cast<int>(remeshed.size());
 }
 
 }  // namespace vd::cad

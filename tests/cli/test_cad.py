@@ -379,13 +379,15 @@ if head:
 # smallest angle was 2.05 deg (a cap over a 89.9 + 85.7 deg facet pair) before,
 # 4.57 deg after (2026-11-25); with its quarter tori remeshed too (6 of its
 # 7 faces: its sphere is whole, which no chart covers), 10.01 deg, and 961 ->
-# 0 tetrahedra under 10 deg.
+# 0 tetrahedra under 10 deg. With the whole sphere remeshed in two halves
+# (2026-11-26), its poles lose OpenCASCADE's fans of 30 facets with 10.6 deg
+# corners: 11.21 -> 13.12 deg (the smallest now inside, near the torus).
 ring = data("cad-assembly/gmsh_ring.brep")
 if ring:
     rep, smallest = meshed_angles(ring, "gmsh_ring.brep")
     if rep:
         worst = max(abs(v["mesh"] - v["cad"]) / v["cad"] for v in rep["cad"]["volumes"])
-        check(rep["interior"]["cap_folds_split"] > 0 and rep["cad"]["remeshed_faces"] == 6 and smallest.min() > 9.0
+        check(rep["interior"]["cap_folds_split"] > 0 and rep["cad"]["remeshed_faces"] == 7 and smallest.min() > 12.5
               and (smallest < 10).sum() == 0 and worst < 0.005,
               "gmsh_ring.brep: %d cap folds split, %d faces remeshed, smallest dihedral %.2f deg (meshio, numpy; "
               "2.05 before), %d tetrahedra under 10 deg, volume error %.3f %%"
