@@ -273,24 +273,34 @@ class TetComplex {
       if (b == k[1] && c == k[2]) return true;
     return false;
   }
-  // Links face i of t to the tetrahedron on its other side, found in the
-  // star of one of its vertices. A face of three tetrahedra (broken input)
-  // is left alone: fixed in all of them.
+  // The tetrahedra on face f: those in the stars of all three of its
+  // vertices. Stars are sorted (filled in tetrahedron order, new ones
+  // appended with larger ids, removals keep the order), so the three lists
+  // are merged: reading a star's ids is one or two cache lines, where
+  // checking each tetrahedron of a star for the face read it from anywhere
+  // in the array (a resolve was 19 such reads, 0.84 us, on the 125k box).
+  template <class Visit>
+  void tets_on(const Triple& f, const Visit& visit) const {
+    const Star a = star(f[0]), b = star(f[1]), c = star(f[2]);
+    const int *x = a.begin(), *y = b.begin(), *z = c.begin();
+    while (x != a.end() && y != b.end() && z != c.end()) {
+      const int top = std::max({*x, *y, *z});
+      if (*x < top) ++x;
+      else if (*y < top) ++y;
+      else if (*z < top) ++z;
+      else visit(top), ++x, ++y, ++z;
+    }
+  }
+  // Links face i of t to the tetrahedron on its other side. A face of three
+  // tetrahedra (broken input) is left alone: fixed in all of them.
   void resolve(int t, int i) const {
     const Triple f = face_opposite(tets_[t].v, i);
-    // Every tetrahedron on the face is in each of its vertices' stars: the
-    // smallest one is searched.
-    int pivot = f[0];
-    for (int k = 1; k < 3; ++k)
-      if (star_size(f[k]) < star_size(pivot)) pivot = f[k];
     int other = -1, j_other = -1, count = 0;
-    for (int u : star(pivot)) {
-      if (u == t) continue;
-      const int j = face_index(tets_[u].v, f);
-      if (j < 0) continue;
+    tets_on(f, [&](int u) {
+      if (u == t) return;
       ++count;
-      other = u, j_other = j;
-    }
+      other = u, j_other = face_index(tets_[u].v, f);
+    });
     if (count <= 1) {
       nbr_[t][i] = other;
       if (other >= 0) nbr_[other][j_other] = t;
@@ -302,12 +312,12 @@ class TetComplex {
     }
     nbr_[t][i] = -1;
     fixed_[t] |= 1 << i;
-    for (int u : star(pivot)) {
-      const int j = u == t ? -1 : face_index(tets_[u].v, f);
-      if (j < 0) continue;
+    tets_on(f, [&](int u) {
+      if (u == t) return;
+      const int j = face_index(tets_[u].v, f);
       nbr_[u][j] = -1;
       fixed_[u] |= 1 << j;
-    }
+    });
   }
   // The index of the vertex of v opposite face f, -1 when f is not a face of v.
   static int face_index(const std::array<int, 4>& v, const Triple& f) {
