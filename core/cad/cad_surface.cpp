@@ -45,12 +45,29 @@ double exact_area(const TopoDS_Shape& shape) {
   return props.Mass();
 }
 
-// Volume and area of solid i, integrated once per model.
+// Area of faces[f], integrated once per model.
+double face_area(const CadModel::Impl& cad, size_t f) {
+  if (cad.face_areas.size() != cad.faces.size()) cad.face_areas.assign(cad.faces.size(), std::nan(""));
+  double& a = cad.face_areas[f];
+  if (std::isnan(a)) a = exact_area(cad.faces[f]);
+  return a;
+}
+
+// Volume and area of solid i, integrated once per model. The area is its
+// faces' (each as often as the solid uses it, as OpenCASCADE's own sum over
+// a solid goes).
 const std::array<double, 2>& solid_integrals(const CadModel::Impl& cad, size_t i) {
   if (cad.solid_integrals.size() != cad.solids.size())
     cad.solid_integrals.assign(cad.solids.size(), {std::nan(""), std::nan("")});
   std::array<double, 2>& v = cad.solid_integrals[i];
-  if (std::isnan(v[0])) v = {exact_volume(cad.solids[i]), exact_area(cad.solids[i])};
+  if (std::isnan(v[0])) {
+    double area = 0;
+    for (TopExp_Explorer ex(cad.solids[i], TopAbs_FACE); ex.More(); ex.Next()) {
+      const int f = cad.face_index.FindIndex(ex.Current()) - 1;
+      area += f >= 0 ? face_area(cad, static_cast<size_t>(f)) : exact_area(ex.Current());
+    }
+    v = {exact_volume(cad.solids[i]), area};
+  }
   return v;
 }
 
@@ -340,7 +357,7 @@ std::vector<GeometryCheck> CadModel::area_checks(const Mesh& mesh) const {
   // Exhaust's Face15: five, one of 0.011 mm2 where a solid's outline crosses
   // it); the facets carry the number, so the pieces' areas add up.
   std::map<int, double> cad_area;
-  for (size_t f = 0; f < impl_->faces.size(); ++f) cad_area[impl_->face_number[f]] += exact_area(impl_->faces[f]);
+  for (size_t f = 0; f < impl_->faces.size(); ++f) cad_area[impl_->face_number[f]] += face_area(*impl_, f);
   std::vector<GeometryCheck> out;
   for (const auto& [n, a] : cad_area) out.push_back({"Face" + std::to_string(n), a, area.count(n) ? area[n] : 0.0});
   return out;
