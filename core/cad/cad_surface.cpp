@@ -21,7 +21,9 @@
 
 #include "cad/cad_impl.h"
 #include "mesh/error.h"
+#include "mesh/number_text.h"
 #include "mesh/second_order.h"
+#include "mesh/size_budget.h"
 #include "volume/region_tetrahedra.h"
 
 namespace vd::cad {
@@ -114,6 +116,13 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
     cad_volume[i] = volume;
     solid_deflection[impl_->solid_number[i]] =
         area > 0 && volume > 0 ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0) : stats.size / 10.0;
+  }
+  if (options.size > 0 && options.refine) {
+    // The refinement to the size is what would run out of memory first;
+    // the volume is looked at by the mesher, which knows whether it fills it.
+    double area = 0;
+    for (size_t f = 0; f < impl_->faces.size(); ++f) area += face_area(*impl_, f);
+    check_size_budget(area, 0.0, options.size, /*interior=*/false, "--size " + number_text(options.size, "%g"));
   }
   std::vector<int> front, back;
   face_sides(*impl_, front, back);

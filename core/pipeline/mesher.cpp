@@ -11,8 +11,10 @@
 #include "delaunay/delaunay_tetrahedralization.h"
 #include "mesh/error.h"
 #include "mesh/memory.h"
+#include "mesh/number_text.h"
 #include "mesh/parallel.h"
 #include "mesh/progress.h"
+#include "mesh/size_budget.h"
 #include "mesh/tet_faces.h"
 #include "pipeline/missing_facets.h"
 #include "surface/edge_map.h"
@@ -158,6 +160,18 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     crossings.start(m, thread_count() > 1);
   }
   if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
+  if (options.size.uniform > 0) {
+    // Before the refinement makes them: a size far below the model's (a unit
+    // mix-up) is refused, not run out of memory.
+    double area = 0, volume = 0;
+    const Vec3 o = m.points.empty() ? Vec3{} : m.points.front();
+    for (const Triangle& t : m.triangles) {
+      area += facet_area(m.points, t);
+      volume += tet_volume(o, m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]]);
+    }
+    check_size_budget(area, volume, options.size.uniform, options.interior,
+                      "--size " + number_text(options.size.uniform, "%g"));
+  }
   {
     // Needles and caps on the input make every tetrahedron on them flat; the
     // graded refinement (volume meshing only: the paper's surface recovery

@@ -632,6 +632,17 @@ def box_without_lid(occ):
 open_box = make_brep("openbox", box_without_lid)
 bad(os.path.basename(open_box), None, "none closed")
 
+# A size far below the part's (a unit mix-up) is refused before the
+# refinement runs out of memory: exit 3 naming the size, at once.
+import time
+unit_box = make_brep("unitbox", lambda occ: occ.addBox(0, 0, 0, 1, 1, 1))
+started = time.time()
+code, _, err = run("mesh", unit_box, "-o", os.path.join(out, "unitbox_tiny.vtu"), "--size", "1e-7", timeout=120)
+check(code == 3 and "--size 1e-07 asks for about" in err and "GiB of memory" in err
+      and not os.path.exists(os.path.join(out, "unitbox_tiny.vtu")) and time.time() - started < 60,
+      "CAD --size 1e-7 on a unit box: exit 3 naming the size and the memory (exit %d after %.1f s: %s)"
+      % (code, time.time() - started, err.strip()[:300]))
+
 # The cautious run (pipeline/mesher.cpp): gmsh_simple_plane.brep at a chord
 # height of 0.001 recovers its surface and its interior vertices, but the
 # recovery after the cap fold splits ran away at a wing's trailing edge root

@@ -254,6 +254,26 @@ check("4 facets could not be made Delaunay" in err and "most of them near (" in 
 code, _, err = run("mesh", pyr, "-o", target)
 check(code == 0 and os.path.exists(target), "pyramids mesh without the guard (%d: %s)" % (code, err.strip()[:300]))
 
+# A size far below the model's (a unit mix-up: 1e-9 on a unit box is 1e27
+# tetrahedra) is refused before anything is refined: it ran until the kernel
+# killed it at 23.6 GB. Exit 3 naming the size, the estimates and the memory,
+# no output; with --no-interior the facets alone are counted.
+import time
+box_path = os.path.join(out, "unit_box.off")
+with open(box_path, "w") as f:
+    f.write("OFF\n8 12 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+            "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n")
+for extra, needle in ((), "surface facets and "), (("--no-interior",), "surface facets (surface area 6)"):
+    target = os.path.join(out, "tiny.vtu")
+    started = time.time()
+    code, _, err = run("mesh", box_path, "-o", target, "--size", "1e-9", *extra, timeout=120)
+    check(code == 3 and "--size 1e-09 asks for about" in err and needle in err and "GiB of memory" in err
+          and not os.path.exists(target) and time.time() - started < 30,
+          "--size 1e-9 %s: exit 3 naming the size and the memory (exit %d after %.1f s: %s)"
+          % (" ".join(extra), code, time.time() - started, err.strip()[:300]))
+code, _, err = run("mesh", box_path, "-o", os.path.join(out, "fine.vtu"), "--size", "0.05", "--quiet")
+check(code == 0, "--size 0.05 on the unit box still meshes (exit %d: %s)" % (code, err.strip()[:200]))
+
 # --version: vdmesh's version as CMake's project() gives it, and the
 # libraries the run would use, the CAD plugin loaded (exit 0, on stdout).
 import re as _re
