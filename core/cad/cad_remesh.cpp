@@ -757,14 +757,14 @@ struct ChartedFace {
 std::array<std::vector<int>, 2> hemispheres(const TopoDS_Face& face, const CadSurface& s,
                                             const std::vector<int>& facets) {
   const gp_Sphere sphere = BRepAdaptor_Surface(face).Sphere();
-  const gp_Pnt c = sphere.Location();
-  const gp_Dir axis = sphere.Position().Direction();
+  const Vec3 centre = to_vec(sphere.Location());
+  const gp_Dir d = sphere.Position().Direction();
+  const Vec3 axis{d.X(), d.Y(), d.Z()};
   std::array<std::vector<int>, 2> halves;
   for (int f : facets) {
     const Triangle& t = s.mesh.triangles[f];
     const Vec3 m = (1.0 / 3) * (s.mesh.points[t.v[0]] + s.mesh.points[t.v[1]] + s.mesh.points[t.v[2]]);
-    const double up = (m.x - c.X()) * axis.X() + (m.y - c.Y()) * axis.Y() + (m.z - c.Z()) * axis.Z();
-    halves[up >= 0 ? 0 : 1].push_back(f);
+    halves[dot(m - centre, axis) >= 0 ? 0 : 1].push_back(f);
   }
   return halves;
 }
