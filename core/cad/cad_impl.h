@@ -18,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -140,11 +141,20 @@ inline std::uint64_t edge_key(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
+// Two faces' triangulations do not share an edge's nodes: BRepMesh meshed
+// the edge anew for one of them (an internal error of the chord height
+// levels, cad_tessellate.cpp).
+struct EdgeMismatchError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // cad_tessellate.cpp: OpenCASCADE's mesher, welded through the shared edge
-// discretisation, tagged and oriented. `face_deflection`: the chord height
-// of each face (index into Impl::faces).
-CadSurface tessellate_faces(const CadModel::Impl& cad, const std::vector<double>& face_deflection, double angle_rad,
-                            TessellationStats& stats, const std::atomic<bool>* cancel = nullptr);
+// discretisation, tagged and oriented. `face_deflection`, `face_angle_rad`:
+// the chord height and the angular deflection of each face (index into
+// Impl::faces).
+CadSurface tessellate_faces(const CadModel::Impl& cad, const std::vector<double>& face_deflection,
+                            const std::vector<double>& face_angle_rad, TessellationStats& stats,
+                            const std::atomic<bool>* cancel = nullptr);
 // Which solid (its number) lies in front of and behind each face, 0 for none.
 void face_sides(const CadModel::Impl& cad, std::vector<int>& front, std::vector<int>& back);
 // cad_collapse.cpp: edges shorter than `max_length` collapsed where the

@@ -57,6 +57,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   if (options.splits_on_geometry) {
     mopt.delaunayzation.geometry = geometry.get();
     mopt.delaunayzation.max_flip_offset = stats.deflection;
+    mopt.delaunayzation.face_flip_offset = stats.face_deflection;
   }
 
   CadInputReport cad;
@@ -138,12 +139,12 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
                                 ? "tessellate CAD faces"
                                 : "tessellate CAD faces again at " + format_number(t.angle_deg) + " deg" +
                                       (chain.uniform_tried()
-                                           ? ", chord height " + format_number(t.deflection) + " everywhere"
+                                           ? ", chord height " + format_number(t.start_deflection) + " everywhere"
                                            : "") +
                                       (t.smooth || t.remesh ? "" : ", unsmoothed, not remeshed"));
     const auto start = std::chrono::steady_clock::now();
-    const auto next = [&](bool recovery_stopped) {
-      if (!chain.next(recovery_stopped)) return false;
+    const auto next = [&](bool recovery_stopped, const std::vector<int>& runaway_faces = {}) {
+      if (!chain.next(recovery_stopped, runaway_faces)) return false;
       given_up += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return true;
     };
@@ -154,7 +155,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       return result;
     } catch (const RecoveryError& e) {
       last_recovery_failure = e.what();
-      if (!next(true)) throw;
+      if (!next(true, e.faces())) throw;
     } catch (const SelfIntersectionError& e) {  // the surface is checked before recovery
       // The uniform chords crossing themselves says nothing of the file:
       // the failure that led to them stands.

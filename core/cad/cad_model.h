@@ -40,6 +40,13 @@ struct TessellationOptions {
   double size = 0;              // target edge length; 0: chosen from the part (report says which)
   double deflection = 0;        // chord height of OpenCASCADE's mesher; 0: min(size / 10, min over solids 2V/A / 50)
   double angle_deg = 20;        // angular deflection of OpenCASCADE's mesher
+  // With the automatic chord height: > 0 starts every face at this chord
+  // height instead of its solids' thickness / 50 (the volume rounds go on
+  // from there).
+  double start_deflection = 0;
+  // Face numbers where a recovery ran away on an earlier tessellation: the
+  // volume rounds make no solid on either side of them finer.
+  std::vector<int> runaway_faces;
   // With the automatic chord height: while a solid's tessellated volume is
   // off its CAD volume by more than this fraction, tessellate again with the
   // chord height and the angle made smaller (at most kMaxTessellationRounds
@@ -62,8 +69,9 @@ struct TessellationOptions {
 struct TessellationStats {
   double size = 0;              // the size used (given or chosen)
   bool size_chosen = false;
-  double deflection = 0;        // the chord height used (of the last round)
-  double angle_deg = 0;         // the angular deflection used (of the last round)
+  double deflection = 0;        // the smallest chord height used (of the last round)
+  double angle_deg = 0;         // the smallest angular deflection used (of the last round)
+  std::vector<double> face_deflection;  // by face number (Face<n>): each face's chord height
   int rounds = 1;               // tessellations made (volume_tolerance)
   double volume_error = 0;      // the largest relative volume error of a solid's tessellation
   int occ_triangles = 0;        // from OpenCASCADE's mesher, before refinement
@@ -73,9 +81,9 @@ struct TessellationStats {
   int remeshed_faces = 0;
   int border_splits = 0;        // facets with two edges on one CAD edge, split at their centre
   int dropped_degenerate = 0;   // collapsed triangles at degenerate edges (cone apexes, poles)
-  int dropped_folded = 0;
+  int dropped_folded = 0;       // pairs of one face's triangles on the same nodes, facing away from each other
   int flat_vertices_removed = 0;  // inner vertices of three facets on their neighbours' edge (cad_collapse.cpp)
-  int collapsed_edges = 0;      // edges far below the chord height collapsed (OpenCASCADE's near-duplicate nodes)       // pairs of one face's triangles on the same nodes, facing away from each other
+  int collapsed_edges = 0;      // edges far below the chord height collapsed (OpenCASCADE's near-duplicate nodes)
   double seconds_tessellate = 0, seconds_refine = 0;
 };
 

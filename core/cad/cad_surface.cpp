@@ -74,12 +74,12 @@ const std::array<double, 2>& solid_integrals(const CadModel::Impl& cad, size_t i
 }
 
 // Each face's chord height: the smallest of its solids'. Rounded down to
-// the finest times a power of two, so that the faces are meshed in few calls
-// whose chord heights differ enough for BRepMesh to keep, at each call, what
-// the finer calls made (cad_tessellate.cpp).
+// `anchor` (0: the finest height) times a power of two, so that the faces
+// are meshed in few calls whose chord heights differ enough for BRepMesh to
+// keep, at each call, what the finer calls made (cad_tessellate.cpp).
 // front/back: the solids on each face's sides (face_sides).
 std::vector<double> chord_heights(const std::vector<int>& front, const std::vector<int>& back,
-                                  const std::map<int, double>& solid_deflection) {
+                                  const std::map<int, double>& solid_deflection, double anchor) {
   std::vector<double> height(front.size(), std::numeric_limits<double>::infinity());
   double finest = std::numeric_limits<double>::infinity();
   for (size_t f = 0; f < front.size(); ++f) {
@@ -87,8 +87,20 @@ std::vector<double> chord_heights(const std::vector<int>& front, const std::vect
       if (solid_deflection.count(solid)) height[f] = std::min(height[f], solid_deflection.at(solid));
     finest = std::min(finest, height[f]);
   }
-  for (double& h : height) h = finest * std::exp2(std::floor(std::log2(h / finest) + 1e-9));
+  if (!(anchor > 0)) anchor = finest;
+  for (double& h : height) h = anchor * std::exp2(std::floor(std::log2(h / anchor) + 1e-9));
   return height;
+}
+
+// Each face's angular deflection in radians: the smallest of its solids'.
+std::vector<double> face_angles(const std::vector<int>& front, const std::vector<int>& back,
+                                const std::map<int, double>& solid_angle_deg) {
+  std::vector<double> angle(front.size(), std::numeric_limits<double>::infinity());
+  for (size_t f = 0; f < front.size(); ++f) {
+    for (const int solid : {front[f], back[f]})
+      if (solid_angle_deg.count(solid)) angle[f] = std::min(angle[f], solid_angle_deg.at(solid) * M_PI / 180.0);
+  }
+  return angle;
 }
 
 }  // namespace
@@ -106,16 +118,19 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   // then. Per face, not the thinnest solid's everywhere: the far field
   // around gmsh_simple_plane.brep's 3 mm nose had 923k facets at the nose's
   // chord height. What is still off is measured, and the tessellation made
-  // again finer.
+  // again finer, on the solids that are off only.
   const bool automatic = !(options.deflection > 0);
   std::vector<double> cad_volume(impl_->solids.size(), 0.0);
-  std::map<int, double> solid_deflection;  // by solid number
+  std::map<int, double> solid_deflection, solid_angle_deg;  // by solid number
   for (size_t i = 0; i < impl_->solids.size(); ++i) {
     const auto& [signed_volume, area] = solid_integrals(*impl_, i);
     const double volume = std::abs(signed_volume);
     cad_volume[i] = volume;
     solid_deflection[impl_->solid_number[i]] =
-        area > 0 && volume > 0 ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0) : stats.size / 10.0;
+        options.start_deflection > 0 ? options.start_deflection
+        : area > 0 && volume > 0     ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0)
+                                     : stats.size / 10.0;
+    solid_angle_deg[impl_->solid_number[i]] = options.angle_deg;
   }
   if (options.size > 0 && options.refine) {
     // The refinement to the size is what would run out of memory first;
@@ -127,8 +142,27 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   std::vector<int> front, back;
   face_sides(*impl_, front, back);
   std::vector<double> face_deflection(impl_->faces.size(), options.deflection);
-  if (automatic) face_deflection = chord_heights(front, back, solid_deflection);
-  double angle_deg = options.angle_deg;
+  // The heights are rounded against the finest one; starting from one
+  // height everywhere (the chain's last link), against that height, so that
+  // the faces whose solids the rounds leave alone keep it. Rounded against
+  // the nose's new finest height, gmsh_simple_plane.brep's wing roots went
+  // finer too, and recovery ran away there. (Rounded against the first
+  // round's finest height on every link, caxif_as1-oc-214.stp's second round
+  // met EdgeMismatchError.)
+  const double anchor = options.start_deflection;
+  if (automatic) face_deflection = chord_heights(front, back, solid_deflection, anchor);
+  std::vector<double> face_angle = face_angles(front, back, solid_angle_deg);
+  // Solids the rounds leave as they are: those on either side of the faces
+  // where every earlier recovery ran away (TessellationChain).
+  // gmsh_simple_plane.brep's wing roots ran away whenever the wings' chords
+  // went finer; its nose, 5 % off, is far from them.
+  std::set<int> held;
+  for (const int number : options.runaway_faces) {
+    const int f = impl_->index_of_face_number(number);
+    if (f < 0) continue;
+    for (const int solid : {front[f], back[f]})
+      if (solid > 0) held.insert(solid);
+  }
   double seconds_tessellate = 0, seconds_refine = 0, first_facets = 0, previous_worst = 0, best_facets = 0;
   Mesh best;  // the previous round's surface
   TessellationStats best_stats;
@@ -137,9 +171,28 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       TessellationStats pass = stats;
       const double deflection = *std::min_element(face_deflection.begin(), face_deflection.end());
       pass.deflection = deflection;
-      pass.angle_deg = angle_deg;
+      pass.face_deflection.assign(impl_->faces.size() + 1, 0.0);
+      for (size_t f = 0; f < impl_->faces.size(); ++f) {
+        const size_t n = static_cast<size_t>(impl_->face_number[f]);
+        if (n >= pass.face_deflection.size()) pass.face_deflection.resize(n + 1, 0.0);
+        pass.face_deflection[n] = face_deflection[f];
+      }
+      pass.angle_deg = *std::min_element(face_angle.begin(), face_angle.end()) * 180.0 / M_PI;
       pass.rounds = round;
-      CadSurface s = tessellate_faces(*impl_, face_deflection, angle_deg * M_PI / 180.0, pass, options.cancel);
+      auto previous_round = [&]() {
+        best_stats.seconds_tessellate = seconds_tessellate;
+        best_stats.seconds_refine = seconds_refine;
+        if (stats_out) *stats_out = best_stats;
+        return std::move(best);
+      };
+      CadSurface s;
+      try {
+        s = tessellate_faces(*impl_, face_deflection, face_angle, pass, options.cancel);
+      } catch (const EdgeMismatchError&) {
+        // A finer round that cannot be welded: the previous one stands.
+        if (round == 1) throw;
+        return previous_round();
+      }
       // Far below the chord height: the move is lost in the tessellation's own error.
       pass.collapsed_edges = collapse_short_edges(s, std::min(0.1 * deflection, 0.01 * pass.size));
       throw_if_cancelled(options.cancel);
@@ -153,14 +206,25 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       // criteria of OpenCASCADE's mesher bound the chords' sag, which the
       // volume error follows: chord height linearly, the angle squared.
       const std::vector<double> errors = volume_errors(s.mesh, cad_volume);
-      const double worst = *std::max_element(errors.begin(), errors.end());
+      // The rounds go by the solids they may refine; the report gives all.
+      double worst = 0;
+      for (size_t i = 0; i < errors.size(); ++i)
+        if (!held.count(impl_->solid_number[i])) worst = std::max(worst, errors[i]);
       const double facets = static_cast<double>(s.mesh.triangles.size());
       if (round == 1) first_facets = facets;
       // Facets grow as the chord height shrinks: the shrink is bounded so
       // that the surface ends with at most kMaxFacetGrowth times the first
       // round's facets. An error that does not follow the chords (a broken
-      // tessellation: pythonocc_11752.stp) stops the rounds.
-      const double shrink = std::max(0.8 * options.volume_tolerance / worst, facets / (kMaxFacetGrowth * first_facets));
+      // tessellation: pythonocc_11752.stp) stops the rounds. Each solid that
+      // is off shrinks by what it needs: on gmsh_simple_plane.brep the nose
+      // pieces (5 % off) need a chord height 6 times smaller than the wings
+      // (0.8 % off) do.
+      const double fewest = facets / (kMaxFacetGrowth * first_facets);
+      std::map<int, double> solid_shrink;  // by solid number, the solids that are off
+      for (size_t i = 0; i < errors.size(); ++i)
+        if (errors[i] > options.volume_tolerance && !held.count(impl_->solid_number[i]))
+          solid_shrink[impl_->solid_number[i]] = std::max(0.8 * options.volume_tolerance / errors[i], fewest);
+      const double shrink = worst > 0 ? std::max(0.8 * options.volume_tolerance / worst, fewest) : 1.0;
       // A smaller chord height need not make more facets: where the size
       // splits bound the sag (a sphere of radius 10 at size 2: 0.67 % at
       // chord 0.13 and 0.84 % at 0.06, with fewer facets), the round is no
@@ -168,14 +232,18 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       const bool finer = round == 1 || facets > 1.05 * best_facets;
       const bool better = round == 1 || worst < previous_worst;
       const bool converging = round == 1 || !finer || worst < 0.7 * previous_worst;
-      const bool affordable = facets / shrink <= kMaxRoundFacets;
-      pass.volume_error = worst;
-      auto previous_round = [&]() {
-        best_stats.seconds_tessellate = seconds_tessellate;
-        best_stats.seconds_refine = seconds_refine;
-        if (stats_out) *stats_out = best_stats;
-        return std::move(best);
-      };
+      // Only the facets around the solids that are off grow.
+      double next_facets = 0;
+      for (const Triangle& t : s.mesh.triangles) {
+        double grow = 1;
+        for (const int solid : {t.front, t.back}) {
+          const auto it = solid_shrink.find(solid);
+          if (it != solid_shrink.end()) grow = std::max(grow, 1.0 / it->second);
+        }
+        next_facets += grow;
+      }
+      const bool affordable = next_facets <= kMaxRoundFacets;
+      pass.volume_error = *std::max_element(errors.begin(), errors.end());
       // Finer and no better: the previous round stands.
       if (finer && !better) return previous_round();
       if (!automatic || !(options.volume_tolerance > 0) || worst <= options.volume_tolerance ||
@@ -192,10 +260,12 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       }
       // Finer only where the volume is off: the solids over the tolerance
       // and the faces around them.
-      for (size_t i = 0; i < errors.size(); ++i)
-        if (errors[i] > options.volume_tolerance) solid_deflection[impl_->solid_number[i]] *= shrink;
-      face_deflection = chord_heights(front, back, solid_deflection);
-      angle_deg *= std::sqrt(shrink);
+      for (const auto& [n, solid] : solid_shrink) {
+        solid_deflection[n] *= solid;
+        solid_angle_deg[n] *= std::sqrt(solid);
+      }
+      face_deflection = chord_heights(front, back, solid_deflection, anchor);
+      face_angle = face_angles(front, back, solid_angle_deg);
     }
   } catch (const Standard_Failure& e) {
     throw InputError(impl_->name + ": OpenCASCADE failed while tessellating: " + e.GetMessageString());

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <map>
 
 #include "cad/cad_impl.h"
 #include "mesh/error.h"
@@ -99,8 +100,8 @@ class Welder {
       std::vector<int>& inner = edge_nodes_[e];
       if (inner.empty() && n > 2) inner.assign(n - 2, -1);
       if (static_cast<int>(inner.size()) != std::max(0, n - 2))
-        throw std::runtime_error(cad_.name + ": OpenCASCADE discretised an edge of Face" +
-                                 std::to_string(cad_.face_number[fi]) + " differently in two faces");
+        throw EdgeMismatchError(cad_.name + ": OpenCASCADE discretised an edge of Face" +
+                                std::to_string(cad_.face_number[fi]) + " differently in two faces");
       std::vector<int> ids(n + 1);
       for (int k = 1; k <= n; ++k) {
         const int local = poly->Node(at(k));
@@ -181,31 +182,36 @@ std::vector<char> folded_pairs(const CadSurface& s, TessellationStats& stats) {
   return drop;
 }
 
-// BRepMesh takes one chord height per call. Faces are meshed finest first,
-// each call over every face at or below its chord height: a face meshed
-// before keeps its triangulation (BRepMesh reuses one at least as fine as
-// asked), and an edge it shares with a coarser face keeps its nodes, since
-// BRepMesh takes an edge's discretisation from the finest face around it
-// that it is given. The faces then weld through shared edge nodes as if
-// meshed in one call.
-void mesh_faces_by_deflection(const CadModel::Impl& cad, const std::vector<double>& face_deflection,
-                              double angle_rad, const std::atomic<bool>* cancel_flag) {
-  std::vector<double> levels(face_deflection);
-  std::sort(levels.begin(), levels.end());
-  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+// BRepMesh takes one chord height and one angle per call. Faces are meshed
+// finest first, each call over every face at or below its chord height: a
+// face meshed before keeps its triangulation (BRepMesh reuses one at least
+// as fine as asked), and an edge it shares with a coarser face keeps its
+// nodes, since BRepMesh takes an edge's discretisation from the finest face
+// around it that it is given. The faces then weld through shared edge nodes
+// as if meshed in one call. A call's angle is the smallest of its new
+// faces': faces at one chord height meshed in two calls at two angles gave
+// an edge of caxif_as1-oc-214.stp two discretisations (EdgeMismatchError).
+void mesh_faces_by_level(const CadModel::Impl& cad, const std::vector<double>& face_deflection,
+                         const std::vector<double>& face_angle_rad, const std::atomic<bool>* cancel_flag) {
+  std::map<double, double> levels;  // chord height -> angle
+  for (size_t f = 0; f < cad.faces.size(); ++f) {
+    const auto [it, added] = levels.emplace(face_deflection[f], face_angle_rad[f]);
+    if (!added) it->second = std::min(it->second, face_angle_rad[f]);
+  }
   OccCancel cancel(cancel_flag);
-  for (size_t l = 0; l < levels.size(); ++l) {
+  size_t done = 0;
+  for (const auto& [deflection, angle] : levels) {
     TopoDS_Compound faces;
     BRep_Builder builder;
     builder.MakeCompound(faces);
     for (size_t f = 0; f < cad.faces.size(); ++f)
-      if (face_deflection[f] <= levels[l]) builder.Add(faces, cad.faces[f]);
+      if (face_deflection[f] <= deflection) builder.Add(faces, cad.faces[f]);
     IMeshTools_Parameters parameters;
-    parameters.Deflection = levels[l];
-    parameters.Angle = angle_rad;
+    parameters.Deflection = deflection;
+    parameters.Angle = angle;
     parameters.Relative = false;
     parameters.InParallel = false;
-    BRepMesh_IncrementalMesh mesher(l + 1 == levels.size() ? cad.shape : TopoDS_Shape(faces), parameters,
+    BRepMesh_IncrementalMesh mesher(++done == levels.size() ? cad.shape : TopoDS_Shape(faces), parameters,
                                     cancel.range());
     cancel.check();
     if (!mesher.IsDone()) throw InputError(cad.name + ": OpenCASCADE's mesher failed on the shape");
@@ -214,12 +220,13 @@ void mesh_faces_by_deflection(const CadModel::Impl& cad, const std::vector<doubl
 
 }  // namespace
 
-CadSurface tessellate_faces(const CadModel::Impl& cad, const std::vector<double>& face_deflection, double angle_rad,
-                            TessellationStats& stats, const std::atomic<bool>* cancel_flag) {
+CadSurface tessellate_faces(const CadModel::Impl& cad, const std::vector<double>& face_deflection,
+                            const std::vector<double>& face_angle_rad, TessellationStats& stats,
+                            const std::atomic<bool>* cancel_flag) {
   const auto t0 = std::chrono::steady_clock::now();
   // Triangulations stored in the file were made for another purpose.
   BRepTools::Clean(cad.shape);
-  mesh_faces_by_deflection(cad, face_deflection, angle_rad, cancel_flag);
+  mesh_faces_by_level(cad, face_deflection, face_angle_rad, cancel_flag);
 
   CadSurface out;
   std::vector<int> front, back;

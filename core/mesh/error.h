@@ -30,9 +30,16 @@ class SelfIntersectionError : public InputError {
 };
 
 // Some facets could not be made Delaunay within the guards. Exit code 4.
+// `faces`: the face ids of the facets still missing, ascending, so that a
+// caller who can tessellate again (CAD input) knows where recovery ran away.
 class RecoveryError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit RecoveryError(const std::string& message, std::vector<int> faces = {})
+      : std::runtime_error(message), faces_(std::move(faces)) {}
+  const std::vector<int>& faces() const { return faces_; }
+
+ private:
+  std::vector<int> faces_;
 };
 
 // Bad command-line use. Exit code 2.

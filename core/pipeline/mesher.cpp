@@ -6,6 +6,7 @@
 #include <future>
 #include <memory>
 #include <optional>
+#include <set>
 #include <unordered_map>
 
 #include "delaunay/delaunay_tetrahedralization.h"
@@ -240,13 +241,18 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     if (report.complete) return;
     crossings.await_result();  // a surface that crosses itself is bad input, not a stopped recovery
     timer.stop();
-    for (int f : pass.missing) report.missing_facets.push_back(m.triangles[f].v);
+    std::set<int> missing_faces;
+    for (int f : pass.missing) {
+      report.missing_facets.push_back(m.triangles[f].v);
+      missing_faces.insert(m.triangles[f].face);
+    }
     if (partial) *partial = result;
     throw RecoveryError(std::to_string(report.missing_facets.size()) +
                         " facets could not be made Delaunay within the guards (" +
                         std::to_string(report.delaunayzation.passes) + " passes, " +
                         std::to_string(report.delaunayzation.added_vertices) + " added vertices); " +
-                        where_facets_are_missing(m, pass.missing));
+                        where_facets_are_missing(m, pass.missing),
+                        std::vector<int>(missing_faces.begin(), missing_faces.end()));
   };
 
   // With interior vertices, a first recovery against the surface vertices

@@ -183,7 +183,8 @@ class Delaunayzer {
       // end (226,800 added vertices, the guard).
       const bool fold_ok = opt_.geometry != nullptr || ridge_acceptable(t, t2);
       if (!convex_in_average_plane(t, t2, A, B) || !fold_ok || !ridge_acceptable(A, B)) continue;
-      if (opt_.max_flip_offset > 0 && diagonal_distance(p, q, r, s) > opt_.max_flip_offset) continue;
+      const double offset = flip_offset_bound(t.face);
+      if (offset > 0 && diagonal_distance(p, q, r, s) > offset) continue;
       const int before = delaunay_[b] + delaunay_[b2];
       const bool dA = query(A), dB = query(B);
       const int after = dA + dB;
@@ -225,6 +226,13 @@ class Delaunayzer {
     const Vec3 n = cross(Q - P, S - R);
     const double len = norm(n);
     return len > 0 ? std::abs(dot(R - P, n)) / len : 0.0;
+  }
+
+  // How far a flip inside `face` may move the surface; 0: no bound.
+  double flip_offset_bound(int face) const {
+    const auto& by_face = opt_.face_flip_offset;
+    if (face >= 0 && static_cast<size_t>(face) < by_face.size() && by_face[face] > 0) return by_face[face];
+    return opt_.max_flip_offset;
   }
 
   bool ridge_acceptable(const Triangle& A, const Triangle& B) const {

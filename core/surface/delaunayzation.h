@@ -23,6 +23,11 @@ struct DelaunayzationOptions {
   // >0: a flip may move the surface by at most this (the distance between
   // the quadrilateral's two diagonals). CAD input sets the chord height.
   double max_flip_offset = 0;
+  // By face id, where > 0: the bound of that face's flips instead (CAD
+  // input: each face's chord height). The smallest one everywhere stopped
+  // the flips at gmsh_simple_plane.brep's wing roots once its nose had
+  // chords 20 times finer, and recovery ran away there.
+  std::vector<double> face_flip_offset;
   // Guards: the paper gives no termination proof.
   int max_passes = 200;
   int max_added_vertices = -1;   // <0: 20 x input vertices + 1000

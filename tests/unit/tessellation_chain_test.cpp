@@ -1,0 +1,69 @@
+// The tessellations `vdmesh mesh` tries in turn on CAD input when recovery
+// stops (core/cad/tessellation_chain.h).
+#include <gtest/gtest.h>
+
+#include "cad/tessellation_chain.h"
+
+namespace vd::cad {
+namespace {
+
+TessellationOptions automatic_first() {
+  TessellationOptions t;
+  t.angle_deg = 20;
+  return t;  // deflection 0: automatic chord heights; smoothed and remeshed
+}
+
+TEST(TessellationChain, LinksInTurnThenUniformChords) {
+  TessellationChain chain(automatic_first(), {30, 40}, 0.5);
+  EXPECT_TRUE(chain.options().smooth && chain.options().remesh);
+  ASSERT_TRUE(chain.next(true, {4, 7}));
+  EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
+  EXPECT_EQ(chain.options().angle_deg, 20);
+  ASSERT_TRUE(chain.next(true, {7}));
+  EXPECT_EQ(chain.options().angle_deg, 30);
+  ASSERT_TRUE(chain.next(true, {7}));
+  EXPECT_EQ(chain.options().angle_deg, 40);
+  EXPECT_FALSE(chain.uniform_tried());
+  ASSERT_TRUE(chain.next(true, {7, 9}));
+  EXPECT_TRUE(chain.uniform_tried());
+  EXPECT_EQ(chain.options().angle_deg, 20);
+  EXPECT_TRUE(chain.options().smooth && chain.options().remesh);
+  // Automatic chord heights starting from the uniform one, so that the
+  // volume rounds can go on; not a fixed chord height.
+  EXPECT_EQ(chain.options().deflection, 0);
+  EXPECT_EQ(chain.options().start_deflection, 0.5);
+  EXPECT_EQ(chain.attempt(), 4);
+  EXPECT_FALSE(chain.has_fallback());
+  EXPECT_FALSE(chain.next(true, {7}));
+}
+
+TEST(TessellationChain, UniformLinkKeepsTheFacesEveryRecoveryRanAwayOn) {
+  TessellationChain chain(automatic_first(), {30, 40}, 0.5);
+  ASSERT_TRUE(chain.next(true, {3, 5, 7, 9}));
+  ASSERT_TRUE(chain.next(true, {5, 7, 11}));
+  ASSERT_TRUE(chain.next(true, {1, 5, 7}));
+  EXPECT_TRUE(chain.options().runaway_faces.empty());  // only the uniform link gets them
+  ASSERT_TRUE(chain.next(true, {5, 7, 8}));
+  EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{5, 7}));
+}
+
+TEST(TessellationChain, RefusedSurfacesDoNotNarrowTheRunawayFaces) {
+  TessellationChain chain(automatic_first(), {30}, 0.5);
+  ASSERT_TRUE(chain.next(false));  // the smoothed surface crossed itself: no recovery ran
+  ASSERT_TRUE(chain.next(true, {2, 6}));
+  ASSERT_TRUE(chain.next(true, {2, 6, 8}));
+  EXPECT_TRUE(chain.uniform_tried());
+  EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{2, 6}));
+}
+
+TEST(TessellationChain, GivenChordHeightHasNoRetries) {
+  TessellationOptions t = automatic_first();
+  t.deflection = 0.1;
+  t.smooth = t.remesh = false;
+  TessellationChain chain(t, {30, 40}, 0.5);
+  EXPECT_FALSE(chain.has_fallback());
+  EXPECT_FALSE(chain.next(true, {1}));
+}
+
+}  // namespace
+}  // namespace vd::cad
