@@ -71,6 +71,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.deflection = stats.deflection;
   cad.angle_deg = stats.angle_deg;
   cad.tessellation_rounds = stats.rounds;
+  cad.held_solids = stats.held_solids;
   cad.tessellation_volume_error = stats.volume_error;
   cad.occ_triangles = stats.occ_triangles;
   cad.refine_splits = stats.refine_splits;

@@ -73,6 +73,7 @@ struct TessellationStats {
   double angle_deg = 0;         // the smallest angular deflection used (of the last round)
   std::vector<double> face_deflection;  // by face number (Face<n>): each face's chord height
   int rounds = 1;               // tessellations made (volume_tolerance)
+  std::vector<int> held_solids;  // solid numbers the rounds left alone (TessellationOptions::runaway_faces)
   double volume_error = 0;      // the largest relative volume error of a solid's tessellation
   int occ_triangles = 0;        // from OpenCASCADE's mesher, before refinement
   int refine_splits = 0;

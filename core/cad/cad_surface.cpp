@@ -163,6 +163,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
     for (const int solid : {front[f], back[f]})
       if (solid > 0) held.insert(solid);
   }
+  stats.held_solids.assign(held.begin(), held.end());
   double seconds_tessellate = 0, seconds_refine = 0, first_facets = 0, previous_worst = 0, best_facets = 0;
   Mesh best;  // the previous round's surface
   TessellationStats best_stats;

@@ -75,6 +75,7 @@ struct CadInputReport {
   double deflection = 0;           // chord height of the face tessellation (its last round)
   double angle_deg = 0;            // angular deflection of the face tessellation (its last round)
   int tessellation_rounds = 1;     // tessellations made to meet the volume tolerance
+  std::vector<int> held_solids;    // solid numbers those rounds left alone: recovery ran away beside them
   int recovery_retries = 0;        // tessellations after recovery stopped at its guards (CadMeshOptions)
   double tessellation_volume_error = 0;  // largest |tessellated / CAD volume - 1| of a solid
   int occ_triangles = 0, refine_splits = 0, refine_flips = 0, border_splits = 0, collapsed_edges = 0, surface_facets = 0;

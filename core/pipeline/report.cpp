@@ -113,7 +113,7 @@ std::string report_json(const MeshReport& r) {
       << ", \"interface_faces\": " << c.interface_faces << ", \"size\": " << exact(c.size)
       << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << exact(c.deflection)
       << ", \"angular_deflection_deg\": " << exact(c.angle_deg) << ", \"tessellation_rounds\": " << c.tessellation_rounds
-      << ", \"recovery_retries\": " << c.recovery_retries
+      << ", \"recovery_retries\": " << c.recovery_retries << ", \"held_solids\": " << json_array(c.held_solids)
       << ", \"tessellation_volume_error\": " << exact(c.tessellation_volume_error)
       << ", \"occ_triangles\": " << c.occ_triangles
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
@@ -160,6 +160,10 @@ std::string report_table(const MeshReport& r) {
                             (c.remeshing_dropped ? " (remeshing dropped)" : "") + " -> " + std::to_string(c.surface_facets) + " facets; " +
                             std::to_string(c.tessellation_rounds) + (c.tessellation_rounds > 1 ? " rounds" : " round") +
                             ", volume within " + num(100 * c.tessellation_volume_error) + " %" +
+                            (c.held_solids.empty()
+                                 ? ""
+                                 : " (" + std::to_string(c.held_solids.size()) +
+                                       " solids left alone by the rounds: recovery ran away beside them)") +
                             (c.recovery_retries ? "; tessellated again " + std::to_string(c.recovery_retries) +
                                                       (c.recovery_retries > 1 ? " times" : " time") +
                                                       " after recovery stopped"
