@@ -73,21 +73,27 @@ const std::array<double, 2>& solid_integrals(const CadModel::Impl& cad, size_t i
   return v;
 }
 
+// Each face's value: the smallest of its solids' (`by_solid`, by solid
+// number). front/back: the solids on each face's sides (face_sides).
+std::vector<double> smallest_of_solids(const std::vector<int>& front, const std::vector<int>& back,
+                                       const std::map<int, double>& by_solid) {
+  std::vector<double> value(front.size(), std::numeric_limits<double>::infinity());
+  for (size_t f = 0; f < front.size(); ++f)
+    for (const int solid : {front[f], back[f]}) {
+      const auto it = by_solid.find(solid);
+      if (it != by_solid.end()) value[f] = std::min(value[f], it->second);
+    }
+  return value;
+}
+
 // Each face's chord height: the smallest of its solids'. Rounded down to
 // `anchor` (0: the finest height) times a power of two, so that the faces
 // are meshed in few calls whose chord heights differ enough for BRepMesh to
 // keep, at each call, what the finer calls made (cad_tessellate.cpp).
-// front/back: the solids on each face's sides (face_sides).
 std::vector<double> chord_heights(const std::vector<int>& front, const std::vector<int>& back,
                                   const std::map<int, double>& solid_deflection, double anchor) {
-  std::vector<double> height(front.size(), std::numeric_limits<double>::infinity());
-  double finest = std::numeric_limits<double>::infinity();
-  for (size_t f = 0; f < front.size(); ++f) {
-    for (const int solid : {front[f], back[f]})
-      if (solid_deflection.count(solid)) height[f] = std::min(height[f], solid_deflection.at(solid));
-    finest = std::min(finest, height[f]);
-  }
-  if (!(anchor > 0)) anchor = finest;
+  std::vector<double> height = smallest_of_solids(front, back, solid_deflection);
+  if (!(anchor > 0) && !height.empty()) anchor = *std::min_element(height.begin(), height.end());
   for (double& h : height) h = anchor * std::exp2(std::floor(std::log2(h / anchor) + 1e-9));
   return height;
 }
@@ -95,11 +101,8 @@ std::vector<double> chord_heights(const std::vector<int>& front, const std::vect
 // Each face's angular deflection in radians: the smallest of its solids'.
 std::vector<double> face_angles(const std::vector<int>& front, const std::vector<int>& back,
                                 const std::map<int, double>& solid_angle_deg) {
-  std::vector<double> angle(front.size(), std::numeric_limits<double>::infinity());
-  for (size_t f = 0; f < front.size(); ++f) {
-    for (const int solid : {front[f], back[f]})
-      if (solid_angle_deg.count(solid)) angle[f] = std::min(angle[f], solid_angle_deg.at(solid) * M_PI / 180.0);
-  }
+  std::vector<double> angle = smallest_of_solids(front, back, solid_angle_deg);
+  for (double& a : angle) a *= M_PI / 180.0;
   return angle;
 }
 
