@@ -85,16 +85,31 @@ void write_text(const std::string& path, const std::string& text) {
   if (!f) throw UsageError("cannot write " + path);
 }
 
-// Writes through a temporary file so that a failed run leaves no output that
-// could pass for a result.
+// Writes into a staging folder beside the output, then moves what the
+// writer made into place, so that a failed run leaves no output that could
+// pass for a result. A folder, not OUT.part: TetGen's writer makes a set of
+// files named after its path's base (OUT.node.part gave OUT.node.part.node,
+// and the rename of OUT.node.part then failed on every -o OUT.node).
 void write_result(const Mesh& mesh, const std::string& path, const io::WriteOptions& options) {
-  const std::string tmp = path + ".part";
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path staging = target.parent_path() / (target.filename().string() + ".part.d");
+  std::error_code ignored, ec;
+  fs::remove_all(staging, ignored);
+  auto fail_unless_ok = [&] {
+    if (ec) throw InputError(path + ": cannot write: " + ec.message());
+  };
   try {
-    io::write_mesh(mesh, tmp, options, io::format_for(path).name);
-    std::filesystem::rename(tmp, path);
+    fs::create_directory(staging, ec);
+    fail_unless_ok();
+    io::write_mesh(mesh, (staging / target.filename()).string(), options, io::format_for(path).name);
+    for (const fs::directory_entry& made : fs::directory_iterator(staging)) {
+      fs::rename(made.path(), target.parent_path() / made.path().filename(), ec);
+      fail_unless_ok();
+    }
+    fs::remove(staging, ignored);
   } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
+    fs::remove_all(staging, ignored);
     throw;
   }
 }

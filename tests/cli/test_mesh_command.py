@@ -33,6 +33,23 @@ if code == 0:
           sum(map(int, rows.get("dihedral histogram (10 deg bins)", []))) == 6 * tets,
           "info: radius ratio and dihedral histograms over all %d tetrahedra" % tets)
 
+# Every volume format the usage names is a valid -o, read back by info with
+# the bracket's volume, and nothing of the staging is left beside it
+# (-o X.node failed on every run: TetGen's writer names its files after
+# the path's base, and X.node.part became X.node.part.node).
+formats_dir = os.path.join(out, "formats")
+os.makedirs(formats_dir)
+for ext in (".vtu", ".vtk", ".msh", ".inp", ".mesh", ".node"):
+    target = os.path.join(formats_dir, "b" + ext)
+    code, _, err = run("mesh", bracket, "-o", target, "--quiet")
+    check(code == 0, "bracket to %s (exit %d: %s)" % (ext, code, err.strip()[-300:]))
+    if code == 0:
+        code, info, _ = run("info", target)
+        check(code == 0 and "volume 2000" in info, "info reads %s back with volume 2000: %s" % (ext, info.strip()[:200]))
+made = sorted(os.listdir(formats_dir))
+check(made == sorted(["b.vtu", "b.vtk", "b.msh", "b.inp", "b.mesh", "b.node", "b.ele", "b.face"]),
+      "the outputs and nothing else: %s" % made)
+
 # Threads change nothing: a sphere of over 100k tetrahedra (several chunks of the
 # parallel loops) gives the same file and the same figures on 1 and 2 threads.
 sphere_path = os.path.join(out, "sphere.off")
