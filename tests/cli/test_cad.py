@@ -284,6 +284,22 @@ if len(by_size) == 4:
           "pin in a tube: each region's volume error shrinks with the size (%s)" % shown)
     check(max(by_size[0.25]) < 0.001, "pin in a tube: each region within 0.1 %% at size 0.25 (%s)" % shown)
 
+# A cylinder standing on a block, tangent to the block's edge (as the pins of
+# caxif_as1-oc-214.stp): the fused top face has a corner of 0 deg where the
+# circle meets the edge. The face remesher does not refine triangles whose
+# smallest corner is that corner; refined, CGAL's mesher split the circle and
+# the edge in shells towards it (chords of 0.007 against 0.06 on the other
+# side, caps of 179 deg between them) and the smallest dihedral angle was
+# 0.47 deg (26 tetrahedra under 5 deg). Measured 2026-11-26: 2.0 to 2.13 deg
+# over seeds 1 to 6, 6 under 5 deg.
+tangent = make_brep("tangent_cylinder", lambda occ: (occ.addBox(0, 0, 0, 10, 10, 3),
+                                                     occ.addCylinder(7, 5, 3, 0, 0, 2, 3)))
+rep, lowest = meshed_angles(tangent, "cylinder tangent to the block's edge")
+if rep is not None:
+    check(lowest.min() > 1.5 and (lowest < 5).sum() < 15,
+          "cylinder tangent to the block's edge: smallest dihedral angle %.2f deg > 1.5, %d tetrahedra under 5 deg < 15"
+          % (lowest.min(), (lowest < 5).sum()))
+
 # Chord height per face: a thin slab (2V/A = 0.098, chord 0.00196) beside a
 # big sphere (2V/A = 6.7, chord 0.13). The sphere is tessellated at its own
 # chord height (made finer by the volume tolerance), not the slab's; with
