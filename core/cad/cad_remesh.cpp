@@ -410,8 +410,8 @@ bool FaceChart::make_affine(const std::vector<gp_Pnt2d>& corners, double deflect
   return true;
 }
 
-// The border nodes where a face's own angle is sharp (find_cusps).
-using Cusps = std::vector<Cdt::Vertex_handle>;
+// The border nodes where a face's own angle is sharp (find_sharp_corners).
+using SharpCorners = std::vector<Cdt::Vertex_handle>;
 
 // CGAL's size criteria with the size bound of the chart's point: CGAL's
 // quality (the squared sine of the smallest angle, and the longest edge over
@@ -419,13 +419,13 @@ using Cusps = std::vector<Cdt::Vertex_handle>;
 class ChartCriteria : public CGAL::Delaunay_mesh_size_criteria_2<Cdt> {
  public:
   using Base = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
-  ChartCriteria(const FaceChart& chart, const Cusps& cusps)
-      : Base(kAngleBound, 1.0), chart_(&chart), cusps_(&cusps) {}
+  ChartCriteria(const FaceChart& chart, const SharpCorners& sharp)
+      : Base(kAngleBound, 1.0), chart_(&chart), sharp_(&sharp) {}
 
   class Is_bad : public Base::Is_bad {
    public:
-    Is_bad(double bound, const FaceChart& chart, const Cusps& cusps, const K& traits)
-        : Base::Is_bad(bound, 1.0, traits), chart_(&chart), cusps_(&cusps) {}
+    Is_bad(double bound, const FaceChart& chart, const SharpCorners& sharp, const K& traits)
+        : Base::Is_bad(bound, 1.0, traits), chart_(&chart), sharp_(&sharp) {}
     using Base::Is_bad::operator();
     CGAL::Mesh_2::Face_badness operator()(const Cdt::Face_handle& f, Quality& q) const {
       const Point2 &a = f->vertex(0)->point(), &b = f->vertex(1)->point(), &c = f->vertex(2)->point();
@@ -451,7 +451,7 @@ class ChartCriteria : public CGAL::Delaunay_mesh_size_criteria_2<Cdt> {
       // 0.32 deg tetrahedra on them).
       for (int i = 0; i < 3; ++i) {
         const Cdt::Vertex_handle v = f->vertex(i);
-        if (std::find(cusps_->begin(), cusps_->end(), v) == cusps_->end()) continue;
+        if (std::find(sharp_->begin(), sharp_->end(), v) == sharp_->end()) continue;
         const double opposite = CGAL::squared_distance(f->vertex(f->ccw(i))->point(), f->vertex(f->cw(i))->point());
         if (opposite <= sq[0]) return CGAL::Mesh_2::NOT_BAD;
       }
@@ -460,13 +460,13 @@ class ChartCriteria : public CGAL::Delaunay_mesh_size_criteria_2<Cdt> {
 
    private:
     const FaceChart* chart_;
-    const Cusps* cusps_;
+    const SharpCorners* sharp_;
   };
-  Is_bad is_bad_object() const { return Is_bad(this->bound(), *chart_, *cusps_, this->traits); }
+  Is_bad is_bad_object() const { return Is_bad(this->bound(), *chart_, *sharp_, this->traits); }
 
  private:
   const FaceChart* chart_;
-  const Cusps* cusps_;
+  const SharpCorners* sharp_;
 };
 
 using Mesher = CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, ChartCriteria>;
@@ -514,9 +514,6 @@ void mark_inside(Cdt& cdt) {
   }
 }
 
-// One face's border in its chart: the facet edges on CAD edges (a seam
-// twice, once per side), in a constrained Delaunay triangulation, the
-// inside marked.
 // A face's angle at a border node under this is sharp: the 20 deg under
 // which the issue excuses slivers, and about the 20.7 deg Ruppert's
 // refinement reaches. 10 changed 4 files of the CAD corpus by a few
@@ -525,9 +522,9 @@ constexpr double kSharpCornerDeg = 20;
 
 // The border nodes where the face's angle (the sum of its triangles'
 // corners there) is sharp.
-Cusps find_cusps(const Cdt& cdt) {
+SharpCorners find_sharp_corners(const Cdt& cdt) {
   const double limit = kSharpCornerDeg * M_PI / 180;
-  Cusps cusps;
+  SharpCorners corners;
   for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
     double angle = 0;
     bool on_border = false;
@@ -542,18 +539,21 @@ Cusps find_cusps(const Cdt& cdt) {
       const double ux = q.x() - p.x(), uy = q.y() - p.y(), wx = r.x() - p.x(), wy = r.y() - p.y();
       angle += std::atan2(std::abs(ux * wy - uy * wx), ux * wx + uy * wy);
     } while (++f != done);
-    if (on_border && angle > 0 && angle < limit) cusps.push_back(v);
+    if (on_border && angle > 0 && angle < limit) corners.push_back(v);
   }
-  return cusps;
+  return corners;
 }
 
+// One face's border in its chart: the facet edges on CAD edges (a seam
+// twice, once per side), in a constrained Delaunay triangulation, the
+// inside marked.
 struct FaceBorder {
   Cdt cdt;
   std::vector<std::pair<Cdt::Vertex_handle, Cdt::Vertex_handle>> segments;
   int sign = 0;              // of the facets' orientation in the plane
   double area = 0;           // twice the facets' area in the plane
   double expected_facets = 0;  // about how many the refinement makes (the facets' areas over their sizes')
-  Cusps cusps;  // its sharp corners
+  SharpCorners sharp_corners;
 };
 
 class FaceRemesher {
@@ -654,7 +654,7 @@ class FaceRemesher {
     if (constrained != out.segments.size()) return false;
     mark_inside(out.cdt);
     if (std::abs(domain_area(out.cdt) - out.area) > 1e-9 * out.area) return false;
-    out.cusps = find_cusps(out.cdt);
+    out.sharp_corners = find_sharp_corners(out.cdt);
     return true;
   }
 
@@ -768,7 +768,7 @@ class FaceRemesher {
   template <class RefineMesher>
   static bool refine(FaceBorder& b, const FaceChart& chart) {
     try {
-      RefineMesher mesher(b.cdt, ChartCriteria(chart, b.cusps));
+      RefineMesher mesher(b.cdt, ChartCriteria(chart, b.sharp_corners));
       mesher.init(true);
       mesher.refine_mesh();
       return true;
