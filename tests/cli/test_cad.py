@@ -660,27 +660,30 @@ check(code == 3 and "--size 1e-07 asks for about" in err and "GiB of memory" in 
       % (code, time.time() - started, err.strip()[:300]))
 
 # The cautious run (pipeline/mesher.cpp): gmsh_simple_plane.brep at a chord
-# height of 0.001 recovers its surface and its interior vertices, but the
-# recovery after the cap fold splits ran away at a wing's trailing edge root
-# (89,326 facets missing, exit 4). It is given up, and the run made again
-# without fold splits and with interior vertices that take no facet. Its
-# volumes are not checked: at that chord height the nose pieces lose 11 %.
+# height of 0.0015 recovers its surface and its interior vertices, but the
+# recovery after the cap fold splits runs away. It is given up, and the run
+# made again without fold splits and with interior vertices that take no
+# facet. Its volumes are not checked: at that chord height a fuselage piece
+# loses 26 %. Until 2026-11-26 (the face remesher's sharp corners) the chord
+# height here was 0.001, which now meshes at once; which chord heights run
+# away is chaotic (0.0008, 0.0012 and 0.002 stop at the guard, 0.0009 to
+# 0.0011 mesh at once).
 path = data("cad-assembly/gmsh_simple_plane.brep")
 if path:
     target = os.path.join(out, "simple_plane.vtu")
     report = os.path.join(out, "simple_plane.json")
-    code, table, err = run("mesh", path, "-o", target, "--report", report, "--deflection", "0.001")
+    code, table, err = run("mesh", path, "-o", target, "--report", report, "--deflection", "0.0015")
     rep = json.load(open(report)) if code == 0 else None
     # The report table says how many solids are off by over 0.5 % (20 of 27
-    # here, the nose pieces by 11 %), apart from the per-solid rows.
+    # here), apart from the per-solid rows.
     off = [line for line in table.splitlines() if "volumes off by over 0.5 %" in line]
     bad = [v for v in rep["cad"]["volumes"] if abs(v["mesh"] / v["cad"] - 1) > 0.005] if rep else []
     check(len(off) == 1 and (" %d of 27 solids (largest " % len(bad)) in off[0] and len(bad) > 0,
-          "simple plane at chord 0.001: the table counts the solids off by over 0.5 %% (%s, %d in the JSON)"
+          "simple plane at chord 0.0015: the table counts the solids off by over 0.5 %% (%s, %d in the JSON)"
           % (off, len(bad)))
     check(code == 0 and rep["interior"]["cautious_retry"] and rep["interior"]["rejected_taking_a_facet"] > 0
           and rep["cad"]["solids"] == 27 and rep["complete"],
-          "simple plane at chord 0.001: meshed by the cautious run (exit %d, %s)"
+          "simple plane at chord 0.0015: meshed by the cautious run (exit %d, %s)"
           % (code, rep["interior"] if rep else err.strip()[-300:]))
     if code == 0:
         import meshio
