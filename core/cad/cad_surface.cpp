@@ -228,7 +228,9 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       for (size_t i = 0; i < errors.size(); ++i)
         if (errors[i] > options.volume_tolerance && !held.count(impl_->solid_number[i]))
           solid_shrink[impl_->solid_number[i]] = std::max(0.8 * options.volume_tolerance / errors[i], fewest);
-      const double shrink = worst > 0 ? std::max(0.8 * options.volume_tolerance / worst, fewest) : 1.0;
+      // The worst solid's (its shrink is the smallest); only asked while it is off.
+      double shrink = 1.0;
+      for (const auto& [n, solid] : solid_shrink) shrink = std::min(shrink, solid);
       // A smaller chord height need not make more facets: where the size
       // splits bound the sag (a sphere of radius 10 at size 2: 0.67 % at
       // chord 0.13 and 0.84 % at 0.06, with fewer facets), the round is no
