@@ -186,10 +186,16 @@ int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<dou
 // Before it: how many times its facets a face may get, from what the whole
 // surface would get; and into how many pieces each border piece (edge_key
 // of its ends) must be cut for the faces' meshes to be round (Ruppert's
-// segment splits), to be cut before remesh_faces.
+// segment splits), to be cut before remesh_faces, where CGAL cut it: cut
+// evenly into as many pieces (bisections, until 2026-11-26), the two sides
+// of a 0 deg corner got nodes at other distances from it, and the face
+// kept triangles of 179.8 deg between them (occt_MODERN_Exhaust_1.brep,
+// whose recovery then ran away there).
 struct RemeshPlan {
   double growth_limit = 0;
-  std::map<std::uint64_t, int> border_pieces;
+  // Per border piece: where the mesher put its nodes, as fractions of the
+  // piece's length from its end with the lower vertex id.
+  std::map<std::uint64_t, std::vector<double>> border_nodes;
 };
 RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
                           double size);

@@ -39,6 +39,10 @@ class Geometry {
     if (it == projectors_.end()) it = projectors_.emplace(fi, FaceProjector(cad_.faces[fi])).first;
     return it->second.valid() ? it->second.uv(p, 1e-9 * cad_.diagonal, &near) : near;
   }
+  // The length of CAD edge e between parameters a and b (chords of 32
+  // steps), and the parameter `distance` along it from a.
+  double edge_length(int e, double a, double b) { return walk_edge(e, a, b, -1); }
+  double parameter_at(int e, double a, double b, double distance) { return walk_edge(e, a, b, distance); }
   gp_Pnt on_edge(int e, double t) {
     auto& c = curves_[e];
     if (!c) c = std::make_unique<BRepAdaptor_Curve>(TopoDS::Edge(cad_.edge_index(e)));
@@ -56,6 +60,22 @@ class Geometry {
   }
 
  private:
+  // distance < 0: the length from a to b; else the parameter that far from a.
+  double walk_edge(int e, double a, double b, double distance) {
+    constexpr int kSteps = 32;
+    double length = 0;
+    gp_Pnt previous = on_edge(e, a);
+    for (int i = 1; i <= kSteps; ++i) {
+      const double t = a + (b - a) * i / kSteps;
+      const gp_Pnt point = on_edge(e, t);
+      const double step = previous.Distance(point);
+      if (distance >= 0 && length + step >= distance)
+        return a + (b - a) * (i - 1 + (step > 0 ? (distance - length) / step : 0)) / kSteps;
+      length += step;
+      previous = point;
+    }
+    return distance >= 0 ? b : length;
+  }
   const CadModel::Impl& cad_;
   BRepAdaptor_Surface& surface(int fi) {
     auto& s = surfaces_[fi];
@@ -244,7 +264,9 @@ class Refiner {
   // the face's (u, v): a thin triangle along a curved border can have its
   // third corner between the chord and the curve. A guard: it refused no
   // split on the cylinder, Exhaust, gmsh_part or wing-fuselage.
-  bool split(int p, int q, const std::vector<int>& facets) {
+  // `from_p` > 0: on a CAD edge, the vertex goes this far from p along the
+  // edge instead of to the middle of its parameters.
+  bool split(int p, int q, const std::vector<int>& facets, double from_p = 0) {
     Mesh& m = s_.mesh;
     const int v = static_cast<int>(m.points.size());
     const auto span = s_.edge_spans.find(edge_key(p, q));
@@ -254,6 +276,10 @@ class Refiner {
     if (span != s_.edge_spans.end()) {
       const CadEdgeSpan& e = span->second;
       t_mid = 0.5 * (e.t_lo + e.t_hi);
+      if (from_p > 0) {
+        const bool p_lo = p < q;
+        t_mid = geo_.parameter_at(e.edge, p_lo ? e.t_lo : e.t_hi, p_lo ? e.t_hi : e.t_lo, from_p);
+      }
       point = to_vec(geo_.on_edge(e.edge, t_mid));
       for (size_t k = 0; k < facets.size(); ++k) {
         const int f = facets[k];
@@ -441,15 +467,23 @@ class Refiner {
       if (knife_edges_.count(span.edge)) knife_[key >> 32] = knife_[key & 0xffffffffu] = 1;
   }
 
-  // Edge (p, q) cut in halves until it is in at least `pieces` pieces.
-  void split_into(int p, int q, int pieces) {
-    if (pieces < 2) return;
-    const std::vector<int> facets = facets_on(edge_key(p, q));
-    if (facets.empty()) return;
-    const int v = static_cast<int>(s_.mesh.points.size());
-    if (!split(p, q, facets)) return;
-    split_into(p, v, (pieces + 1) / 2);
-    split_into(v, q, (pieces + 1) / 2);
+  // Piece (p, q) cut at these fractions of its length from p (ascending).
+  void split_at(int p, int q, const std::vector<double>& fractions) {
+    const auto span = s_.edge_spans.find(edge_key(p, q));
+    if (span == s_.edge_spans.end()) return;
+    const CadEdgeSpan e = span->second;
+    const double length = geo_.edge_length(e.edge, e.t_lo, e.t_hi);
+    int at = p;
+    double done = 0;
+    for (double f : fractions) {
+      if (!(f > 0 && f < 1)) continue;
+      const std::vector<int> facets = facets_on(edge_key(at, q));
+      if (facets.empty()) return;
+      const int v = static_cast<int>(s_.mesh.points.size());
+      if (!split(at, q, facets, f * length - done)) continue;
+      at = v;
+      done = f * length;
+    }
   }
 
   // A facet with two edges on one CAD edge (three consecutive nodes of a
@@ -608,8 +642,8 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
     // itself on the corpus (the knife edges' own facets were split on the
     // face before, and flips still keep off them).
     const RemeshPlan plan = plan_remeshing(cad, s, face_deflection, size);
-    for (const auto& [key, pieces] : plan.border_pieces)
-      r->split_into(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), pieces);
+    for (const auto& [key, fractions] : plan.border_nodes)
+      r->split_at(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), fractions);
     stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, plan.growth_limit);
     if (stats.remeshed_faces > 0) {
       r.emplace(cad, s, stats, 0.0, options.gradation);

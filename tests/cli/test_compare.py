@@ -211,39 +211,39 @@ if shared:
         verify("netgen_part1", report, abs(enclosed_volume(uniq, tri)), len(np.unique(tri)))
         check_svg("netgen_part1", svg, 4)
 
-# CAD input whose first tessellation vdmesh's recovery gives up on: compare
-# walks the tessellations of `vdmesh mesh` and compares both meshers on the
-# one vdmesh meshes (the exhaust's smoothed surface stops at 20 deg; `vdmesh
-# mesh` meshes it unsmoothed at 20 deg).
+# CAD input: compare walks the tessellations `vdmesh mesh` walks and compares
+# both meshers on the one vdmesh meshes. The exhaust's first (smoothed and
+# remeshed) tessellation stopped recovery until 2026-11-26, and both went on
+# to the unsmoothed one; now the first is the one (the chain's walk past a
+# given-up tessellation: tests/unit/tessellation_chain_test.cpp).
 exhaust = data("cad-assembly/occt_MODERN_Exhaust_1.brep")
 if exhaust:
     report, stdout, _, _ = compare("exhaust", exhaust, "--runs", "boundary", expect=(0, 5))
     if report:
         given_up = report["cad_tessellations_given_up"]
-        check(len(given_up) == 1 and given_up[0] == "angular deflection 20 deg: boundary run, vdmesh exit 4",
-              "exhaust: the smoothed tessellation given up after recovery stopped (%s)" % given_up)
-        check(report["cad_tessellation"] == "angular deflection 20 deg, unsmoothed, not remeshed",
-              "exhaust: compared on the unsmoothed tessellation (%s)" % report["cad_tessellation"])
-        check("CAD tessellation: angular deflection 20 deg, unsmoothed" in stdout, "exhaust: the table names it")
+        check(given_up == [], "exhaust: no tessellation given up (%s)" % given_up)
+        check(report["cad_tessellation"] == "angular deflection 20 deg",
+              "exhaust: compared on the first tessellation (%s)" % report["cad_tessellation"])
+        check("CAD tessellation: angular deflection 20 deg" in stdout, "exhaust: the table names it")
         b = report["runs"][0]
         check(b["vdmesh"]["meshed"] and b["tetgen"]["meshed"], "exhaust: both meshers meshed the boundary run")
-        # The compared surface is the one `vdmesh convert` writes with those
-        # options (facets counted by meshio), not the default one.
+        # The compared surface is the one `vdmesh convert` writes with the
+        # same options (facets counted by meshio), not the unsmoothed one.
         facets = {}
         for label, options in (("unsmoothed", ["--no-smoothing", "--no-face-remesh"]), ("default", [])):
             off = os.path.join(out, "exhaust-%s.off" % label)
             code, _, err = run("convert", exhaust, off, *options)
             check(code == 0, "exhaust: convert %s (%d: %s)" % (label, code, err.strip()[-300:]))
             facets[label] = sum(len(c.data) for c in meshio.read(off).cells if c.type == "triangle") if code == 0 else -1
-        check(report["input_facets"] == facets["unsmoothed"] != facets["default"],
-              "exhaust: compared %d facets, the unsmoothed tessellation has %d, the default %d" %
-              (report["input_facets"], facets["unsmoothed"], facets["default"]))
+        check(report["input_facets"] == facets["default"] != facets["unsmoothed"],
+              "exhaust: compared %d facets, the default tessellation has %d, the unsmoothed %d" %
+              (report["input_facets"], facets["default"], facets["unsmoothed"]))
         # `vdmesh mesh` ends on the same tessellation.
         rj = os.path.join(out, "exhaust-mesh.json")
         code, _, err = run("mesh", exhaust, "-o", os.path.join(out, "exhaust.vtu"), "--quiet", "--report", rj)
         cad = json.load(open(rj))["cad"] if code == 0 else {}
-        check(code == 0 and cad.get("recovery_retries") == 1 and cad.get("angular_deflection_deg") == 20 and
-              cad.get("smoothing_dropped") and cad.get("remeshing_dropped"),
+        check(code == 0 and cad.get("recovery_retries") == 0 and cad.get("angular_deflection_deg") == 20 and
+              not cad.get("smoothing_dropped") and not cad.get("remeshing_dropped"),
               "exhaust: vdmesh mesh ends on the same tessellation (%d: %s)" % (code, cad or err.strip()[-300:]))
 
 # TetGen fails on a self-intersecting surface (two tetrahedra piercing each
