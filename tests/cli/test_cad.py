@@ -64,6 +64,16 @@ def check_mesh(path, rep, name):
     return m
 
 
+def converted_surface(path, name):
+    """The surface `vdmesh convert` writes for the CAD file (meshio), or None
+    when it fails (a failed check)."""
+    import meshio
+    surface = os.path.join(out, name + ".vtk")
+    code, _, err = run("convert", path, surface)
+    check(code == 0, "%s: surface written (exit %d: %s)" % (name, code, err.strip()[:200]))
+    return meshio.read(surface) if code == 0 else None
+
+
 def meshed_angles(path, name, *extra):
     """Meshes path (--quiet and `extra`), checks the mesh as check_mesh does,
     and gives the report and each tetrahedron's smallest dihedral angle; or
@@ -362,12 +372,8 @@ for rel, solids, interfaces in (("cad-assembly/gmsh_wing_fuselage.step", 2, 1),
 # mesher put its nodes: 4 over 170 deg (measured 2026-11-26).
 exhaust = data("cad-assembly/occt_MODERN_Exhaust_1.brep")
 if exhaust:
-    surface = os.path.join(out, "exhaust.vtk")
-    code, _, err = run("convert", exhaust, surface)
-    check(code == 0, "exhaust: surface written (exit %d: %s)" % (code, err.strip()[:200]))
-    if code == 0:
-        import meshio
-        s = meshio.read(surface)
+    s = converted_surface(exhaust, "exhaust")
+    if s is not None:
         corners = s.points[s.cells_dict["triangle"]]
         largest = np.zeros(len(corners))
         for i in range(3):
@@ -383,12 +389,8 @@ if exhaust:
 # starts from has no such edge left.
 cap = data("cad-part/kicad_CP_Radial_D10.0mm.step")
 if cap:
-    surface = os.path.join(out, "cap.off")
-    code, _, err = run("convert", cap, surface)
-    check(code == 0, "capacitor: surface written (exit %d: %s)" % (code, err.strip()[:200]))
-    if code == 0:
-        import meshio
-        s = meshio.read(surface)
+    s = converted_surface(cap, "capacitor")
+    if s is not None:
         tri = s.cells_dict["triangle"]
         edges = np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1), axis=0)
         length = np.linalg.norm(s.points[edges[:, 0]] - s.points[edges[:, 1]], axis=1)
