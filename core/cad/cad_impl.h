@@ -184,12 +184,12 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
 int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
                  double growth_limit);
 // Before it: how many times its facets a face may get, from what the whole
-// surface would get; and into how many pieces each border piece (edge_key
-// of its ends) must be cut for the faces' meshes to be round (Ruppert's
-// segment splits), to be cut before remesh_faces, where CGAL cut it: cut
-// evenly into as many pieces (bisections, until 2026-11-26), the two sides
-// of a 0 deg corner got nodes at other distances from it, and the face
-// kept triangles of 179.8 deg between them (occt_MODERN_Exhaust_1.brep,
+// surface would get; and where each border piece (edge_key of its ends)
+// must be cut for the faces' meshes to be round (Ruppert's segment splits):
+// at the nodes CGAL's planning run put on it, cut before remesh_faces. Cut
+// instead in halves until it had as many pieces (until 2026-11-26), the two
+// sides of a 0 deg corner got nodes at other distances from it, and the
+// face kept triangles of 179.8 deg between them (occt_MODERN_Exhaust_1.brep,
 // whose recovery then ran away there).
 struct RemeshPlan {
   double growth_limit = 0;
