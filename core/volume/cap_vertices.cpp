@@ -21,6 +21,8 @@ namespace {
 // tetrahedra under 10 deg (3,340 -> 3,803), at 1 deg 4 %.
 constexpr double kFlatAcrossAWallDeg = 1.0;
 
+bool contains3(const std::array<int, 3>& v, int x) { return v[0] == x || v[1] == x || v[2] == x; }
+
 struct Cap {
   int tet;
   Vec3 point;
@@ -79,6 +81,30 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
       }
     return false;
   };
+  // Or its centroid far from the planes of the facets at its vertices (a
+  // 0.15 of its longest edge; the plane of a facet is never farther than
+  // the facet): a flat tetrahedron across a groove or a slot, whose corner
+  // vertices' normals are no wall's (the Block's 0.8-high grooves, flat
+  // rectangles of 2.08 x 0.8 at 0.0004 deg). A spike's or a wedge's thin
+  // tip keeps its centroid close to a facet plane.
+  auto thick_at_centroid = [&](const Tetrahedron& t, const Vec3& centroid) {
+    if (facets_at.empty()) {
+      facets_at.resize(m.points.size());
+      for (size_t f = 0; f < m.triangles.size(); ++f)
+        for (int v : m.triangles[f].v) facets_at[v].push_back(static_cast<int>(f));
+    }
+    double longest = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) longest = std::max(longest, norm(m.points[t.v[i]] - m.points[t.v[j]]));
+    for (int i = 0; i < 4; ++i)
+      for (int f : facets_at[t.v[i]]) {
+        const Triangle& tri = m.triangles[f];
+        if (tri.front == tri.back) return false;
+        const Vec3 nf = normalized(facet_normal(m.points, tri));
+        if (std::abs(dot(centroid - m.points[tri.v[0]], nf)) < 0.15 * longest) return false;
+      }
+    return true;
+  };
   std::vector<Cap> caps;
   std::unordered_set<long long> folds;
   for (size_t ti = 0; ti < m.tets.size(); ++ti) {
@@ -95,12 +121,31 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
     // The random shift moves them only along the surface, so nothing opens
     // it, and the sliver pass cannot move a vertex off its face. Its
     // centroid, inside the wall, does (meshlab_casting.off 0.01 -> 4.58 deg).
-    if (n == 0 && angle < kFlatAcrossAWallDeg && orientation(p0, p1, p2, p3) != 0 && spans_a_wall(t)) {
-      const Vec3 centroid = 0.25 * (p0 + p1 + p2 + p3);
+    const Vec3 centroid = 0.25 * (p0 + p1 + p2 + p3);
+    if (n == 0 && angle < kFlatAcrossAWallDeg && orientation(p0, p1, p2, p3) != 0 &&
+        (spans_a_wall(t) || thick_at_centroid(t, centroid))) {
       double shortest = 1e300;
       for (int x = 0; x < 4; ++x)
         for (int y = x + 1; y < 4; ++y) shortest = std::min(shortest, norm(m.points[t.v[x]] - m.points[t.v[y]]));
-      caps.push_back({static_cast<int>(ti), centroid, 2 * shortest});
+      // Refused (it would take a facet: a wall or a groove thinner than
+      // the facets' circumspheres), the longest of its edges on the surface
+      // is split as a fold's would be, and the cospherical rows of the two
+      // sides no longer meet in one plane.
+      std::array<int, 2> edge{-1, -1};
+      double edge_length = 0;
+      for (int x = 0; x < 4; ++x)
+        for (int y = x + 1; y < 4; ++y) {
+          const int a = t.v[x], b = t.v[y];
+          const double length = norm(m.points[a] - m.points[b]);
+          if (length <= edge_length) continue;
+          for (int f : facets_at[a])
+            if (contains3(m.triangles[f].v, b)) {
+              edge = {a, b};
+              edge_length = length;
+              break;
+            }
+        }
+      caps.push_back({static_cast<int>(ti), centroid, 2 * shortest, edge});
       continue;
     }
     if (n != 2) continue;
@@ -137,7 +182,7 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
     // the cap's circumsphere: from the fold's middle, else from the cap's
     // centroid (inside its circumsphere, as the whole tetrahedron is), ever
     // shallower.
-    const Vec3 middle = 0.5 * (m.points[a] + m.points[b]), centroid = 0.25 * (p0 + p1 + p2 + p3);
+    const Vec3 middle = 0.5 * (m.points[a] + m.points[b]);
     const Vec3 in = normalized(inward);
     for (double depth : {0.35, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005}) {
       const Vec3 from_middle = middle + (depth * length) * in, from_centroid = centroid + (depth * length) * in;

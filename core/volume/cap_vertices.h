@@ -35,11 +35,15 @@ class SurfaceGeometry;
 // One point per fold edge. Also the centroid of each tetrahedron under 1 deg
 // of four surface vertices, no face on the surface, two of whose vertices
 // are on opposite sides of a wall (the normals into the region there point
-// more than 120 deg apart). Pre: dt's tetrahedra carry their region labels
-// (build_region_tetrahedra leaves them so).
+// more than 120 deg apart) or whose centroid is 0.15 of its longest edge
+// from the planes of the facets at its vertices (across a groove). Pre: dt's
+// tetrahedra carry their region labels (build_region_tetrahedra leaves them
+// so).
 struct CapPoint {
   Vec3 point;
-  std::array<int, 2> fold{-1, -1};  // the fold edge; -1 for a centroid across a wall
+  // The fold edge, split when the point is refused; for a centroid, the
+  // tetrahedron's longest edge on the surface (-1 when none is).
+  std::array<int, 2> fold{-1, -1};
 };
 std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt,
                                           double sliver_angle_deg, double ridge_angle_deg);
