@@ -38,7 +38,21 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
   const TripleIndex facet_of(m.triangles, [](const Triangle& t) { return t.v; });
   const double cos_ridge = std::cos(ridge_angle_deg * M_PI / 180.0);
   const double cos_sliver = std::cos(sliver_angle_deg * M_PI / 180.0);
-  std::vector<std::vector<int>> facets_at;
+  std::vector<std::vector<int>> facets_at;  // filled when first asked
+  auto facets_at_vertices = [&]() -> const std::vector<std::vector<int>>& {
+    if (facets_at.empty()) {
+      facets_at.resize(m.points.size());
+      for (size_t f = 0; f < m.triangles.size(); ++f)
+        for (int v : m.triangles[f].v) facets_at[v].push_back(static_cast<int>(f));
+    }
+    return facets_at;
+  };
+  auto longest_edge = [&](const Tetrahedron& t) {
+    double longest = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) longest = std::max(longest, norm(m.points[t.v[i]] - m.points[t.v[j]]));
+    return longest;
+  };
   // Two of t's vertices on opposite sides of a wall: their normals into t's
   // region (sums over their facets) more than 120 deg apart. Not on a
   // surface inside one region, which has no inside, and not at a sharp
@@ -48,11 +62,7 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
   // design, and a point inside it only cuts its small angle (the 1 deg wedge
   // of plc-sharp: 0.82 -> 0.50 deg, the pump's smallest angle 1.12 -> 0.24).
   auto spans_a_wall = [&](const Tetrahedron& t) {
-    if (facets_at.empty()) {
-      facets_at.resize(m.points.size());
-      for (size_t f = 0; f < m.triangles.size(); ++f)
-        for (int v : m.triangles[f].v) facets_at[v].push_back(static_cast<int>(f));
-    }
+    facets_at_vertices();
     Vec3 normal[4];
     for (int i = 0; i < 4; ++i) {
       Vec3 sum{0, 0, 0};
@@ -67,9 +77,7 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
       if (!(norm(sum) > 0.7 * static_cast<double>(facets_at[t.v[i]].size()))) return false;
       normal[i] = sum;
     }
-    double longest = 0;
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) longest = std::max(longest, norm(m.points[t.v[i]] - m.points[t.v[j]]));
+    const double longest = longest_edge(t);
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) {
         if (!(dot(normal[i], normal[j]) < -0.5 * norm(normal[i]) * norm(normal[j]))) continue;
@@ -88,14 +96,8 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
   // rectangles of 2.08 x 0.8 at 0.0004 deg). A spike's or a wedge's thin
   // tip keeps its centroid close to a facet plane.
   auto thick_at_centroid = [&](const Tetrahedron& t, const Vec3& centroid) {
-    if (facets_at.empty()) {
-      facets_at.resize(m.points.size());
-      for (size_t f = 0; f < m.triangles.size(); ++f)
-        for (int v : m.triangles[f].v) facets_at[v].push_back(static_cast<int>(f));
-    }
-    double longest = 0;
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) longest = std::max(longest, norm(m.points[t.v[i]] - m.points[t.v[j]]));
+    facets_at_vertices();
+    const double longest = longest_edge(t);
     for (int i = 0; i < 4; ++i)
       for (int f : facets_at[t.v[i]]) {
         const Triangle& tri = m.triangles[f];
@@ -138,7 +140,7 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
           const int a = t.v[x], b = t.v[y];
           const double length = norm(m.points[a] - m.points[b]);
           if (length <= edge_length) continue;
-          for (int f : facets_at[a])
+          for (int f : facets_at_vertices()[a])
             if (contains3(m.triangles[f].v, b)) {
               edge = {a, b};
               edge_length = length;
