@@ -709,9 +709,6 @@ class FaceRemesher {
     if (!border(fi, facets, chart, b, piece) || too_many(b, facets) || !refine<FullMesher>(b, chart) ||
         !rounder(b.cdt, facets, chart))
       return;
-    const auto on_face = [&](const Cdt::Vertex_handle& v) {
-      return v->info().id >= 0 ? s_.mesh.points[v->info().id] : to_vec(chart.value(v->point()));
-    };
     for (const auto& [a, end] : b.segments) {
       auto circulator = b.cdt.incident_edges(a), done = circulator;
       do {
@@ -721,9 +718,9 @@ class FaceRemesher {
         const std::uint64_t key = edge_key(a->info().id, end->info().id);
         if (nodes.back() != end || nodes.size() < 2 || !s_.edge_spans.count(key)) continue;
         std::vector<double> at(nodes.size());  // length walked from a
-        Vec3 previous = on_face(a);
+        Vec3 previous = on_face(a, chart);
         for (size_t i = 0; i < nodes.size(); ++i) {
-          const Vec3 p = on_face(nodes[i]);
+          const Vec3 p = on_face(nodes[i], chart);
           at[i] = (i ? at[i - 1] : 0) + norm(p - previous);
           previous = p;
         }
@@ -775,6 +772,12 @@ class FaceRemesher {
   }
 
  private:
+  // A node of the chart on the face: an old node where it is, a mesher's
+  // new one evaluated on the CAD face.
+  Vec3 on_face(const Cdt::Vertex_handle& v, const FaceChart& chart) const {
+    return v->info().id >= 0 ? s_.mesh.points[v->info().id] : to_vec(chart.value(v->point()));
+  }
+
   // Where the chart does not keep angles, is the refined mesh rounder than
   // the facets it would replace (a smallest corner on the face as large:
   // where the old smallest one sits at a sharp corner of the face the new
@@ -798,10 +801,7 @@ class FaceRemesher {
     for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
       if (!f->is_in_domain()) continue;
       std::array<Vec3, 3> p;
-      for (int i = 0; i < 3; ++i) {
-        const auto v = f->vertex(i);
-        p[i] = v->info().id >= 0 ? m.points[v->info().id] : to_vec(chart.value(v->point()));
-      }
+      for (int i = 0; i < 3; ++i) p[i] = on_face(f->vertex(i), chart);
       for (int i = 0; i < 3; ++i)
         if (corner_angle(p[i], p[(i + 1) % 3], p[(i + 2) % 3]) < corner_before) return false;
       const Point2 middle = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());

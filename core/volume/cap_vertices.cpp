@@ -21,8 +21,6 @@ namespace {
 // tetrahedra under 10 deg (3,340 -> 3,803), at 1 deg 4 %.
 constexpr double kFlatAcrossAWallDeg = 1.0;
 
-bool contains3(const std::array<int, 3>& v, int x) { return v[0] == x || v[1] == x || v[2] == x; }
-
 struct Cap {
   int tet;
   Vec3 point;
@@ -89,8 +87,8 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
       }
     return false;
   };
-  // Or its centroid far from the planes of the facets at its vertices (a
-  // 0.15 of its longest edge; the plane of a facet is never farther than
+  // Or its centroid far from the planes of the facets at its vertices (at
+  // least 0.15 of its longest edge; the plane of a facet is never farther than
   // the facet): a flat tetrahedron across a groove or a slot, whose corner
   // vertices' normals are no wall's (the Block's 0.8-high grooves, flat
   // rectangles of 2.08 x 0.8 at 0.0004 deg). A spike's or a wedge's thin
@@ -141,7 +139,7 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
           const double length = norm(m.points[a] - m.points[b]);
           if (length <= edge_length) continue;
           for (int f : facets_at_vertices()[a])
-            if (contains3(m.triangles[f].v, b)) {
+            if (std::find(m.triangles[f].v.begin(), m.triangles[f].v.end(), b) != m.triangles[f].v.end()) {
               edge = {a, b};
               edge_length = length;
               break;

@@ -74,6 +74,18 @@ def converted_surface(path, name):
     return meshio.read(surface) if code == 0 else None
 
 
+def corner_angles(points, triangles):
+    """Each triangle's three corners in degrees, one row per triangle."""
+    p = points[triangles]
+    out = []
+    for k in range(3):
+        u = p[:, (k + 1) % 3] - p[:, k]
+        v = p[:, (k + 2) % 3] - p[:, k]
+        cos = (u * v).sum(axis=1) / np.linalg.norm(u, axis=1) / np.linalg.norm(v, axis=1)
+        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return np.stack(out, axis=1)
+
+
 def meshed_angles(path, name, *extra):
     """Meshes path (--quiet and `extra`), checks the mesh as check_mesh does,
     and gives the report and each tetrahedron's smallest dihedral angle; or
@@ -390,12 +402,7 @@ exhaust = data("cad-assembly/occt_MODERN_Exhaust_1.brep")
 if exhaust:
     s = converted_surface(exhaust, "exhaust")
     if s is not None:
-        corners = s.points[s.cells_dict["triangle"]]
-        largest = np.zeros(len(corners))
-        for i in range(3):
-            u, w = corners[:, (i + 1) % 3] - corners[:, i], corners[:, (i + 2) % 3] - corners[:, i]
-            cos = (u * w).sum(1) / np.linalg.norm(u, axis=1) / np.linalg.norm(w, axis=1)
-            largest = np.maximum(largest, np.degrees(np.arccos(np.clip(cos, -1, 1))))
+        largest = corner_angles(s.points, s.cells_dict["triangle"]).max(axis=1)
         check((largest > 170).sum() < 10, "exhaust: %d facets with a corner over 170 deg (114 before), largest %.2f deg"
               % ((largest > 170).sum(), largest.max()))
 
@@ -518,17 +525,6 @@ if soic:
 # with a corner under 20 deg 403 -> 8 (of 5664 / 6134), smallest dihedral
 # 4.28 -> 10.04 deg (16.13 with the raised sliver aim), 63 -> 0 tetrahedra
 # under 10 deg.
-def corner_angles(points, triangles):
-    p = points[triangles]
-    out = []
-    for k in range(3):
-        u = p[:, (k + 1) % 3] - p[:, k]
-        v = p[:, (k + 2) % 3] - p[:, k]
-        cos = (u * v).sum(axis=1) / np.linalg.norm(u, axis=1) / np.linalg.norm(v, axis=1)
-        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
-    return np.min(out, axis=0)
-
-
 sample = data("cad-part/pythonocc_face_recognition_sample_part.stp")
 if sample:
     runs = {}
@@ -540,7 +536,7 @@ if sample:
             from tet_angles import dihedral_angles
             m = check_mesh(target, rep, name)
             smallest = dihedral_angles(m.points, m.cells_dict["tetra"]).min(axis=0)
-            thin = int((corner_angles(m.points, m.cells_dict["triangle"]) < 20).sum())
+            thin = int((corner_angles(m.points, m.cells_dict["triangle"]).min(axis=1) < 20).sum())
             error = max(abs(v["mesh"] / v["cad"] - 1) for v in rep["cad"]["volumes"])
             runs[flag] = (float(smallest.min()), int((smallest < 10).sum()), thin, rep["cad"]["remeshed_faces"], error,
                           rep["slivers"]["raised_to_deg"])
@@ -578,7 +574,7 @@ def curved_part(name, build, exact_chart=True):
             return
         import meshio
         m = meshio.read(target)
-        corners = corner_angles(m.points, m.cells_dict["triangle"])
+        corners = corner_angles(m.points, m.cells_dict["triangle"]).min(axis=1)
         error = max(abs(v["mesh"] / v["cad"] - 1) for v in rep["cad"]["volumes"])
         runs[flag] = (rep["cad"]["remeshed_faces"], rep["cad"]["faces"], int((corners < 20).sum()), error,
                       float(corners.min()))
