@@ -196,6 +196,15 @@ struct RemeshPlan {
   // Per border piece: where the mesher put its nodes, as fractions of the
   // piece's length from its end with the lower vertex id.
   std::map<std::uint64_t, std::vector<double>> border_nodes;
+  // A face's sharp corner (its angle under 20 deg) and the two border
+  // pieces that leave it, with their lengths: their first nodes are put as
+  // far from it (plan_remeshing).
+  struct SharpCorner {
+    int corner;
+    std::array<std::uint64_t, 2> pieces;
+    std::array<double, 2> lengths;
+  };
+  std::vector<SharpCorner> sharp_corners;
 };
 RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
                           double size);

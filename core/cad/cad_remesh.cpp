@@ -706,9 +706,24 @@ class FaceRemesher {
   void plan_border_splits(int fi, const std::vector<int>& facets, const FaceChart& chart, bool piece,
                           RemeshPlan& plan) const {
     FaceBorder b;
-    if (!border(fi, facets, chart, b, piece) || too_many(b, facets) || !refine<FullMesher>(b, chart) ||
-        !rounder(b.cdt, facets, chart))
-      return;
+    if (!border(fi, facets, chart, b, piece)) return;
+    // Before the face's own planning run, which may fail: a face whose new
+    // mesh is not kept keeps its sharp corners too.
+    for (const Cdt::Vertex_handle& v : b.sharp_corners) {
+      std::vector<std::pair<int, int>> pieces;
+      for (const auto& [a, end] : b.segments)
+        if (a == v || end == v) pieces.emplace_back(a->info().id, end->info().id);
+      if (pieces.size() != 2 || !s_.edge_spans.count(edge_key(pieces[0].first, pieces[0].second)) ||
+          !s_.edge_spans.count(edge_key(pieces[1].first, pieces[1].second)))
+        continue;
+      RemeshPlan::SharpCorner corner{v->info().id, {}, {}};
+      for (int k = 0; k < 2; ++k) {
+        corner.pieces[k] = edge_key(pieces[k].first, pieces[k].second);
+        corner.lengths[k] = norm(s_.mesh.points[pieces[k].first] - s_.mesh.points[pieces[k].second]);
+      }
+      plan.sharp_corners.push_back(corner);
+    }
+    if (too_many(b, facets) || !refine<FullMesher>(b, chart) || !rounder(b.cdt, facets, chart)) return;
     for (const auto& [a, end] : b.segments) {
       auto circulator = b.cdt.incident_edges(a), done = circulator;
       do {
@@ -901,6 +916,46 @@ std::vector<std::vector<int>> facets_by_face(const CadModel::Impl& cad, const Ca
   return by_face;
 }
 
+// At a sharp corner of a face the first nodes on its two borders are put as
+// far from it. Otherwise the triangle at the corner has the corner's angle,
+// a second one nearly as small and the third near 180 deg (a cap: the near
+// node next to the chord to the far one), which Ruppert's rule for small
+// angles keeps, and every tetrahedron on a cap is flat
+// (gmsh_t20_component8.step: 5 deg corners where a chamfer cone meets a
+// hexagon's sides, first nodes 1.50 and 2.49 away, caps of 168 deg, 1.81 deg
+// tetrahedra). With the two as far, the triangle is isosceles: the corner's
+// angle and two near 90 deg. At a 5 deg corner, first nodes 1.15 times as
+// far as each other already make a cap of 145 deg: the far one is moved to
+// the near one's distance when it is a planned node (not a tessellation
+// vertex) under 1.5 times as far, and otherwise a node is added there when
+// the far one is at least 1.25 times as far (a shorter gap would be a needle
+// on the other face). A far node twice as far or more is left: the near one
+// is there for a fine feature next to the corner, and a lone node put on
+// the other face's border across from nothing makes caps there instead
+// (pythonocc_Ventilator.stp: its blades' edge strips, 0.02 wide, got caps of
+// 162 deg from nodes put at 0.19 where the next was 1.51 away, and the
+// smallest angle went 6.89 -> 3.37 deg with the tetrahedra on them).
+void equal_first_nodes_at_sharp_corners(RemeshPlan& plan) {
+  for (const RemeshPlan::SharpCorner& c : plan.sharp_corners) {
+    std::array<double, 2> first;
+    std::array<bool, 2> from_lower;
+    for (int k = 0; k < 2; ++k) {
+      const std::vector<double>& nodes = plan.border_nodes[c.pieces[k]];
+      from_lower[k] = edge_of_key(c.pieces[k]).first == c.corner;
+      first[k] = c.lengths[k] * (nodes.empty() ? 1.0 : from_lower[k] ? nodes.front() : 1 - nodes.back());
+    }
+    const int far = first[0] > first[1] ? 0 : 1;
+    const double near = first[1 - far], ratio = first[far] / near;
+    if (!(near > 0) || ratio <= 1.1 || ratio >= 2) continue;
+    const double at = from_lower[far] ? near / c.lengths[far] : 1 - near / c.lengths[far];
+    std::vector<double>& nodes = plan.border_nodes[c.pieces[far]];
+    if (!nodes.empty() && ratio < 1.5)
+      (from_lower[far] ? nodes.front() : nodes.back()) = at;
+    else if (ratio >= 1.25)
+      nodes.insert(std::lower_bound(nodes.begin(), nodes.end(), at), at);
+  }
+}
+
 }  // namespace
 
 RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
@@ -927,6 +982,7 @@ RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::v
   const FaceRemesher remesher(cad, s, plan.growth_limit);
   for (const ChartedFace& c : charted)
     remesher.plan_border_splits(c.face, c.facets, c.chart, c.piece, plan);
+  equal_first_nodes_at_sharp_corners(plan);
   return plan;
 }
 
