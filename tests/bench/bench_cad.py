@@ -76,31 +76,34 @@ def main():
             if not a.no_gmsh:
                 vt = r["quality"]["tetrahedra"]
                 gt, ga, gsec, why = gmsh(a, f, c["size"], tmp)
-                if gt:
-                    gm = [str(gt), f"{ga:.2f}" if ga is not None else "", f"{gsec:.1f}", f"{sec / gsec:.2f}"]
-                    runs = [(c["size"], gt, ga, gsec)]
-                    mwhy, msec, failed = "", 0.0, []
-                    for _ in range(4):
-                        h = next_clmax(runs, vt, c["size"], failed)
-                        if h is None:
-                            break
-                        mt, ma, msec, mwhy = gmsh(a, f, h, tmp)
-                        if not mt:
-                            failed.append(h)
-                            continue
-                        runs.append((h, mt, ma, msec))
-                    if len(runs) > 1:
-                        h, mt, ma, msec = min(runs[1:], key=lambda x: abs(math.log(x[1] / vt)))
-                        matched = [f"{h:.4g} / {mt} / " + (f"{ma:.2f}" if ma is not None else "") +
-                                   f" / {msec:.1f} ({len(runs) - 1} runs)", f"{sec / msec:.2f}"]
-                        if c["solids"] > 1:
-                            ct, ca, csec, cwhy = gmsh(a, f, h, tmp, conformal=True)
-                            conformal = ([f"{ct} / " + (f"{ca:.2f}" if ca is not None else "") + f" / {csec:.1f}",
-                                          f"{sec / csec:.2f}"] if ct else [f"{cwhy} after {csec:.1f} s", ""])
-                    else:
-                        matched = [f"{h:.4g}: {mwhy} after {msec:.1f} s", ""]
+                gm = ([str(gt), f"{ga:.2f}" if ga is not None else "", f"{gsec:.1f}", f"{sec / gsec:.2f}"] if gt
+                      else [why, "", f"{gsec:.1f}", ""])
+                # The search starts from the same -clmax, or, where Gmsh fails
+                # there (too coarse for the impeller's and gmsh_dlr_f6.brep's
+                # geometry), from half of it, halved again while it fails.
+                runs = [(c["size"], gt, ga, gsec)] if gt else []
+                failed = [] if gt else [c["size"]]
+                mwhy, msec, h = why, gsec, c["size"]
+                for _ in range(5 if runs else 6):
+                    h = next_clmax(runs, vt, c["size"], failed) if runs else failed[-1] / 2
+                    if h is None:
+                        break
+                    mt, ma, msec, mwhy = gmsh(a, f, h, tmp)
+                    if not mt:
+                        failed.append(h)
+                        continue
+                    runs.append((h, mt, ma, msec))
+                searched = runs[1:] if gt else runs
+                if searched:
+                    h, mt, ma, msec = min(searched, key=lambda x: abs(math.log(x[1] / vt)))
+                    matched = [f"{h:.4g} / {mt} / " + (f"{ma:.2f}" if ma is not None else "") +
+                               f" / {msec:.1f} ({len(runs) + len(failed) - 1} runs)", f"{sec / msec:.2f}"]
+                    if c["solids"] > 1:
+                        ct, ca, csec, cwhy = gmsh(a, f, h, tmp, conformal=True)
+                        conformal = ([f"{ct} / " + (f"{ca:.2f}" if ca is not None else "") + f" / {csec:.1f}",
+                                      f"{sec / csec:.2f}"] if ct else [f"{cwhy} after {csec:.1f} s", ""])
                 else:
-                    gm = [why, "", f"{gsec:.1f}", ""]
+                    matched = [f"{h:.4g}: {mwhy} after {msec:.1f} s", ""]
             print(f"| {f.name} | {c['solids']} | {c['faces']} | {c['interface_faces']} | {c['size']:.4g} | "
                   f"{r['quality']['tetrahedra']} | {r['quality']['min_dihedral_deg']:.2f} | {sec:.1f} ({phases}) | "
                   f"{100 * worst:.3f} % | " + " | ".join(gm + matched + conformal) + " |", flush=True)
