@@ -13,6 +13,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -53,6 +54,10 @@ class PointGrid {
   void grow_bounds(const Vec3& p);
   bool needs_rebuild() const;
   void rebuild();
+  // Cells of this size over the bounds (sets cell_size_ and dims_); their count.
+  size_t lay_out(double cell_size);
+  // The mean, over the points, of the number of points in their cell.
+  double crowding(size_t cells) const;
 
   std::vector<Vec3> position_;
   std::vector<int> head_, tail_;  // per cell: first and last point, -1 when empty

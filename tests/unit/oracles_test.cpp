@@ -281,6 +281,47 @@ TEST(PointGrid, BoxAndBallQueriesMatchBruteForce) {
   }
 }
 
+// A model in a far-field box: most points in a cluster a ten-thousandth of
+// the box's width, where the grid takes finer cells than the box's average
+// spacing asks (gmsh_simple_plane.brep's aircraft). Small queries in the
+// cluster and large ones across the box find what a brute force finds,
+// after appends (into the cluster and the box) and moves out of it.
+TEST(PointGrid, ClusteredPointsQueriesMatchBruteForce) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto in_box = [&] { return Vec3{100 * unit(rng), 100 * unit(rng), 100 * unit(rng)}; };
+  auto in_cluster = [&] { return Vec3{50 + 0.01 * unit(rng), 50 + 0.01 * unit(rng), 50 + 0.01 * unit(rng)}; };
+  std::vector<Vec3> points;
+  for (int i = 0; i < 100; ++i) points.push_back(in_box());
+  for (int i = 0; i < 20000; ++i) points.push_back(in_cluster());
+  PointGrid grid;
+  grid.build(points);
+  for (int i = 0; i < 3000; ++i) {
+    points.push_back(i % 3 == 0 ? in_box() : in_cluster());
+    grid.update(static_cast<int>(points.size()) - 1, points.back());
+  }
+  for (int i = 0; i < 50; ++i) {
+    const int id = 100 + static_cast<int>(rng() % 20000);
+    points[static_cast<size_t>(id)] = in_box();
+    grid.update(id, points[static_cast<size_t>(id)]);
+  }
+  std::vector<int> got;
+  for (int i = 0; i < 300; ++i) {
+    const bool near = i % 2 == 0;
+    const Vec3 centre = near ? in_cluster() : in_box();
+    const double r = near ? 0.002 * unit(rng) : 30 * unit(rng);
+    grid.in_ball(centre, r, got);
+    std::sort(got.begin(), got.end());
+    std::vector<int> want;
+    for (int id = 0; id < static_cast<int>(points.size()); ++id) {
+      const Vec3 d = points[static_cast<size_t>(id)] - centre;
+      if (dot(d, d) <= r * r) want.push_back(id);
+    }
+    ASSERT_EQ(got, want) << "query " << i;
+    if (near) EXPECT_FALSE(got.empty() && r > 0.0015) << "query " << i;  // the cluster is dense there
+  }
+}
+
 TEST(Oracles, AgreeWithTetrahedralizationInACube) {
   check_point_set("cube 300", cube_points(300, 1), 11);
   check_point_set("cube 2000", cube_points(2000, 2), 12);
