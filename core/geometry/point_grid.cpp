@@ -70,6 +70,51 @@ PointGrid::CellKey PointGrid::cell_of(const Vec3& p) const {
   return key;
 }
 
+std::array<std::int64_t, 3> PointGrid::fine_key(const CellKey& key, const Vec3& p) const {
+  std::array<std::int64_t, 3> sub;
+  const double fine = cell_size_ / kFine;
+  for (int i = 0; i < 3; ++i) {
+    const double corner = origin_[i] + static_cast<double>(key[static_cast<size_t>(i)]) * cell_size_;
+    double c = std::floor((p[i] - corner) / fine);
+    if (!(c == c)) c = 0;
+    sub[static_cast<size_t>(i)] = static_cast<std::int64_t>(std::clamp(c, 0.0, static_cast<double>(kFine - 1)));
+  }
+  return sub;
+}
+
+size_t PointGrid::fine_index(const CellKey& key, const Vec3& p) const {
+  const auto sub = fine_key(key, p);
+  return static_cast<size_t>((sub[0] * kFine + sub[1]) * kFine + sub[2]);
+}
+
+void PointGrid::list(std::vector<int>& head, std::vector<int>& tail, size_t at, int id) {
+  next_[static_cast<size_t>(id)] = -1;
+  if (head[at] < 0) head[at] = id;
+  else next_[static_cast<size_t>(tail[at])] = id;
+  tail[at] = id;
+}
+
+void PointGrid::unlist(std::vector<int>& head, std::vector<int>& tail, size_t at, int id) {
+  int before = -1, now = head[at];
+  while (now >= 0 && now != id) before = now, now = next_[static_cast<size_t>(now)];
+  if (now < 0) return;  // not listed
+  const int after = next_[static_cast<size_t>(id)];
+  if (before < 0) head[at] = after;
+  else next_[static_cast<size_t>(before)] = after;
+  if (tail[at] == id) tail[at] = before;
+}
+
+void PointGrid::split_cell(const CellKey& key, size_t cell) {
+  fine_of_[cell] = static_cast<int>(fine_.size());
+  fine_.push_back({std::vector<int>(kFine * kFine * kFine, -1), std::vector<int>(kFine * kFine * kFine, -1)});
+  FineCells& sub = fine_.back();
+  for (int id = head_[cell], next; id >= 0; id = next) {
+    next = next_[static_cast<size_t>(id)];
+    list(sub.head, sub.tail, fine_index(key, position(id)), id);
+  }
+  head_[cell] = tail_[cell] = -1;
+}
+
 void PointGrid::insert_into_cell(int id) {
   const Vec3& p = position(id);
   for (int i = 0; i < 3; ++i)
@@ -77,30 +122,29 @@ void PointGrid::insert_into_cell(int id) {
       ++outside_;
       break;
     }
-  const size_t cell = index_of(cell_of(p));
-  next_[static_cast<size_t>(id)] = -1;
-  if (head_[cell] < 0) {
-    head_[cell] = id;
-    ++occupied_;
-  } else {
-    next_[static_cast<size_t>(tail_[cell])] = id;
+  const CellKey key = cell_of(p);
+  const size_t cell = index_of(key);
+  if (count_[cell]++ == 0) ++occupied_;
+  if (fine_of_[cell] >= 0) {
+    FineCells& sub = fine_[static_cast<size_t>(fine_of_[cell])];
+    list(sub.head, sub.tail, fine_index(key, p), id);
+    return;
   }
-  tail_[cell] = id;
+  list(head_, tail_, cell, id);
+  if (count_[cell] > kCrowdedCell) split_cell(key, cell);
 }
 
 void PointGrid::remove_from_cell(int id) {
-  const size_t cell = index_of(cell_of(position(id)));
-  int before = -1, at = head_[cell];
-  while (at >= 0 && at != id) before = at, at = next_[static_cast<size_t>(at)];
-  if (at < 0) return;  // not listed
-  const int after = next_[static_cast<size_t>(id)];
-  if (before < 0) {
-    head_[cell] = after;
-    if (after < 0) --occupied_;
+  const CellKey key = cell_of(position(id));
+  const size_t cell = index_of(key);
+  if (count_[cell] == 0) return;
+  if (fine_of_[cell] >= 0) {
+    FineCells& sub = fine_[static_cast<size_t>(fine_of_[cell])];
+    unlist(sub.head, sub.tail, fine_index(key, position(id)), id);
   } else {
-    next_[static_cast<size_t>(before)] = after;
+    unlist(head_, tail_, cell, id);
   }
-  if (tail_[cell] == id) tail_[cell] = before;
+  if (--count_[cell] == 0) --occupied_;
 }
 
 void PointGrid::grow_bounds(const Vec3& p) {
@@ -175,6 +219,9 @@ void PointGrid::rebuild() {
   }
   head_.assign(cells, -1);
   tail_.assign(cells, -1);
+  count_.assign(cells, 0);
+  fine_of_.assign(cells, -1);
+  fine_.clear();
   next_.assign(position_.size(), -1);
   occupied_ = 0;
   outside_ = 0;
@@ -212,9 +259,23 @@ void PointGrid::in_box(const Vec3& lo_in, const Vec3& hi_in, std::vector<int>& o
     for (key[1] = first[1]; key[1] <= last[1]; ++key[1]) {
       key[2] = first[2];
       const size_t row = index_of(key);
-      for (std::int64_t k = 0; k <= last[2] - first[2]; ++k)
-        for (int id = head_[row + static_cast<size_t>(k)]; id >= 0; id = next_[static_cast<size_t>(id)])
-          if (inside(position(id))) out.push_back(id);
+      for (std::int64_t k = 0; k <= last[2] - first[2]; ++k) {
+        const size_t cell = row + static_cast<size_t>(k);
+        if (fine_of_[cell] < 0) {
+          for (int id = head_[cell]; id >= 0; id = next_[static_cast<size_t>(id)])
+            if (inside(position(id))) out.push_back(id);
+          continue;
+        }
+        const FineCells& sub = fine_[static_cast<size_t>(fine_of_[cell])];
+        const CellKey here{key[0], key[1], first[2] + k};
+        const auto from = fine_key(here, lo), to = fine_key(here, hi);
+        for (std::int64_t a = from[0]; a <= to[0]; ++a)
+          for (std::int64_t b = from[1]; b <= to[1]; ++b)
+            for (std::int64_t c = from[2]; c <= to[2]; ++c)
+              for (int id = sub.head[static_cast<size_t>((a * kFine + b) * kFine + c)]; id >= 0;
+                   id = next_[static_cast<size_t>(id)])
+                if (inside(position(id))) out.push_back(id);
+      }
     }
 }
 

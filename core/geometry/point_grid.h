@@ -59,7 +59,26 @@ class PointGrid {
   // The mean, over the points, of the number of points in their cell.
   double crowding(size_t cells) const;
 
+  // A cell that comes to hold more than kCrowdedCell points lists them in
+  // kFine^3 sub-cells instead (FineCells): the finer cells of rebuild() stop
+  // at their budget while a cluster can be far smaller still.
+  static constexpr int kCrowdedCell = 64;
+  static constexpr int kFine = 16;
+  struct FineCells {
+    std::vector<int> head, tail;
+  };
+  // The sub-cell of p in cell `key`, clamped into it.
+  size_t fine_index(const CellKey& key, const Vec3& p) const;
+  std::array<std::int64_t, 3> fine_key(const CellKey& key, const Vec3& p) const;
+  void list(std::vector<int>& head, std::vector<int>& tail, size_t at, int id);
+  void unlist(std::vector<int>& head, std::vector<int>& tail, size_t at, int id);
+  // Moves the points listed in `cell` into sub-cells.
+  void split_cell(const CellKey& key, size_t cell);
+
   std::vector<Vec3> position_;
+  std::vector<int> count_;        // per cell: its points
+  std::vector<int> fine_of_;      // per cell: its sub-cells in fine_, or -1
+  std::vector<FineCells> fine_;
   std::vector<int> head_, tail_;  // per cell: first and last point, -1 when empty
   std::vector<int> next_;         // per point: the next one in its cell, -1 at the end
   std::array<std::int64_t, 3> dims_{1, 1, 1};
