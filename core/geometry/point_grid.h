@@ -10,6 +10,9 @@
 // grid's look-ups and per-cell vectors were a tenth of the 6.6M-tetrahedron
 // box's run, in the interior vertices' spacing test. A point beyond the
 // box sits in the border cell nearest to it until such points are many.
+// Points crowded into a corner of the box (a model in a far-field box) get
+// finer cells at the rebuild, within a budget, and a cell that still comes
+// to hold many lists them in sub-cells of its own.
 #pragma once
 
 #include <array>
