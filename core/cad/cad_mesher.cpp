@@ -42,7 +42,7 @@ std::string crossing_faces(const Mesh& surface, const SelfIntersectionError& err
 }
 
 MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& options, const TessellationOptions& topt,
-                             int retries, bool has_fallback, MeshResult* partial) {
+                             int retries, int runaways, bool has_fallback, MeshResult* partial) {
   TessellationStats stats;
   const Mesh surface = model.tessellate(topt, &stats);
 
@@ -84,6 +84,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.collapsed_edges = stats.collapsed_edges;
   cad.flat_vertices_removed = stats.flat_vertices_removed;
   cad.recovery_retries = retries;
+  cad.recovery_runaways = runaways;
   cad.surface_facets = static_cast<int>(surface.triangles.size());
   const std::vector<std::pair<std::string, double>> cad_seconds = {
       {"read CAD", model.seconds_read},
@@ -133,6 +134,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
   TessellationChain chain(topt, options.retry_angles_deg, uniform_deflection);
   double given_up = 0;  // seconds spent on tessellations whose recovery stopped
   std::string last_recovery_failure;  // reported when the uniform chords fail before recovery
+  int runaways = 0;                   // of the recoveries given up, those that ran away
   for (;;) {
     const TessellationOptions& t = chain.options();
     if (options.mesh.progress)
@@ -150,12 +152,13 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       return true;
     };
     try {
-      MeshResult result = mesh_tessellation(model, options, t, chain.attempt(), chain.has_fallback(), partial);
+      MeshResult result = mesh_tessellation(model, options, t, chain.attempt(), runaways, chain.has_fallback(), partial);
       if (chain.attempt() > 0)
         result.report.seconds.insert(result.report.seconds.begin(), {"tessellations recovery gave up on", given_up});
       return result;
     } catch (const RecoveryError& e) {
       last_recovery_failure = e.what();
+      runaways += e.ran_away();
       if (!next(true, e.faces())) throw;
     } catch (const SelfIntersectionError& e) {  // the surface is checked before recovery
       // The uniform chords crossing themselves says nothing of the file:

@@ -34,12 +34,15 @@ class SelfIntersectionError : public InputError {
 // caller who can tessellate again (CAD input) knows where recovery ran away.
 class RecoveryError : public std::runtime_error {
  public:
-  explicit RecoveryError(const std::string& message, std::vector<int> faces = {})
-      : std::runtime_error(message), faces_(std::move(faces)) {}
+  explicit RecoveryError(const std::string& message, std::vector<int> faces = {}, bool ran_away = false)
+      : std::runtime_error(message), faces_(std::move(faces)), ran_away_(ran_away) {}
   const std::vector<int>& faces() const { return faces_; }
+  // Stopped because the missing facets grew far past where they started.
+  bool ran_away() const { return ran_away_; }
 
  private:
   std::vector<int> faces_;
+  bool ran_away_ = false;
 };
 
 // Bad command-line use. Exit code 2.

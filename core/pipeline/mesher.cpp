@@ -247,12 +247,12 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       missing_faces.insert(m.triangles[f].face);
     }
     if (partial) *partial = result;
-    throw RecoveryError(std::to_string(report.missing_facets.size()) +
-                        " facets could not be made Delaunay within the guards (" +
-                        std::to_string(report.delaunayzation.passes) + " passes, " +
-                        std::to_string(report.delaunayzation.added_vertices) + " added vertices); " +
-                        where_facets_are_missing(m, pass.missing),
-                        std::vector<int>(missing_faces.begin(), missing_faces.end()));
+    throw RecoveryError(std::to_string(report.missing_facets.size()) + " facets could not be made Delaunay " +
+                            (pass.ran_away ? "(the recovery ran away: " : "within the guards (") +
+                            std::to_string(report.delaunayzation.passes) + " passes, " +
+                            std::to_string(report.delaunayzation.added_vertices) + " added vertices); " +
+                            where_facets_are_missing(m, pass.missing),
+                        std::vector<int>(missing_faces.begin(), missing_faces.end()), pass.ran_away);
   };
 
   // With interior vertices, a first recovery against the surface vertices

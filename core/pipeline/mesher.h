@@ -77,6 +77,7 @@ struct CadInputReport {
   int tessellation_rounds = 1;     // tessellations made to meet the volume tolerance
   std::vector<int> held_solids;    // solid numbers those rounds left alone: recovery ran away beside them
   int recovery_retries = 0;        // tessellations after recovery stopped at its guards (CadMeshOptions)
+  int recovery_runaways = 0;       // of those, recoveries stopped as running away
   double tessellation_volume_error = 0;  // largest |tessellated / CAD volume - 1| of a solid
   int occ_triangles = 0, refine_splits = 0, refine_flips = 0, border_splits = 0, collapsed_edges = 0, surface_facets = 0;
   int flat_vertices_removed = 0;

@@ -113,7 +113,8 @@ std::string report_json(const MeshReport& r) {
       << ", \"interface_faces\": " << c.interface_faces << ", \"size\": " << exact(c.size)
       << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << exact(c.deflection)
       << ", \"angular_deflection_deg\": " << exact(c.angle_deg) << ", \"tessellation_rounds\": " << c.tessellation_rounds
-      << ", \"recovery_retries\": " << c.recovery_retries << ", \"held_solids\": " << json_array(c.held_solids)
+      << ", \"recovery_retries\": " << c.recovery_retries << ", \"recovery_runaways\": " << c.recovery_runaways
+      << ", \"held_solids\": " << json_array(c.held_solids)
       << ", \"tessellation_volume_error\": " << exact(c.tessellation_volume_error)
       << ", \"occ_triangles\": " << c.occ_triangles
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
@@ -166,7 +167,10 @@ std::string report_table(const MeshReport& r) {
                                        " solids left alone by the rounds: recovery ran away beside them)") +
                             (c.recovery_retries ? "; tessellated again " + std::to_string(c.recovery_retries) +
                                                       (c.recovery_retries > 1 ? " times" : " time") +
-                                                      " after recovery stopped"
+                                                      " after recovery stopped" +
+                                                      (c.recovery_runaways ? " (" + std::to_string(c.recovery_runaways) +
+                                                                                 " ran away)"
+                                                                           : "")
                                                 : ""));
     // The bound for a solid's mesh volume against its CAD volume.
     constexpr double kVolumeWarning = 0.005;

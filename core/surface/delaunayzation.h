@@ -59,6 +59,7 @@ struct DelaunayzationResult {
   int added_facets = 0;      // final facet count - input facet count
   int oracle_wrong = 0;      // oracle said Delaunay, the exact check said not
   std::vector<int> missing;  // facets still not Delaunay when a guard stopped the work
+  bool ran_away = false;     // stopped as running away (patience_passes > 0 only)
   bool complete() const { return missing.empty(); }
 };
 
