@@ -940,9 +940,12 @@ void equal_first_nodes_at_sharp_corners(RemeshPlan& plan) {
     std::array<double, 2> first;
     std::array<bool, 2> from_lower;
     for (int k = 0; k < 2; ++k) {
-      const std::vector<double>& nodes = plan.border_nodes[c.pieces[k]];
+      // Looked up, not made: a piece without nodes is not walked for splits.
+      const auto it = plan.border_nodes.find(c.pieces[k]);
       from_lower[k] = edge_of_key(c.pieces[k]).first == c.corner;
-      first[k] = c.lengths[k] * (nodes.empty() ? 1.0 : from_lower[k] ? nodes.front() : 1 - nodes.back());
+      first[k] = c.lengths[k];
+      if (it != plan.border_nodes.end() && !it->second.empty())
+        first[k] *= from_lower[k] ? it->second.front() : 1 - it->second.back();
     }
     const int far = first[0] > first[1] ? 0 : 1;
     const double near = first[1 - far], ratio = first[far] / near;

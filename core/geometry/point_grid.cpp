@@ -170,52 +170,21 @@ bool PointGrid::needs_rebuild() const {
   return extent > 2 * built_for_extent_ && extent / cell_size_ > kMaxCellsPerAxis / 4;
 }
 
-size_t PointGrid::lay_out(double cell_size) {
-  cell_size_ = cell_size;
-  size_t cells = 1;
-  for (int i = 0; i < 3; ++i) {
-    const double span = std::floor((upper_[i] - lower_[i]) / cell_size_) + 1;
-    dims_[i] = static_cast<std::int64_t>(std::clamp(span == span ? span : 1.0, 1.0, kMaxCellsPerAxis + 1));
-    cells *= static_cast<size_t>(dims_[i]);
-  }
-  return cells;
-}
-
-double PointGrid::crowding(size_t cells) const {
-  std::vector<int> count(cells, 0);
-  double sum = 0;
-  for (const Vec3& p : position_) sum += 2 * count[index_of(cell_of(p))]++ + 1;  // adds up count^2 per cell
-  return position_.empty() ? 0 : sum / static_cast<double>(position_.size());
-}
-
 void PointGrid::rebuild() {
   has_bounds_ = false;
   for (const Vec3& p : position_) grow_bounds(p);
   if (!has_bounds_) lower_ = upper_ = Vec3{0, 0, 0};
   origin_ = lower_;
   const double extent = largest_extent(lower_, upper_);
-  double cell_size = average_spacing(lower_, upper_, size());
-  const double finest = extent > 0 && std::isfinite(extent) ? extent / kMaxCellsPerAxis : 0;
-  cell_size = std::max(cell_size, finest);
-  if (!(cell_size > 0) || !std::isfinite(cell_size)) cell_size = 1;
-  size_t cells = lay_out(cell_size);
-  // Points clustered in a small part of the box (a model in a far-field
-  // box: gmsh_simple_plane.brep's aircraft, 79k surface vertices where the
-  // average spacing of the box's volume is 0.06 and its chords 1e-5) crowd
-  // thousands into a cell, and every query near them scans those: the
-  // interior vertices' spacing test was 17 of that run's 54 s. Finer cells
-  // while a point's cell holds more than kCrowded on average, within a
-  // budget of cells per point; evenly spread points never get here, and
-  // keep their cells and the order in which queries list them.
-  constexpr double kCrowded = 32;
-  const size_t budget = std::min<size_t>(64 * position_.size(), size_t{1} << 24);
-  while (cell_size * 0.5 >= finest && crowding(cells) > kCrowded) {
-    const double finer = cell_size * 0.5;
-    double finer_cells = 1;
-    for (int i = 0; i < 3; ++i) finer_cells *= std::floor((upper_[i] - lower_[i]) / finer) + 1;
-    if (finer_cells > static_cast<double>(budget)) break;
-    cell_size = finer;
-    cells = lay_out(cell_size);
+  cell_size_ = average_spacing(lower_, upper_, size());
+  if (extent > 0 && std::isfinite(extent))
+    cell_size_ = std::max(cell_size_, extent / kMaxCellsPerAxis);
+  if (!(cell_size_ > 0) || !std::isfinite(cell_size_)) cell_size_ = 1;
+  size_t cells = 1;
+  for (int i = 0; i < 3; ++i) {
+    const double span = std::floor((upper_[i] - lower_[i]) / cell_size_) + 1;
+    dims_[i] = static_cast<std::int64_t>(std::clamp(span == span ? span : 1.0, 1.0, kMaxCellsPerAxis + 1));
+    cells *= static_cast<size_t>(dims_[i]);
   }
   head_.assign(cells, -1);
   tail_.assign(cells, -1);

@@ -282,8 +282,8 @@ TEST(PointGrid, BoxAndBallQueriesMatchBruteForce) {
 }
 
 // A model in a far-field box: most points in a cluster a ten-thousandth of
-// the box's width, where the grid takes finer cells than the box's average
-// spacing asks (gmsh_simple_plane.brep's aircraft). Small queries in the
+// the box's width, which one cell of the box's average spacing holds and
+// lists in sub-cells (gmsh_simple_plane.brep's aircraft). Small queries in the
 // cluster and large ones across the box find what a brute force finds,
 // after appends (into the cluster and the box) and moves out of it.
 TEST(PointGrid, ClusteredPointsQueriesMatchBruteForce) {
