@@ -60,6 +60,8 @@ const char* kMeshHelp =
     "  --sliver-angle DEG      tetrahedra under this dihedral angle are slivers, removed or improved\n"
     "                          (default 20; CAD input 10, then 20 when every tetrahedron reached 10)\n"
     "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
+    "  --cautious              interior vertices that take no surface facet, no cap fold splits (what a\n"
+    "                          run falls back to when the recovery with interior vertices stops)\n"
     "  --volume METHOD         delaunay (default): the tetrahedra of the Delaunay tetrahedralization;\n"
     "                          advancing-front: the paper's advancing-front Delaunay from the facets\n"
     "                          (the same tetrahedra on vertices in general position, slower)\n"
@@ -200,6 +202,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   opt.surface_grading = args.number("--surface-grading", opt.surface_grading);
   opt.slivers.sliver_angle_deg = args.number("--sliver-angle", opt.slivers.sliver_angle_deg);
   opt.remove_slivers = !args.flag("--keep-slivers");
+  opt.cautious = args.flag("--cautious");
   const std::string volume = args.value("--volume", "delaunay");
   if (volume == "advancing-front") opt.volume = VolumeMethod::advancing_front;
   else if (volume != "delaunay") throw UsageError("--volume must be delaunay or advancing-front");

@@ -128,6 +128,11 @@ bool DelaunayTetrahedralization::faces_taken_by(const Vec3& p, std::vector<std::
   return true;
 }
 
+void DelaunayTetrahedralization::clear() {
+  impl_.reset();  // freed before the new one is made
+  impl_ = std::make_unique<Impl>();
+}
+
 int DelaunayTetrahedralization::number_of_vertices() const {
   return static_cast<int>(impl_->dt.number_of_vertices());
 }

@@ -36,6 +36,10 @@ class DelaunayTetrahedralization {
   bool faces_taken_by(const Vec3& p, std::vector<std::array<int, 3>>& faces) const;
 
   int number_of_vertices() const;
+  // Back to no vertices: a step that is undone has the tetrahedralization
+  // of the vertices before it built again (one insert), instead of a copy
+  // kept of it all along.
+  void clear();
   // Vertex ids of the finite tetrahedron containing p (exact point location),
   // or {-1, -1, -1, -1} when p is outside the convex hull.
   std::array<int, 4> locate(const Vec3& p) const;

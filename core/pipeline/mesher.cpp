@@ -336,13 +336,19 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     // make no headway or add more vertices than the surface has: on the
     // plane the one after cap fold splits went on taking a few facets off
     // each pass while adding about 1,400 vertices a pass.
-    auto recover_or_give_up = [&](int from, const char* what, const char* insert_phase, const char* recovery_phase,
-                                  const char* volume_phase, const std::vector<int>* regions) {
-      if (can_retry) {
+    auto give_up_early = [&](bool early) {
+      if (early) {
         dopt.patience_passes = kPatienceWithCautiousRetry;
         const int own_guard = std::max(1000, first);
         if (dopt.max_added_vertices < 0 || dopt.max_added_vertices > own_guard) dopt.max_added_vertices = own_guard;
+      } else {
+        dopt.patience_passes = options.delaunayzation.patience_passes;
+        dopt.max_added_vertices = options.delaunayzation.max_added_vertices;
       }
+    };
+    auto recover_or_give_up = [&](int from, const char* what, const char* insert_phase, const char* recovery_phase,
+                                  const char* volume_phase, const std::vector<int>* regions) {
+      give_up_early(can_retry);
       try {
         recover_with(from, what, insert_phase, recovery_phase, volume_phase, regions);
       } catch (const RecoveryError&) {
@@ -350,8 +356,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
         throw LaterRecoveryStopped{
             std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()};
       }
-      dopt.patience_passes = options.delaunayzation.patience_passes;
-      dopt.max_added_vertices = options.delaunayzation.max_added_vertices;
+      give_up_early(false);
     };
     recover_or_give_up(first, "an interior vertex", "insert interior vertices", "delaunayzation with interior vertices",
                        "volume with interior vertices", &interior_regions);
@@ -384,12 +389,46 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       // splits), recovered, and the caps looked for again.
       const int fold_rounds = cautious ? 0 : options.delaunayzation.geometry ? kCapFoldRoundsCad : 1;
       for (int round = 0; round < fold_rounds && !refused_folds.empty(); ++round) {
+        // A round whose recovery stops is undone, not the whole run: the
+        // mesh before it is complete, and the cautious run that followed
+        // has no fold splits at all (gmsh_simple_plane.brep's second round
+        // ran away at the wing roots, and the cautious run took a third of
+        // the time). Vertices are only appended meanwhile.
+        const size_t points_before = m.points.size(), sizes_before = m.point_size.size();
+        const std::vector<Triangle> facets_before = m.triangles;
+        const MeshReport report_before = report;
         timer.start("cap fold splits");
         const int first_split = static_cast<int>(m.points.size());
         report.interior.cap_folds_split += split_cap_folds(m, refused_folds, options.delaunayzation.geometry);
         refused_folds.clear();
-        recover_or_give_up(first_split, "a cap fold's mid-point", "insert cap fold splits",
-                           "delaunayzation after cap fold splits", "volume after cap fold splits", nullptr);
+        give_up_early(true);
+        try {
+          recover_with(first_split, "a cap fold's mid-point", "insert cap fold splits",
+                       "delaunayzation after cap fold splits", "volume after cap fold splits", nullptr);
+        } catch (const RecoveryError&) {
+          timer.start("undo the cap fold round");
+          m.points.resize(points_before);
+          m.point_size.resize(sizes_before);
+          m.triangles = facets_before;
+          auto seconds = std::move(report.seconds);
+          auto peaks = std::move(report.peak_mib);
+          report = report_before;
+          report.seconds = std::move(seconds);
+          report.peak_mib = std::move(peaks);
+          report.interior.cap_fold_round_undone = true;
+          dt.clear();
+          dt.insert(m.points, 0, options.cancel);
+          oracle->attach(&m.points, &dt);
+          // Every facet was a face of the tetrahedralization of these
+          // vertices (unique: CGAL's symbolic perturbation), so this finds
+          // them all in one pass.
+          recover("delaunayzation after the undone round");
+          timer.start("volume after the undone round");
+          report.regions = build_region_tetrahedra(m, dt);
+          report.regions.regions_from_tags = from_tags;
+          break;
+        }
+        give_up_early(false);
         timer.start("cap vertices after fold splits");
         open_caps();
       }
@@ -442,6 +481,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
 // (volume/facet_takers.h, asked of each candidate that passed the other
 // tests, which a run that succeeds does not pay for).
 MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial) {
+  if (options.cautious && options.interior) return mesh_surface_once(input, options, partial, true, false);
   try {
     return mesh_surface_once(input, options, partial, false, options.interior);
   } catch (const LaterRecoveryStopped& stopped) {

@@ -48,6 +48,10 @@ struct MeshOptions {
   InteriorOptions interior_options;
   VolumeMethod volume = VolumeMethod::delaunay;  // --volume
   bool remove_slivers = true;
+  // --cautious: interior vertices that take no surface facet, and no cap
+  // fold splits, from the start: what a run falls back to by itself when
+  // the recovery with interior vertices stops (mesh_surface).
+  bool cautious = false;
   SliverOptions slivers;             // --sliver-angle
   int order = 1;                     // 2: 10-node tetrahedra, surface nodes on delaunayzation.geometry
   // Called at the start of each phase; empty: silent.

@@ -63,6 +63,9 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     sliver_angle (float, 20; mesh_cad 10, then 20 when every tetrahedron reached 10):
         tetrahedra under this dihedral angle (deg) are slivers, removed or improved
     keep_slivers (bool, False): no sliver removal
+    cautious (bool, False): interior vertices that take no surface facet, and no
+        cap fold splits (what a run falls back to when the recovery with interior
+        vertices stops)
     volume (str, "delaunay"): "advancing-front" builds the tetrahedra by the paper's
         advancing-front Delaunay from the facets (the same tetrahedra, slower)
     oracle (str, "dt"): facet Delaunayhood test, "dt", "lp" or "sphere"
@@ -98,7 +101,7 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
 
 RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   static const std::set<std::string> kCommon = {
-      "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "oracle",     "lp_limit", "volume",
+      "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "cautious", "oracle",     "lp_limit", "volume",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
       "order",    "progress",   "cancel",      "threads"};
   static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection", "volume_tolerance",
@@ -125,6 +128,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       opt.slivers.raised_angle_deg = 0;  // the angle given, and no other
     }
     else if (name == "keep_slivers") opt.remove_slivers = !boolean(value, name);
+    else if (name == "cautious") opt.cautious = boolean(value, name);
     else if (name == "volume") {
       if (!PyUnicode_Check(value.ptr())) throw py::type_error("option volume: expected a str, got " + type_name(value));
       const std::string method = value.cast<std::string>();
