@@ -336,6 +336,23 @@ class Cad(unittest.TestCase):
         with self.assertRaisesRegex(TypeError, option):
             vdmesh.mesh_cad(path=self.path, **{option: bad_value})
 
+    def test_cautious_option(self):
+        # cautious=True is --cautious: interior candidates that would take a
+        # surface facet are refused (gmsh_part.step refuses 898), and no cap
+        # fold is split; by default neither.
+        path = os.path.join(DATA, "cad-part", "gmsh_part.step")
+        if not os.path.exists(path):
+            self.skipTest("shared data missing: " + path)
+        _, plain = vdmesh.mesh_cad(path=path)
+        _, cautious = vdmesh.mesh_cad(path=path, cautious=True)
+        self.assertEqual(plain["interior"]["rejected_taking_a_facet"], 0)
+        self.assertGreater(plain["interior"]["cap_folds_split"], 0)
+        self.assertGreater(cautious["interior"]["rejected_taking_a_facet"], 0)
+        self.assertEqual(cautious["interior"]["cap_folds_split"], 0)
+        self.assertTrue(cautious["complete"])
+        with self.assertRaisesRegex(TypeError, "cautious"):
+            vdmesh.mesh_cad(path=path, cautious="yes")
+
     def test_smoothing_option(self):
         # smoothing=False is --no-smoothing: the tessellation's inner vertices stay put.
         self.check_off_switch("smoothing", "smoothing_moves", "smoothing_dropped", "yes")
