@@ -541,6 +541,10 @@ void mark_inside(Cdt& cdt) {
 // refinement reaches. 10 changed 4 files of the CAD corpus by a few
 // tetrahedra under 10 deg (the Block 384k -> 395k tetrahedra).
 constexpr double kSharpCornerDeg = 20;
+// At such a corner, the first node added on a border piece without planned
+// nodes: its distance over the other border's first node's
+// (equal_first_nodes_at_sharp_corners).
+constexpr double kStaggeredFirstNode = 1.3;
 
 // The border nodes where the face's angle (the sum of its triangles'
 // corners there) is sharp.
@@ -935,6 +939,18 @@ std::vector<std::vector<int>> facets_by_face(const CadModel::Impl& cad, const Ca
 // (pythonocc_Ventilator.stp: its blades' edge strips, 0.02 wide, got caps of
 // 162 deg from nodes put at 0.19 where the next was 1.51 away, and the
 // smallest angle went 6.89 -> 3.37 deg with the tetrahedra on them).
+// Where the far piece has no planned node (its face's planning run failed,
+// or put none there), the added node goes to kStaggeredFirstNode times the
+// near one's distance instead (at most halfway to the far end). Equal, the
+// two first nodes sit across a gap of the corner's angle, and the
+// tetrahedron on the corner's triangle has about that angle at its edge into
+// the solid, which sees them both (gmsh_t20_component8.step: 3.1 deg corners
+// where a lens face's borders meet tangent at a hexagon's corner, 3.14 deg
+// tetrahedra; staggered by 1.1, 1.2 and 1.3, 3.99 to 5.05, 7.80 and 9.40 to
+// 9.45 deg over seeds 1 to 3). Before a planned node it is not done: there
+// the gap to that node gets short, a needle on the other face
+// (occt_MODERN_Exhaust_1.brep 303 -> 722 tetrahedra under 10 deg,
+// gmsh_917_fusee.stp 4.96 -> 1.49 deg).
 void equal_first_nodes_at_sharp_corners(RemeshPlan& plan) {
   for (const RemeshPlan::SharpCorner& c : plan.sharp_corners) {
     std::array<double, 2> first;
@@ -950,8 +966,9 @@ void equal_first_nodes_at_sharp_corners(RemeshPlan& plan) {
     const int far = first[0] > first[1] ? 0 : 1;
     const double near = first[1 - far], ratio = first[far] / near;
     if (!(near > 0) || ratio <= 1.1 || ratio >= 2) continue;
-    const double at = from_lower[far] ? near / c.lengths[far] : 1 - near / c.lengths[far];
     std::vector<double>& nodes = plan.border_nodes[c.pieces[far]];
+    const double target = nodes.empty() ? std::min(kStaggeredFirstNode * near, 0.5 * (near + first[far])) : near;
+    const double at = from_lower[far] ? target / c.lengths[far] : 1 - target / c.lengths[far];
     if (!nodes.empty() && ratio < 1.5)
       (from_lower[far] ? nodes.front() : nodes.back()) = at;
     else if (ratio >= 1.25)

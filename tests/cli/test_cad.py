@@ -392,20 +392,24 @@ if block:
               "the Block: smallest dihedral angle %.3f deg > 0.1, %d tetrahedra under 5 deg < 8, %d edges split for caps"
               % (lowest.min(), (lowest < 5).sum(), rep["interior"]["cap_folds_split"]))
 
-# t20's chamfer cone meets the sides of a hexagon in faces with 5 deg
+# t20's chamfer cone meets the sides of a hexagon in faces with 3 to 5 deg
 # corners. The remesher's planning put the first nodes on the two borders
 # of such a corner 1.50 and 2.49 away: the triangle there was a cap of
-# 168 deg (10 facets over 160 deg), and a tetrahedron on it 1.81 deg. The
-# far node now goes to the near one's distance (measured 2026-11-27: 0
-# facets over 160 deg, 1.81 -> 3.14 deg; 3.14 and 3.64 with seeds 2 and 3).
+# 168 deg (10 facets over 160 deg), and a tetrahedron on it 1.81 deg. With
+# the far node at the near one's distance (2026-11-27), 3.14 deg: the two
+# first nodes sat across a 3 deg gap, and so did the tetrahedron's faces.
+# Now the node added on the far border (which has no planned node) goes 1.3
+# times as far as the near one: 9.45 deg (9.40 and 9.45 with seeds 2 and
+# 3), with 5 facets over 160 deg, none over 164.
 t20 = data("cad-part/gmsh_t20_component8.step")
 if t20:
     rep, lowest = meshed_angles(t20, "t20")
     surface = converted_surface(t20, "t20_surface")
     if rep is not None and surface is not None:
-        caps = int((corner_angles(surface.points, surface.cells_dict["triangle"]).max(axis=1) > 160).sum())
-        check(lowest.min() > 2.5 and caps < 3,
-              "t20: smallest dihedral angle %.2f deg > 2.5, %d facets with a corner over 160 deg < 3" % (lowest.min(), caps))
+        largest = corner_angles(surface.points, surface.cells_dict["triangle"]).max(axis=1)
+        check(lowest.min() > 8 and largest.max() < 170,
+              "t20: smallest dihedral angle %.2f deg > 8, largest facet corner %.1f deg < 170"
+              % (lowest.min(), largest.max()))
 
 # The Exhaust's flange face has 0 deg corners where the pipe's round corners
 # leave its straight sides. With the border pieces cut evenly into as many
