@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/cell_key.h"
 #include "geometry/predicates.h"
 
 namespace vd {
@@ -43,7 +44,7 @@ FacetTakers::FacetTakers(const Mesh& m, const DelaunayTetrahedralization& dt) : 
     std::vector<std::uint64_t> keys;
     for (int corner = 0; corner < 8; ++corner) {
       const Vec3 q = balls[i].centre + Vec3{corner & 1 ? r : -r, corner & 2 ? r : -r, corner & 4 ? r : -r};
-      keys.push_back(key(q, side));
+      keys.push_back(pack_cell(cell_coords(q, side)));
     }
     std::sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
@@ -62,18 +63,13 @@ bool FacetTakers::takes_a_facet(const Vec3& p) const {
     if (takes(facets_[i], p)) return true;
   double side = finest_;
   for (const auto& level : levels_) {
-    const auto it = level.find(key(p, side));
+    const auto it = level.find(pack_cell(cell_coords(p, side)));
     if (it != level.end())
       for (int i : it->second)
         if (takes(facets_[i], p)) return true;
     side *= 4;
   }
   return false;
-}
-
-std::uint64_t FacetTakers::key(const Vec3& p, double side) {
-  const auto axis = [&](double x) { return std::uint64_t(long(std::floor(x / side)) & 0x1fffff); };
-  return axis(p.x) << 42 | axis(p.y) << 21 | axis(p.z);
 }
 
 }  // namespace vd

@@ -34,8 +34,6 @@ class FacetTakers {
     std::array<int, 2> apex;
   };
   bool takes(const Facet& f, const Vec3& p) const;
-  // Key of p's cell on a level whose cells have side `side`.
-  static std::uint64_t key(const Vec3& p, double side);
 
   const std::vector<Vec3>& points_;
   std::vector<Facet> facets_;

@@ -6,6 +6,7 @@
 #include <random>
 #include <unordered_map>
 
+#include "geometry/cell_key.h"
 #include "geometry/point_grid.h"
 #include "mesh/cancel.h"
 #include "mesh/progress.h"
@@ -43,15 +44,15 @@ class FacetGrid {
       const Box box = facet_box(m, m.triangles[f]);
       size_t level = 0;
       double side = finest_;
-      auto a = key(box.lo, side), b = key(box.hi, side);
+      auto a = cell_coords(box.lo, side), b = cell_coords(box.hi, side);
       while (b[0] - a[0] >= kSpan || b[1] - a[1] >= kSpan || b[2] - a[2] >= kSpan) {
         side *= 4, ++level;
-        a = key(box.lo, side), b = key(box.hi, side);
+        a = cell_coords(box.lo, side), b = cell_coords(box.hi, side);
       }
       if (levels_.size() <= level) levels_.resize(level + 1);
       for (long k = a[2]; k <= b[2]; ++k)
         for (long j = a[1]; j <= b[1]; ++j)
-          for (long i = a[0]; i <= b[0]; ++i) levels_[level].cells[pack({i, j, k})].push_back(static_cast<int>(f));
+          for (long i = a[0]; i <= b[0]; ++i) levels_[level].cells[pack_cell({i, j, k})].push_back(static_cast<int>(f));
     }
     double side = finest_;
     for (Level& level : levels_) {
@@ -71,11 +72,11 @@ class FacetGrid {
   bool any_within(const Vec3& p, double r) const {
     for (const Level& level : levels_) {
       if (level.cells.empty()) continue;
-      const auto a = key(p - Vec3{r, r, r}, level.side), b = key(p + Vec3{r, r, r}, level.side);
+      const auto a = cell_coords(p - Vec3{r, r, r}, level.side), b = cell_coords(p + Vec3{r, r, r}, level.side);
       for (long k = a[2]; k <= b[2]; ++k)
         for (long j = a[1]; j <= b[1]; ++j)
           for (long i = a[0]; i <= b[0]; ++i) {
-            const std::uint64_t packed = pack({i, j, k}), b = level.bit_of(packed);
+            const std::uint64_t packed = pack_cell({i, j, k}), b = level.bit_of(packed);
             if (!(level.occupied[b >> 6] >> (b & 63) & 1)) continue;
             auto it = level.cells.find(packed);
             if (it == level.cells.end()) continue;
@@ -100,12 +101,6 @@ class FacetGrid {
     // Fibonacci hashing: the top bits of the product.
     std::uint64_t bit_of(std::uint64_t packed) const { return packed * 0x9E3779B97F4A7C15ull >> shift; }
   };
-  static std::array<long, 3> key(const Vec3& p, double side) {
-    return {long(std::floor(p.x / side)), long(std::floor(p.y / side)), long(std::floor(p.z / side))};
-  }
-  static std::uint64_t pack(const std::array<long, 3>& k) {
-    return (std::uint64_t(k[0] & 0x1fffff) << 42) | (std::uint64_t(k[1] & 0x1fffff) << 21) | std::uint64_t(k[2] & 0x1fffff);
-  }
   const Mesh& m_;
   double finest_;
   std::vector<Level> levels_;
