@@ -966,13 +966,17 @@ void equal_first_nodes_at_sharp_corners(RemeshPlan& plan) {
     const int far = first[0] > first[1] ? 0 : 1;
     const double near = first[1 - far], ratio = first[far] / near;
     if (!(near > 0) || ratio <= 1.1 || ratio >= 2) continue;
-    std::vector<double>& nodes = plan.border_nodes[c.pieces[far]];
-    const double target = nodes.empty() ? std::min(kStaggeredFirstNode * near, 0.5 * (near + first[far])) : near;
+    const auto it = plan.border_nodes.find(c.pieces[far]);
+    const bool planned = it != plan.border_nodes.end() && !it->second.empty();
+    const double target = planned ? near : std::min(kStaggeredFirstNode * near, 0.5 * (near + first[far]));
     const double at = from_lower[far] ? target / c.lengths[far] : 1 - target / c.lengths[far];
-    if (!nodes.empty() && ratio < 1.5)
-      (from_lower[far] ? nodes.front() : nodes.back()) = at;
-    else if (ratio >= 1.25)
+    if (planned && ratio < 1.5) {
+      (from_lower[far] ? it->second.front() : it->second.back()) = at;
+    } else if (ratio >= 1.25) {
+      // Made only here: an empty entry would have its piece walked for splits.
+      std::vector<double>& nodes = plan.border_nodes[c.pieces[far]];
       nodes.insert(std::lower_bound(nodes.begin(), nodes.end(), at), at);
+    }
   }
 }
 
