@@ -161,10 +161,10 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       runaways += e.ran_away();
       if (!next(true, e.faces())) throw;
     } catch (const SelfIntersectionError& e) {  // the surface is checked before recovery
-      // The uniform chords crossing themselves says nothing of the file:
-      // the failure that led to them stands.
-      if (chain.uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
       if (next(false)) continue;
+      // The uniform chords or a later angle crossing themselves says
+      // nothing of the file: the recovery failure that led to them stands.
+      if (chain.uniform_done() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
       // Every tessellation tried crosses itself: say whether OpenCASCADE
       // finds the file's geometry faulty (pythonocc_11752.stp: crossing
       // edges and curves off their faces, on the faces that cross).
@@ -173,8 +173,9 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       throw InputError(std::string(e.what()) + "; " +
                        (faults.empty() ? "OpenCASCADE's check of the shape finds it valid" : faults));
     } catch (const InputError&) {
-      if (chain.uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
-      if (!next(false)) throw;
+      if (next(false)) continue;
+      if (chain.uniform_done() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
+      throw;
     }
   }
 }

@@ -50,8 +50,8 @@ struct CadMeshOptions {
   // Empty: fail at once (the command line empties it when the angle, the
   // chord height or the guard is given).
   std::vector<double> retry_angles_deg = {30, 40};
-  // With retries (retry_angles_deg not empty), after the last angle: one
-  // more tessellation at the first angle with one chord height for every
+  // With retries (retry_angles_deg not empty), before the other angles: one
+  // tessellation at the first angle with one chord height for every
   // face, the size over this (0: none). The automatic chord heights follow
   // thin solids down: gmsh_simple_plane.brep's recovery ran away at its wing
   // roots at every angle with them (down to 1.2e-5 on the wings), and

@@ -23,9 +23,9 @@ class TessellationChain {
  public:
   // `first`: the first tessellation's options. `retry_angles_deg`: the
   // angular deflections tried after it when recovery stops, on automatic
-  // chord heights only. `uniform_deflection` > 0: after the last angle, one
-  // more at the first angle starting from this chord height on every face
-  // (the volume rounds refine the solids that are off from there).
+  // chord heights only. `uniform_deflection` > 0: before them, one at the
+  // first angle starting from this chord height on every face (the volume
+  // rounds refine the solids that are off from there).
   TessellationChain(const TessellationOptions& first, const std::vector<double>& retry_angles_deg,
                     double uniform_deflection)
       : first_(first), options_(first), angles_{first.angle_deg} {
@@ -36,22 +36,35 @@ class TessellationChain {
   const TessellationOptions& options() const { return options_; }
   // Tessellations given up so far.
   int attempt() const { return attempt_; }
+  // The current tessellation is the one with uniform chord heights.
   bool uniform_tried() const { return uniform_; }
+  // The uniform chord heights were tried (they may have failed since).
+  bool uniform_done() const { return uniform_done_; }
+  // Another tessellation follows if recovery stops on this one (its
+  // patience is kPatienceWithAFallback). Not on the uniform chords, though
+  // the other angles may follow them: they are the link that meshes thin
+  // solids (gmsh_simple_plane.brep: 49 passes), and keep the full patience.
   bool has_fallback() const {
-    return !uniform_ && (options_.smooth || options_.remesh || angle_ + 1 < angles_.size() || uniform_deflection_ > 0);
+    return !uniform_ && (options_.smooth || options_.remesh || (uniform_deflection_ > 0 && !uniform_done_) ||
+                         angle_ + 1 < angles_.size());
   }
 
   // The next tessellation after one that failed: its recovery stopped at the
-  // guards, or (false) its surface was refused. A smoothed or remeshed
-  // tessellation is tried once more without either at the same angle, and
-  // the later angles go without: on gmsh_dlr_f6.brep the smoothed 20 deg
-  // surface stopped recovery and the smoothed 30 deg one crossed itself
-  // (the surface itself is fine unsmoothed). False: nothing left to try.
+  // guards, or (false) its surface was refused. In turn: the first one
+  // unsmoothed and not remeshed at the same angle (on gmsh_dlr_f6.brep the
+  // smoothed 20 deg surface stopped recovery and the smoothed 30 deg one
+  // crossed itself; the surface itself is fine unsmoothed), then the
+  // uniform chord heights at the first angle, then the other angles
+  // unsmoothed. The uniform chords came after the other angles until
+  // 2026-11-27: on the corpus no file meshes at 30 or 40 deg any more, and
+  // gmsh_simple_plane.brep spent 5 s on them before the uniform chords
+  // meshed it (the same mesh either way). False: nothing left to try.
   // `runaway_faces`: the face numbers of the facets the stopped recovery
-  // left missing, ascending. The faces where every stopped recovery ran
-  // away go to the uniform chords' volume rounds, which leave their solids
-  // alone: on gmsh_simple_plane.brep the union of the four recoveries'
-  // faces took in the tail, 5.9 % off, whose facets one of them had left.
+  // left missing, ascending. The faces where every stopped recovery before
+  // them ran away go to the uniform chords' volume rounds, which leave
+  // their solids alone: on gmsh_simple_plane.brep the union of the
+  // recoveries' faces took in the tail, 5.9 % off, whose facets one of
+  // them had left.
   bool next(bool recovery_stopped, const std::vector<int>& runaway_faces = {}) {
     if (recovery_stopped) {
       if (stopped_recoveries_++ == 0) {
@@ -63,18 +76,27 @@ class TessellationChain {
         runaway_faces_ = std::move(both);
       }
     }
-    if (uniform_) return false;  // the uniform chords were the last
-    if (options_.smooth || options_.remesh) {
+    if (uniform_) {
+      // Whatever stopped the uniform chords, the other angles follow, with
+      // automatic chord heights again.
+      if (angle_ + 1 >= angles_.size()) return false;
+      uniform_ = false;
       options_.smooth = options_.remesh = false;
-    } else if (recovery_stopped && angle_ + 1 < angles_.size()) {
+      options_.start_deflection = first_.start_deflection;
+      options_.runaway_faces.clear();
       ++angle_;
-    } else if (recovery_stopped && uniform_deflection_ > 0) {
-      angle_ = 0;
+    } else if (options_.smooth || options_.remesh) {
+      options_.smooth = options_.remesh = false;
+    } else if (!recovery_stopped) {
+      return false;
+    } else if (uniform_deflection_ > 0 && !uniform_done_) {
       options_.smooth = first_.smooth;
       options_.remesh = first_.remesh;
       options_.start_deflection = uniform_deflection_;
       options_.runaway_faces = runaway_faces_;
-      uniform_ = true;
+      uniform_ = uniform_done_ = true;
+    } else if (angle_ + 1 < angles_.size()) {
+      ++angle_;
     } else {
       return false;
     }
@@ -91,7 +113,8 @@ class TessellationChain {
   double uniform_deflection_ = 0;
   size_t angle_ = 0;
   int attempt_ = 0;
-  bool uniform_ = false;
+  bool uniform_ = false;       // the current tessellation has the uniform chords
+  bool uniform_done_ = false;  // they were tried
 };
 
 }  // namespace vd::cad

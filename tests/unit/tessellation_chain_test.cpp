@@ -13,18 +13,16 @@ TessellationOptions automatic_first() {
   return t;  // deflection 0: automatic chord heights; smoothed and remeshed
 }
 
-TEST(TessellationChain, LinksInTurnThenUniformChords) {
+TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   TessellationChain chain(automatic_first(), {30, 40}, 0.5);
   EXPECT_TRUE(chain.options().smooth && chain.options().remesh);
+  EXPECT_TRUE(chain.has_fallback());
   ASSERT_TRUE(chain.next(true, {4, 7}));
   EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
   EXPECT_EQ(chain.options().angle_deg, 20);
-  ASSERT_TRUE(chain.next(true, {7}));
-  EXPECT_EQ(chain.options().angle_deg, 30);
-  ASSERT_TRUE(chain.next(true, {7}));
-  EXPECT_EQ(chain.options().angle_deg, 40);
   EXPECT_FALSE(chain.uniform_tried());
-  ASSERT_TRUE(chain.next(true, {7, 9}));
+  EXPECT_TRUE(chain.has_fallback());
+  ASSERT_TRUE(chain.next(true, {7}));
   EXPECT_TRUE(chain.uniform_tried());
   EXPECT_EQ(chain.options().angle_deg, 20);
   EXPECT_TRUE(chain.options().smooth && chain.options().remesh);
@@ -32,6 +30,19 @@ TEST(TessellationChain, LinksInTurnThenUniformChords) {
   // volume rounds can go on; not a fixed chord height.
   EXPECT_EQ(chain.options().deflection, 0);
   EXPECT_EQ(chain.options().start_deflection, 0.5);
+  EXPECT_EQ(chain.attempt(), 2);
+  // The full patience on the uniform chords, though angles follow.
+  EXPECT_FALSE(chain.has_fallback());
+  ASSERT_TRUE(chain.next(true, {7}));
+  EXPECT_FALSE(chain.uniform_tried());
+  EXPECT_TRUE(chain.uniform_done());
+  EXPECT_EQ(chain.options().angle_deg, 30);
+  EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
+  EXPECT_EQ(chain.options().start_deflection, 0);
+  EXPECT_TRUE(chain.options().runaway_faces.empty());
+  EXPECT_TRUE(chain.has_fallback());
+  ASSERT_TRUE(chain.next(true, {7}));
+  EXPECT_EQ(chain.options().angle_deg, 40);
   EXPECT_EQ(chain.attempt(), 4);
   EXPECT_FALSE(chain.has_fallback());
   EXPECT_FALSE(chain.next(true, {7}));
@@ -40,10 +51,9 @@ TEST(TessellationChain, LinksInTurnThenUniformChords) {
 TEST(TessellationChain, UniformLinkKeepsTheFacesEveryRecoveryRanAwayOn) {
   TessellationChain chain(automatic_first(), {30, 40}, 0.5);
   ASSERT_TRUE(chain.next(true, {3, 5, 7, 9}));
-  ASSERT_TRUE(chain.next(true, {5, 7, 11}));
-  ASSERT_TRUE(chain.next(true, {1, 5, 7}));
   EXPECT_TRUE(chain.options().runaway_faces.empty());  // only the uniform link gets them
-  ASSERT_TRUE(chain.next(true, {5, 7, 8}));
+  ASSERT_TRUE(chain.next(true, {5, 7, 11}));
+  EXPECT_TRUE(chain.uniform_tried());
   EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{5, 7}));
 }
 
@@ -51,9 +61,25 @@ TEST(TessellationChain, RefusedSurfacesDoNotNarrowTheRunawayFaces) {
   TessellationChain chain(automatic_first(), {30}, 0.5);
   ASSERT_TRUE(chain.next(false));  // the smoothed surface crossed itself: no recovery ran
   ASSERT_TRUE(chain.next(true, {2, 6}));
-  ASSERT_TRUE(chain.next(true, {2, 6, 8}));
   EXPECT_TRUE(chain.uniform_tried());
   EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{2, 6}));
+}
+
+TEST(TessellationChain, RefusedUniformChordsGoOnToTheOtherAngles) {
+  TessellationChain chain(automatic_first(), {30}, 0.5);
+  ASSERT_TRUE(chain.next(true, {1}));
+  ASSERT_TRUE(chain.next(true, {1}));
+  ASSERT_TRUE(chain.uniform_tried());
+  ASSERT_TRUE(chain.next(false));  // the uniform chords crossed themselves
+  EXPECT_EQ(chain.options().angle_deg, 30);
+  EXPECT_FALSE(chain.next(false));  // an unsmoothed surface refused: nothing else to try
+}
+
+TEST(TessellationChain, UnsmoothedSurfaceRefusedEndsTheChain) {
+  TessellationChain chain(automatic_first(), {30, 40}, 0.5);
+  ASSERT_TRUE(chain.next(true, {1}));
+  EXPECT_FALSE(chain.next(false));
+  EXPECT_FALSE(chain.uniform_done());
 }
 
 TEST(TessellationChain, GivenChordHeightHasNoRetries) {
