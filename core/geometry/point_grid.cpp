@@ -199,16 +199,16 @@ void PointGrid::rebuild() {
   for (int id = 0; id < size(); ++id) insert_into_cell(id);
 }
 
-void PointGrid::in_box(const Vec3& lo_in, const Vec3& hi_in, std::vector<int>& out) const {
-  out.clear();
-  if (position_.empty()) return;
+template <class Stop>
+bool PointGrid::find_in_box(const Vec3& lo_in, const Vec3& hi_in, Stop&& stop) const {
+  if (position_.empty()) return false;
   // Clamp to the indexed points: a query box far larger than the set must
   // not turn into a loop over empty cells.
   Vec3 lo, hi;
   for (int i = 0; i < 3; ++i) {
     lo[i] = std::max(lo_in[i], lower_[i]);
     hi[i] = std::min(hi_in[i], upper_[i]);
-    if (!(lo[i] <= hi[i])) return;
+    if (!(lo[i] <= hi[i])) return false;
   }
   const auto inside = [&](const Vec3& p) {
     return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z &&
@@ -220,8 +220,8 @@ void PointGrid::in_box(const Vec3& lo_in, const Vec3& hi_in, std::vector<int>& o
   if (cell_count > static_cast<double>(occupied_)) {
     // More cells in the range than occupied cells: scanning the points is cheaper.
     for (int id = 0; id < size(); ++id)
-      if (inside(position(id))) out.push_back(id);
-    return;
+      if (inside(position(id)) && stop(id)) return true;
+    return false;
   }
   CellKey key;
   for (key[0] = first[0]; key[0] <= last[0]; ++key[0])
@@ -232,7 +232,7 @@ void PointGrid::in_box(const Vec3& lo_in, const Vec3& hi_in, std::vector<int>& o
         const size_t cell = row + static_cast<size_t>(k);
         if (fine_of_[cell] < 0) {
           for (int id = head_[cell]; id >= 0; id = next_[static_cast<size_t>(id)])
-            if (inside(position(id))) out.push_back(id);
+            if (inside(position(id)) && stop(id)) return true;
           continue;
         }
         const FineCells& sub = fine_[static_cast<size_t>(fine_of_[cell])];
@@ -243,9 +243,18 @@ void PointGrid::in_box(const Vec3& lo_in, const Vec3& hi_in, std::vector<int>& o
             for (std::int64_t c = from[2]; c <= to[2]; ++c)
               for (int id = sub.head[static_cast<size_t>((a * kFine + b) * kFine + c)]; id >= 0;
                    id = next_[static_cast<size_t>(id)])
-                if (inside(position(id))) out.push_back(id);
+                if (inside(position(id)) && stop(id)) return true;
       }
     }
+  return false;
+}
+
+void PointGrid::in_box(const Vec3& lo, const Vec3& hi, std::vector<int>& out) const {
+  out.clear();
+  find_in_box(lo, hi, [&out](int id) {
+    out.push_back(id);
+    return false;
+  });
 }
 
 void PointGrid::in_ball(const Vec3& centre, double radius, std::vector<int>& out) const {
@@ -258,6 +267,15 @@ void PointGrid::in_ball(const Vec3& centre, double radius, std::vector<int>& out
                              return dot(d, d) > r2;
                            }),
             out.end());
+}
+
+bool PointGrid::any_in_ball(const Vec3& centre, double radius) const {
+  const Vec3 r{radius, radius, radius};
+  const double r2 = radius * radius;
+  return find_in_box(centre - r, centre + r, [&](int id) {
+    const Vec3 d = position(id) - centre;
+    return dot(d, d) <= r2;
+  });
 }
 
 bool equatorial_sphere_occupants(const PointGrid& grid, int a, int b, int c, std::vector<int>& out) {

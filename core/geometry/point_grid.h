@@ -41,6 +41,11 @@ class PointGrid {
   void in_box(const Vec3& lo, const Vec3& hi, std::vector<int>& out) const;
   // Ids of the points in the closed ball, replacing `out`.
   void in_ball(const Vec3& centre, double radius, std::vector<int>& out) const;
+  // Is any point in the closed ball? The same answer as in_ball's list being
+  // non-empty, found at the first point: the interior candidates' spacing
+  // test rejects most candidates (240k of 287k on gmsh_simple_plane.brep),
+  // each on the first vertex it finds.
+  bool any_in_ball(const Vec3& centre, double radius) const;
 
  private:
   using CellKey = std::array<std::int64_t, 3>;
@@ -53,6 +58,10 @@ class PointGrid {
   }
   void insert_into_cell(int id);
   void remove_from_cell(int id);
+  // Calls stop(id) on each point in the closed box [lo, hi], in the order
+  // in_box lists them, until it returns true; true when one did.
+  template <class Stop>
+  bool find_in_box(const Vec3& lo, const Vec3& hi, Stop&& stop) const;
   void grow_bounds(const Vec3& p);
   bool needs_rebuild() const;
   void rebuild();

@@ -130,8 +130,7 @@ class Acceptor {
     if (length > longest) shift = (longest / length) * shift;
     p = p + shift;
     // The vertex gap before the region: it costs less than a point location.
-    grid_.in_ball(p, o_.min_vertex_gap * h, near_);
-    if (!near_.empty()) {
+    if (grid_.any_in_ball(p, o_.min_vertex_gap * h)) {
       ++stats_.rejected_near_vertex;
       return;
     }
@@ -162,7 +161,6 @@ class Acceptor {
   InteriorStats& stats_;
   FacetGrid facets_;
   PointGrid grid_;
-  std::vector<int> near_;
   std::vector<Vec3> accepted_;
   std::vector<int> regions_;  // of each accepted point
   std::mt19937_64 rng_;

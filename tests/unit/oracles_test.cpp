@@ -278,6 +278,7 @@ TEST(PointGrid, BoxAndBallQueriesMatchBruteForce) {
       if (dot(d, d) <= r * r) want.push_back(id);
     }
     ASSERT_EQ(got, want);
+    ASSERT_EQ(grid.any_in_ball(centre, r), !want.empty());
   }
 }
 
@@ -318,6 +319,7 @@ TEST(PointGrid, ClusteredPointsQueriesMatchBruteForce) {
       if (dot(d, d) <= r * r) want.push_back(id);
     }
     ASSERT_EQ(got, want) << "query " << i;
+    ASSERT_EQ(grid.any_in_ball(centre, r), !want.empty()) << "query " << i;
     if (near) EXPECT_FALSE(got.empty() && r > 0.0015) << "query " << i;  // the cluster is dense there
   }
 }
