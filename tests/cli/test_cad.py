@@ -383,13 +383,17 @@ for rel, solids, interfaces in (("cad-assembly/gmsh_wing_fuselage.step", 2, 1),
 # a facet, so it was refused; now the longest surface edge of such a
 # tetrahedron is split as a fold's is, and the rows no longer meet in one
 # plane (measured 2026-11-26: 0.00 -> 0.19 deg, 16 -> 2 tetrahedra under
-# 5 deg).
+# 5 deg). The 0.19 deg was a cap over the seam between the two halves of a
+# cylinder, beside the corner with the top face, still there after the three
+# rounds of fold splits; the rounds for caps over smooth borders between two
+# faces split it once more (2026-11-27: 3.82 deg on seed 1, 4.66 on seeds 2
+# and 3).
 block = data("cad-part/gmsh_Block.stp")
 if block:
     rep, lowest = meshed_angles(block, "the Block")
     if rep is not None:
-        check(lowest.min() > 0.1 and (lowest < 5).sum() < 8 and rep["interior"]["cap_folds_split"] > 100,
-              "the Block: smallest dihedral angle %.3f deg > 0.1, %d tetrahedra under 5 deg < 8, %d edges split for caps"
+        check(lowest.min() > 3 and (lowest < 5).sum() < 4 and rep["interior"]["cap_folds_split"] > 100,
+              "the Block: smallest dihedral angle %.3f deg > 3, %d tetrahedra under 5 deg < 4, %d edges split for caps"
               % (lowest.min(), (lowest < 5).sum(), rep["interior"]["cap_folds_split"]))
 
 # t20's chamfer cone meets the sides of a hexagon in faces with 3 to 5 deg
