@@ -253,7 +253,7 @@ int compare_command(const std::vector<std::string>& raw) {
   // CAD input: the tessellations of `vdmesh mesh`, in turn, while vdmesh's
   // recovery stops on one (or its surface is refused): both meshers are
   // compared on the surface vdmesh meshes, as `vdmesh mesh` would find it.
-  // Not the last link of that chain (one chord height everywhere): its
+  // Not the link of that chain with one chord height everywhere: its
   // height comes from the CAD model, which this process does not read.
   cad::TessellationChain chain(cad::TessellationOptions{},
                                cad_input ? cad::CadMeshOptions().retry_angles_deg : std::vector<double>{}, 0);

@@ -90,7 +90,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     planar_splits (bool, False): split vertices at chord mid-points instead of on the CAD geometry
     angular_deflection (float, 20): OpenCASCADE's angular deflection (deg) on curved faces;
         unless it, deflection, max_passes or max_added is given, a recovery that stops at
-        its guards is tried again on tessellations at 30 and then 40 deg
+        its guards is tried again: unsmoothed, then with one chord height everywhere
+        (size / 500), then at 30 and 40 deg
     volume_tolerance (float, 0.4): with the automatic chord height, tessellate again finer
         while a solid's volume is off by more than this many per cent (0: once)
     smoothing (bool, True): move tessellation vertices inside faces, on the CAD face,
