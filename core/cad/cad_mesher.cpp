@@ -141,7 +141,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       options.mesh.progress(chain.attempt() == 0
                                 ? "tessellate CAD faces"
                                 : "tessellate CAD faces again at " + format_number(t.angle_deg) + " deg" +
-                                      (chain.uniform_tried()
+                                      (chain.on_uniform_chords()
                                            ? ", chord height " + format_number(t.start_deflection) + " everywhere"
                                            : "") +
                                       (t.smooth || t.remesh ? "" : ", unsmoothed, not remeshed"));
@@ -164,7 +164,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       if (next(false)) continue;
       // The uniform chords or a later angle crossing themselves says
       // nothing of the file: the recovery failure that led to them stands.
-      if (chain.uniform_done() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
+      if (chain.uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
       // Every tessellation tried crosses itself: say whether OpenCASCADE
       // finds the file's geometry faulty (pythonocc_11752.stp: crossing
       // edges and curves off their faces, on the faces that cross).
@@ -174,7 +174,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
                        (faults.empty() ? "OpenCASCADE's check of the shape finds it valid" : faults));
     } catch (const InputError&) {
       if (next(false)) continue;
-      if (chain.uniform_done() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
+      if (chain.uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
       throw;
     }
   }

@@ -37,15 +37,15 @@ class TessellationChain {
   // Tessellations given up so far.
   int attempt() const { return attempt_; }
   // The current tessellation is the one with uniform chord heights.
-  bool uniform_tried() const { return uniform_; }
-  // The uniform chord heights were tried (they may have failed since).
-  bool uniform_done() const { return uniform_done_; }
+  bool on_uniform_chords() const { return uniform_; }
+  // The uniform chord heights were tried (now, or before a later angle).
+  bool uniform_tried() const { return uniform_tried_; }
   // Another tessellation follows if recovery stops on this one (its
   // patience is kPatienceWithAFallback). Not on the uniform chords, though
   // the other angles may follow them: they are the link that meshes thin
   // solids (gmsh_simple_plane.brep: 49 passes), and keep the full patience.
   bool has_fallback() const {
-    return !uniform_ && (options_.smooth || options_.remesh || (uniform_deflection_ > 0 && !uniform_done_) ||
+    return !uniform_ && (options_.smooth || options_.remesh || (uniform_deflection_ > 0 && !uniform_tried_) ||
                          angle_ + 1 < angles_.size());
   }
 
@@ -89,12 +89,12 @@ class TessellationChain {
       options_.smooth = options_.remesh = false;
     } else if (!recovery_stopped) {
       return false;
-    } else if (uniform_deflection_ > 0 && !uniform_done_) {
+    } else if (uniform_deflection_ > 0 && !uniform_tried_) {
       options_.smooth = first_.smooth;
       options_.remesh = first_.remesh;
       options_.start_deflection = uniform_deflection_;
       options_.runaway_faces = runaway_faces_;
-      uniform_ = uniform_done_ = true;
+      uniform_ = uniform_tried_ = true;
     } else if (angle_ + 1 < angles_.size()) {
       ++angle_;
     } else {
@@ -113,8 +113,8 @@ class TessellationChain {
   double uniform_deflection_ = 0;
   size_t angle_ = 0;
   int attempt_ = 0;
-  bool uniform_ = false;       // the current tessellation has the uniform chords
-  bool uniform_done_ = false;  // they were tried
+  bool uniform_ = false;        // the current tessellation has the uniform chords
+  bool uniform_tried_ = false;  // they were tried
 };
 
 }  // namespace vd::cad

@@ -20,10 +20,10 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   ASSERT_TRUE(chain.next(true, {4, 7}));
   EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
   EXPECT_EQ(chain.options().angle_deg, 20);
-  EXPECT_FALSE(chain.uniform_tried());
+  EXPECT_FALSE(chain.on_uniform_chords());
   EXPECT_TRUE(chain.has_fallback());
   ASSERT_TRUE(chain.next(true, {7}));
-  EXPECT_TRUE(chain.uniform_tried());
+  EXPECT_TRUE(chain.on_uniform_chords());
   EXPECT_EQ(chain.options().angle_deg, 20);
   EXPECT_TRUE(chain.options().smooth && chain.options().remesh);
   // Automatic chord heights starting from the uniform one, so that the
@@ -34,8 +34,8 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   // The full patience on the uniform chords, though angles follow.
   EXPECT_FALSE(chain.has_fallback());
   ASSERT_TRUE(chain.next(true, {7}));
-  EXPECT_FALSE(chain.uniform_tried());
-  EXPECT_TRUE(chain.uniform_done());
+  EXPECT_FALSE(chain.on_uniform_chords());
+  EXPECT_TRUE(chain.uniform_tried());
   EXPECT_EQ(chain.options().angle_deg, 30);
   EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
   EXPECT_EQ(chain.options().start_deflection, 0);
@@ -53,7 +53,7 @@ TEST(TessellationChain, UniformLinkKeepsTheFacesEveryRecoveryRanAwayOn) {
   ASSERT_TRUE(chain.next(true, {3, 5, 7, 9}));
   EXPECT_TRUE(chain.options().runaway_faces.empty());  // only the uniform link gets them
   ASSERT_TRUE(chain.next(true, {5, 7, 11}));
-  EXPECT_TRUE(chain.uniform_tried());
+  EXPECT_TRUE(chain.on_uniform_chords());
   EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{5, 7}));
 }
 
@@ -61,7 +61,7 @@ TEST(TessellationChain, RefusedSurfacesDoNotNarrowTheRunawayFaces) {
   TessellationChain chain(automatic_first(), {30}, 0.5);
   ASSERT_TRUE(chain.next(false));  // the smoothed surface crossed itself: no recovery ran
   ASSERT_TRUE(chain.next(true, {2, 6}));
-  EXPECT_TRUE(chain.uniform_tried());
+  EXPECT_TRUE(chain.on_uniform_chords());
   EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{2, 6}));
 }
 
@@ -69,7 +69,7 @@ TEST(TessellationChain, RefusedUniformChordsGoOnToTheOtherAngles) {
   TessellationChain chain(automatic_first(), {30}, 0.5);
   ASSERT_TRUE(chain.next(true, {1}));
   ASSERT_TRUE(chain.next(true, {1}));
-  ASSERT_TRUE(chain.uniform_tried());
+  ASSERT_TRUE(chain.on_uniform_chords());
   ASSERT_TRUE(chain.next(false));  // the uniform chords crossed themselves
   EXPECT_EQ(chain.options().angle_deg, 30);
   EXPECT_FALSE(chain.next(false));  // an unsmoothed surface refused: nothing else to try
@@ -79,7 +79,7 @@ TEST(TessellationChain, UnsmoothedSurfaceRefusedEndsTheChain) {
   TessellationChain chain(automatic_first(), {30, 40}, 0.5);
   ASSERT_TRUE(chain.next(true, {1}));
   EXPECT_FALSE(chain.next(false));
-  EXPECT_FALSE(chain.uniform_done());
+  EXPECT_FALSE(chain.uniform_tried());
 }
 
 TEST(TessellationChain, GivenChordHeightHasNoRetries) {
