@@ -146,8 +146,8 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
                                            : "") +
                                       (t.smooth || t.remesh ? "" : ", unsmoothed, not remeshed"));
     const auto start = std::chrono::steady_clock::now();
-    const auto next = [&](bool recovery_stopped, const std::vector<int>& runaway_faces = {}) {
-      if (!chain.next(recovery_stopped, runaway_faces)) return false;
+    const auto next = [&](bool recovery_stopped, const std::vector<int>& runaway_faces = {}, bool ran_away = false) {
+      if (!chain.next(recovery_stopped, runaway_faces, ran_away)) return false;
       given_up += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return true;
     };
@@ -159,7 +159,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
     } catch (const RecoveryError& e) {
       last_recovery_failure = e.what();
       runaways += e.ran_away();
-      if (!next(true, e.faces())) throw;
+      if (!next(true, e.faces(), e.ran_away())) throw;
     } catch (const SelfIntersectionError& e) {  // the surface is checked before recovery
       if (next(false)) continue;
       // The uniform chords or a later angle crossing themselves says

@@ -34,9 +34,9 @@ MESH = [
     "cad-part/pythonocc_face_recognition_sample_part.stp", "cad-part/gmsh_917_fusee.stp",
     "cad-assembly/gmsh_simple_plane.brep",
 ]
-# Tessellated from one chord height everywhere, after the first angle unsmoothed: (retries, size / chord height,
-# largest volume error of a solid).
-UNIFORM_CHORDS = {"cad-assembly/gmsh_simple_plane.brep": (2, 500, 0.01)}
+# Tessellated from one chord height everywhere: (retries, size / chord height, largest volume error of a
+# solid). simple_plane's first recovery runs away, and the unsmoothed surface is skipped (2026-11-27).
+UNIFORM_CHORDS = {"cad-assembly/gmsh_simple_plane.brep": (1, 500, 0.01)}
 # Faces the general fuse cuts into pieces, and the largest piece's CAD area.
 SPLIT_FACES = {"cad-assembly/occt_MODERN_Exhaust_1.brep": {"Face15": 1098.2}}
 FIRST_TRY = {"cad-part/gmsh_917_fusee.stp", "cad-assembly/occt_MODERN_Exhaust_1.brep"}

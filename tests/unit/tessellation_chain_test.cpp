@@ -48,6 +48,28 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   EXPECT_FALSE(chain.next(true, {7}));
 }
 
+TEST(TessellationChain, FirstRecoveryRunningAwaySkipsTheUnsmoothedSurface) {
+  TessellationChain chain(automatic_first(), {30, 40}, 0.5);
+  ASSERT_TRUE(chain.next(true, {4, 7}, /*ran_away=*/true));
+  EXPECT_TRUE(chain.on_uniform_chords());
+  EXPECT_EQ(chain.options().angle_deg, 20);
+  EXPECT_EQ(chain.options().start_deflection, 0.5);
+  EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{4, 7}));
+  EXPECT_EQ(chain.attempt(), 1);
+  // Then the other angles, unsmoothed, as after any uniform link.
+  ASSERT_TRUE(chain.next(true, {7}, true));
+  EXPECT_EQ(chain.options().angle_deg, 30);
+  EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
+}
+
+TEST(TessellationChain, RunningAwayWithoutUniformChordsStillTriesUnsmoothed) {
+  TessellationChain chain(automatic_first(), {30, 40}, 0.0);
+  ASSERT_TRUE(chain.next(true, {4}, true));
+  EXPECT_FALSE(chain.on_uniform_chords());
+  EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
+  EXPECT_EQ(chain.options().angle_deg, 20);
+}
+
 TEST(TessellationChain, UniformLinkKeepsTheFacesEveryRecoveryRanAwayOn) {
   TessellationChain chain(automatic_first(), {30, 40}, 0.5);
   ASSERT_TRUE(chain.next(true, {3, 5, 7, 9}));
