@@ -209,6 +209,9 @@ tet_off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 
 bad("open.off", tet_off.replace("4 4 0", "4 3 0").rsplit("3 0 3 2\n", 1)[0], "open surface")
 bad("flipped.off", tet_off.replace("3 0 3 2", "3 0 2 3"), "orientation")
 bad("duplicate.off", tet_off.replace("4 4 0", "4 5 0") + "3 1 2 3\n", "duplicate")
+# Each repeat after the first facet of its triple, in the repeats' order.
+bad("duplicates.off", tet_off.replace("4 4 0", "4 6 0") + "3 3 1 0\n3 2 1 0\n",
+    "duplicate facets (same three vertices): 1, 4, 0, 5")
 bad("degenerate.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", "degenerate")
 bad("garbled.off", "OFF\n4 4 0\n0 0 zero\n", "garbled.off")
 bad("empty.off", "", "empty.off")
