@@ -413,8 +413,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
             const std::vector<int> sharing = adjacency.facets(edge_key(fold[0], fold[1]));
             if (sharing.size() != 2) return false;
             const Triangle &a = m.triangles[sharing[0]], &b = m.triangles[sharing[1]];
-            return a.face != b.face && dot(normalized(facet_area_vector(m.points, a)),
-                                           normalized(facet_area_vector(m.points, b))) >= cos_smooth;
+            return a.face != b.face && dot(facet_normal(m.points, a), facet_normal(m.points, b)) >= cos_smooth;
           };
           refused_folds.erase(std::remove_if(refused_folds.begin(), refused_folds.end(),
                                              [&](const auto& fold) { return !on_a_smooth_border(fold); }),
