@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "mesh/cancel.h"
+#include "mesh/disjoint_sets.h"
 #include "mesh/progress.h"
 #include "mesh/tet_faces.h"
 
@@ -309,16 +310,7 @@ int DelaunayTetrahedralization::cell_across(int t, int i) const {
 std::vector<int> DelaunayTetrahedralization::joined_cells(const std::vector<std::uint8_t>& walls) const {
   const auto& numbered = impl_->numbered;
   const size_t n = numbered.size();
-  std::vector<int> root(n);
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&root](int t) {
-    while (root[static_cast<size_t>(t)] != t) {
-      const int up = root[static_cast<size_t>(root[static_cast<size_t>(t)])];
-      root[static_cast<size_t>(t)] = up;  // path halving
-      t = up;
-    }
-    return t;
-  };
+  DisjointSets sets(n);
   for (size_t t = 0; t < n; ++t) {
     if (t + kCellsAhead < n) {
       const DT::Cell_handle ahead = numbered[t + kCellsAhead];
@@ -330,12 +322,10 @@ std::vector<int> DelaunayTetrahedralization::joined_cells(const std::vector<std:
       if (wall & (1u << i)) continue;
       const int u = c->neighbor(i)->info().value;
       if (u <= static_cast<int>(t)) continue;  // infinite, or joined from u's side
-      const int a = find(static_cast<int>(t)), b = find(u);
-      if (a != b) root[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
+      sets.join(static_cast<int>(t), u);
     }
   }
-  for (size_t t = 0; t < n; ++t) root[t] = find(static_cast<int>(t));
-  return root;
+  return std::move(sets).roots();
 }
 
 std::vector<std::array<int, 2>> DelaunayTetrahedralization::hull_faces() const {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "mesh/disjoint_sets.h"
 #include "surface/edge_map.h"
 
 namespace vd {
@@ -36,12 +37,7 @@ int assign_face_patches(Mesh& m, double sharp_angle_deg, const EdgeMap* given) {
   // The facets joined across every smooth manifold edge, each edge looked
   // at once in the map's own order (a walk from each facet looked every
   // edge up twice: a sixteenth of a surface-only run on the bunny).
-  std::vector<int> parent(m.triangles.size());
-  for (size_t f = 0; f < parent.size(); ++f) parent[f] = static_cast<int>(f);
-  const auto root = [&parent](int f) {
-    while (parent[f] != f) f = parent[f] = parent[parent[f]];
-    return f;
-  };
+  DisjointSets patch(m.triangles.size());
   for (const auto& [key, across] : edges.all()) {
     if (across.size() != 2) continue;
     const int f = across[0], g = across[1];
@@ -51,14 +47,13 @@ int assign_face_patches(Mesh& m, double sharp_angle_deg, const EdgeMap* given) {
     const bool flipped = has_directed_edge(m.triangles[f], a, b) == has_directed_edge(m.triangles[g], a, b);
     const double c = dot(normal[f], normal[g]) * (flipped ? -1.0 : 1.0);
     if (c < cos_limit) continue;
-    const int rf = root(f), rg = root(g);
-    if (rf != rg) parent[std::max(rf, rg)] = std::min(rf, rg);
+    patch.join(f, g);
   }
   // Numbered in the order of each patch's first facet.
   std::vector<int> number(m.triangles.size(), 0);
   int patches = 0;
   for (size_t f = 0; f < m.triangles.size(); ++f) {
-    const int r = root(static_cast<int>(f));
+    const int r = patch.find(static_cast<int>(f));
     if (number[r] == 0) number[r] = ++patches;
     m.triangles[f].face = number[r];
   }
