@@ -117,8 +117,8 @@ class Collapser {
   static double t_at(const CadEdgeSpan& e, int v, int other) { return v < other ? e.t_lo : e.t_hi; }
 
   // Moves u onto w; false (nothing changed) when u may not go there or the
-  // result would fold or turn a facet.
-  bool collapse(int u, int w) {
+  // result would fold or turn a facet by more than `max_turn_deg`.
+  bool collapse(int u, int w, double max_turn_deg = 30.0) {
     if (kind_[u] == Kind::fixed) return false;
     Mesh& m = s_.mesh;
     std::vector<int> shared, others;
@@ -155,8 +155,8 @@ class Collapser {
     if (common != apexes) return false;
 
     // Every remaining facet keeps its orientation, in space (turning by at
-    // most 30 degrees) and in its face's (u, v).
-    const double cos_turn = std::cos(30.0 * M_PI / 180.0);
+    // most max_turn_deg) and in its face's (u, v).
+    const double cos_turn = std::cos(max_turn_deg * M_PI / 180.0);
     std::vector<gp_Pnt2d> uv_w(others.size());
     for (size_t k = 0; k < others.size(); ++k) {
       const int f = others[k];
@@ -168,6 +168,9 @@ class Collapser {
       const Vec3 after = area_vector(m, v);
       const double nb = norm(before), na = norm(after);
       if (!(na > 0) || !(nb > 0) || dot(before, after) < cos_turn * na * nb) return false;
+      // A wide turn is allowed to snaps only (BorderSnap), which must not
+      // leave a facet between a curve and its chord.
+      if (max_turn_deg > 30.0 && hugs_border(s_, v[0], v[1], v[2])) return false;
       // w's (u, v) in this face: from a shared facet of the same face, the
       // one nearest u's (u, v) here (the same side of a seam).
       bool found = false;
@@ -211,6 +214,28 @@ class Collapser {
   }
 
  public:
+  // Each snap's inner vertex moved onto its node where collapse() allows
+  // it. The facets around such a vertex are needles along the border, whose
+  // normals a move across their width turns by anything: only a fold (in
+  // space or in the face's (u, v)) or a facet left between the curve and its
+  // chord stops it. Where it is stopped, a node split for it goes again
+  // (onto a neighbour along its CAD edge: the facets as they were).
+  int snap(const std::vector<BorderSnap>& snaps) {
+    int done = 0;
+    for (const BorderSnap& s : snaps) {
+      const int u = s.vertex, w = s.node;
+      if (!removed_[u] && !removed_[w] && kind_[u] == Kind::inner && collapse(u, w, 89.0)) {
+        ++done;
+        continue;
+      }
+      if (!s.split || removed_[w] || kind_[w] != Kind::on_edge) continue;
+      for (const int x : neighbours(w))
+        if (s_.edge_spans.count(edge_key(w, x)) && collapse(w, x)) break;
+    }
+    compact_surface(s_, dead_);
+    return done;
+  }
+
   // A face's inner vertex with three facets around it lies inside the
   // triangle of its neighbours; where one of its corners is nearly straight
   // it lies on that triangle's edge, and its facets are a cap and two
@@ -285,6 +310,18 @@ class Collapser {
 }  // namespace
 
 int collapse_short_edges(CadSurface& s, double max_length) { return Collapser(s).run(max_length); }
+
+bool hugs_border(const CadSurface& s, int x, int y, int z) {
+  const int ids[3] = {x, y, z};
+  int edge_of[3];
+  for (int i = 0; i < 3; ++i) {
+    const auto it = s.edge_spans.find(edge_key(ids[i], ids[(i + 1) % 3]));
+    edge_of[i] = it == s.edge_spans.end() ? -1 - i : it->second.edge;
+  }
+  return edge_of[0] == edge_of[1] || edge_of[1] == edge_of[2] || edge_of[2] == edge_of[0];
+}
+
+int snap_onto_border(CadSurface& s, const std::vector<BorderSnap>& snaps) { return Collapser(s).snap(snaps); }
 
 int remove_flat_inner_vertices(CadSurface& s, const std::vector<double>& face_deflection) {
   return Collapser(s).remove_flat_inner_vertices(face_deflection);

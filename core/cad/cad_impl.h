@@ -161,6 +161,20 @@ void face_sides(const CadModel::Impl& cad, std::vector<int>& front, std::vector<
 // geometry allows (inner nodes onto a neighbour, edge nodes along their CAD
 // edge); the removed vertices are dropped. Returns the number collapsed.
 int collapse_short_edges(CadSurface& s, double max_length);
+// Would triangle (x, y, z) have two edges on one CAD edge? It would lie in
+// the sliver between the curve and its chord, and where the next face meets
+// this one at a zero angle (a knife edge), in that face's plane: such a flip
+// made occt_MODERN_Exhaust_1.brep's surface overlap itself.
+bool hugs_border(const CadSurface& s, int x, int y, int z);
+// An inner vertex a hair from a border and the border node it goes onto:
+// one split under it (`split`), or the end of the border piece it faces.
+struct BorderSnap {
+  int vertex, node;
+  bool split;
+};
+// Each snap's vertex collapsed onto its node where the geometry allows (a
+// split node is collapsed away again where not). Returns the count moved.
+int snap_onto_border(CadSurface& s, const std::vector<BorderSnap>& snaps);
 // Inner vertices of three facets of one face with a corner over 170 deg
 // (nearly on the edge of their neighbours' triangle) removed, the three
 // facets made that triangle, when the vertex is within the face's chord
@@ -180,9 +194,9 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
 // on planes, cylinders, cones, spheres and tori; elsewhere kept only when
 // rounder); faces at a singular vertex their chart cannot place, and faces
 // that would get over `growth_limit` times their facets, are left. Returns
-// the faces remeshed.
+// the faces remeshed, and marks them (by face index) in `remeshed` if given.
 int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
-                 double growth_limit);
+                 double growth_limit, std::vector<char>* remeshed = nullptr);
 // Before it: how many times its facets a face may get, from what the whole
 // surface would get; and where each border piece (edge_key of its ends)
 // must be cut for the faces' meshes to be round (Ruppert's segment splits):

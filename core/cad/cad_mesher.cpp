@@ -77,6 +77,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.refine_splits = stats.refine_splits;
   cad.refine_flips = stats.refine_flips;
   cad.border_splits = stats.border_splits;
+  cad.border_caps_snapped = stats.border_caps_snapped;
   cad.smoothing_moves = stats.smoothing_moves;
   cad.remeshed_faces = stats.remeshed_faces;
   cad.smoothing_dropped = !topt.smooth && options.tessellation.smooth;

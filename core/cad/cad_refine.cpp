@@ -100,6 +100,11 @@ constexpr double kFlipRidgeDeg = 20.0;
 constexpr double kGradedFloor = 0.2;
 constexpr double kSmoothBelowDeg = 30.0;
 constexpr double kSmoothTiltDeg = 30.0;
+// A facet's corner over this at an inner vertex facing a border piece makes
+// it a cap on the border (split_under_border_caps); each pass of snaps moves
+// one row of such vertices (gmsh_ellipses.brep: 5 to 8 passes, the U-joint 4).
+constexpr double kBorderCapCornerDeg = 170.0;
+constexpr int kBorderCapPasses = 16;
 
 class Refiner {
  public:
@@ -365,19 +370,7 @@ class Refiner {
     return true;
   }
 
-  // Would triangle (x, y, z) have two edges on one CAD edge? It would lie
-  // in the sliver between the curve and its chord, and where the next face
-  // meets this one at a zero angle (a knife edge), in that face's plane:
-  // such a flip made occt_MODERN_Exhaust_1.brep's surface overlap itself.
-  bool hugs_border(int x, int y, int z) const {
-    const int ids[3] = {x, y, z};
-    int edge_of[3];
-    for (int i = 0; i < 3; ++i) {
-      const auto it = s_.edge_spans.find(edge_key(ids[i], ids[(i + 1) % 3]));
-      edge_of[i] = it == s_.edge_spans.end() ? -1 - i : it->second.edge;
-    }
-    return edge_of[0] == edge_of[1] || edge_of[1] == edge_of[2] || edge_of[2] == edge_of[0];
-  }
+  bool hugs_border(int x, int y, int z) const { return cad::hugs_border(s_, x, y, z); }
 
   // Facets f1 = (a, b, c) and f2 = (b, a, d) around edge (p, q), and the
   // corner of a in f1 and of b in f2.
@@ -484,6 +477,64 @@ class Refiner {
       at = v;
       done = f * length;
     }
+  }
+
+  // An inner vertex a hair from a border piece of its face makes a cap on
+  // that piece (a corner near 180 deg) and needles beside it, which no flip
+  // changes: OpenCASCADE grades the rows of some B-spline faces towards a
+  // border (gmsh_ellipses.brep's ellipsoids: a first row 5e-4 from a rim
+  // whose pieces are 0.08 long), and every tetrahedron on those needles is
+  // flat. Each such piece is split on its CAD edge at the vertex's foot;
+  // the vertex then goes onto the new node (snap_onto_border). Faces marked
+  // in `skip_faces` are left. Returns the snaps, at most one per vertex and
+  // piece end.
+  std::vector<BorderSnap> split_under_border_caps(const std::vector<char>& skip_faces) {
+    Mesh& m = s_.mesh;
+    const auto& P = m.points;
+    std::vector<char> on_border(P.size(), 0);
+    for (const auto& entry : s_.edge_spans) {
+      on_border[entry.first >> 32] = 1;
+      on_border[entry.first & 0xffffffffu] = 1;
+    }
+    const double cos_cap = std::cos(kBorderCapCornerDeg * M_PI / 180.0);
+    std::vector<char> taken(P.size(), 0);  // a split of this pass is next to it
+    std::vector<BorderSnap> snaps;
+    const size_t n = m.triangles.size();
+    for (size_t f = 0; f < n; ++f) {
+      if (skip_faces[s_.facet_face[f]]) continue;
+      const std::array<int, 3> t = m.triangles[f].v;
+      for (int i = 0; i < 3; ++i) {
+        const int p = t[i], q = t[(i + 1) % 3], v = t[(i + 2) % 3];
+        if (on_border[v] || taken[v] || taken[p] || taken[q] || s_.singular.count(v)) continue;
+        const auto span = s_.edge_spans.find(edge_key(p, q));
+        if (span == s_.edge_spans.end()) continue;
+        const Vec3 a = P[p] - P[v], b = P[q] - P[v], pq = P[q] - P[p];
+        if (!(dot(a, b) < cos_cap * norm(a) * norm(b))) continue;
+        // Beside the next piece too (a facet (v, q, r) on piece (q, r)), the
+        // vertex goes onto the end they share: on the foot, that facet would
+        // lie between the curve and its chord.
+        int end = -1;
+        for (const int x : {p, q})
+          for (const int g : edges_.facets(v, x))
+            for (const int r : m.triangles[g].v)
+              if (r != v && r != x && r != p + q - x && s_.edge_spans.count(edge_key(x, r))) end = x;
+        if (end >= 0) {
+          taken[p] = taken[q] = taken[v] = 1;
+          snaps.push_back({v, end, false});
+          break;
+        }
+        const double foot = dot(P[v] - P[p], pq) / dot(pq, pq);
+        const CadEdgeSpan e = span->second;
+        const double along = foot * geo_.edge_length(e.edge, p < q ? e.t_lo : e.t_hi, p < q ? e.t_hi : e.t_lo);
+        const int node = static_cast<int>(P.size());
+        if (!split(p, q, facets_on(edge_key(p, q)), along)) continue;
+        taken[p] = taken[q] = taken[v] = 1;
+        taken.resize(P.size(), 1);
+        snaps.push_back({v, node, true});
+        break;
+      }
+    }
+    return snaps;
   }
 
   // A facet with two edges on one CAD edge (three consecutive nodes of a
@@ -624,18 +675,42 @@ class Refiner {
   TessellationStats& stats_;
 };
 
+// split_under_border_caps and snap_onto_border in passes, until a pass
+// moves none. Returns the vertices moved; `touched` is set when the surface
+// changed (a snap undone renumbers its facets too).
+int snap_border_caps(const CadModel::Impl& cad, CadSurface& s, TessellationStats& stats, double gradation,
+                     const std::vector<char>& skip_faces, bool& touched) {
+  int moved = 0;
+  for (int pass = 0; pass < kBorderCapPasses; ++pass) {
+    std::vector<BorderSnap> snaps;
+    {
+      Refiner caps(cad, s, stats, 0.0, gradation);
+      caps.find_knife_edges();
+      caps.index_edges();
+      snaps = caps.split_under_border_caps(skip_faces);
+    }
+    if (snaps.empty()) break;
+    touched = true;
+    const int snapped = snap_onto_border(s, snaps);
+    if (snapped == 0) break;
+    moved += snapped;
+  }
+  return moved;
+}
+
 }  // namespace
 
 void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options, double size,
                     const std::vector<double>& face_deflection, TessellationStats& stats) {
   const auto t0 = std::chrono::steady_clock::now();
+  std::vector<char> remeshed(cad.faces.size(), 0);
   std::optional<Refiner> r(std::in_place, cad, s, stats, options.grading, options.gradation);
   r->find_knife_edges();
   stats.border_splits = r->split_border_slivers();
   r->split_long_edges(size, options.flips, options.cancel);
   if (options.flips && options.remesh) {
     // The splits above gave the borders their nodes; the faces' insides are
-    // replaced, and the vertices renumbered: a fresh refiner goes on.
+    // replaced, and the vertices renumbered.
     // Faces at knife edges were left until 2026-11-25: remeshed, the
     // crankshaft went 4.08 -> 15.61 deg, TSM 1.05 -> 9.83, the cylinder
     // head 0.68 -> 3.69, gmsh_dlr_f6.brep 0.79 -> 5.47, no surface crossing
@@ -644,12 +719,18 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
     const RemeshPlan plan = plan_remeshing(cad, s, face_deflection, size);
     for (const auto& [key, fractions] : plan.border_nodes)
       r->split_at(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), fractions);
-    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, plan.growth_limit);
-    if (stats.remeshed_faces > 0) {
-      r.emplace(cad, s, stats, 0.0, options.gradation);
-      r->find_knife_edges();
-      r->index_edges();
-    }
+    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, plan.growth_limit, &remeshed);
+  }
+  // Caps on the borders of the faces kept as they were (the remeshed ones
+  // have none): each pass moves the row next to a border onto it, the next
+  // pass the row behind where it is as close. The vertices renumbered, a
+  // fresh refiner goes on.
+  bool touched = false;
+  if (options.flips) stats.border_caps_snapped = snap_border_caps(cad, s, stats, options.gradation, remeshed, touched);
+  if (stats.remeshed_faces > 0 || touched) {
+    r.emplace(cad, s, stats, 0.0, options.gradation);
+    r->find_knife_edges();
+    r->index_edges();
   }
   if (options.flips && (options.smooth || stats.remeshed_faces > 0)) {
     // Round in the unrolled plane is not Delaunay on a cylinder: the flips

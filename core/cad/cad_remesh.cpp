@@ -1011,7 +1011,7 @@ RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::v
 }
 
 int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
-                 double growth_limit) {
+                 double growth_limit, std::vector<char>* remeshed_out) {
   const auto by_face = facets_by_face(cad, s);
   std::vector<char> dead(s.mesh.triangles.size(), 0);
   std::set<int> remeshed;  // faces with any piece remeshed
@@ -1023,6 +1023,10 @@ int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<dou
       if (remesher.remesh(c.face, c.facets, c.chart, c.piece, dead)) remeshed.insert(c.face);
   }
   if (!remeshed.empty()) compact_surface(s, dead);
+  if (remeshed_out) {
+    remeshed_out->assign(cad.faces.size(), 0);
+    for (const int fi : remeshed) (*remeshed_out)[fi] = 1;
+  }
   return static_cast<int>(remeshed.size());
 }
 

@@ -85,6 +85,7 @@ struct CadInputReport {
   double tessellation_volume_error = 0;  // largest |tessellated / CAD volume - 1| of a solid
   int occ_triangles = 0, refine_splits = 0, refine_flips = 0, border_splits = 0, collapsed_edges = 0, surface_facets = 0;
   int flat_vertices_removed = 0;
+  int border_caps_snapped = 0;    // inner vertices a hair from a border moved onto it
   int smoothing_moves = 0;
   int remeshed_faces = 0;         // faces meshed anew inside their border
   bool smoothing_dropped = false;  // the improved tessellation failed; meshed without smoothing

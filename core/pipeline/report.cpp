@@ -121,6 +121,7 @@ std::string report_json(const MeshReport& r) {
       << ", \"refine_splits\": " << c.refine_splits << ", \"refine_flips\": " << c.refine_flips
       << ", \"border_splits\": " << c.border_splits << ", \"collapsed_edges\": " << c.collapsed_edges
       << ", \"flat_vertices_removed\": " << c.flat_vertices_removed
+      << ", \"border_caps_snapped\": " << c.border_caps_snapped
       << ", \"smoothing_moves\": " << c.smoothing_moves << ", \"remeshed_faces\": " << c.remeshed_faces
       << ", \"smoothing_dropped\": " << (c.smoothing_dropped ? "true" : "false")
       << ", \"remeshing_dropped\": " << (c.remeshing_dropped ? "true" : "false")
@@ -155,6 +156,7 @@ std::string report_table(const MeshReport& r) {
                             std::to_string(c.collapsed_edges) + " short edges collapsed, " +
                             std::to_string(c.refine_splits) + " splits, " + std::to_string(c.refine_flips) +
                             " flips, " + std::to_string(c.border_splits) + " border slivers split, " +
+                            std::to_string(c.border_caps_snapped) + " border caps snapped, " +
                             std::to_string(c.smoothing_moves) + " smoothing moves" +
                             (c.smoothing_dropped ? " (smoothing dropped)" : "") + ", " +
                             std::to_string(c.flat_vertices_removed) + " flat inner vertices removed, " +
