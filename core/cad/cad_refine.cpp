@@ -529,7 +529,8 @@ class Refiner {
         const int node = static_cast<int>(P.size());
         if (!split(p, q, facets_on(edge_key(p, q)), along)) continue;
         taken[p] = taken[q] = taken[v] = 1;
-        taken.resize(P.size(), 1);
+        taken.resize(P.size(), 1);  // facets split above hold the new node
+        on_border.resize(P.size(), 1);
         snaps.push_back({v, node, true});
         break;
       }
