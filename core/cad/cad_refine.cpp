@@ -511,14 +511,17 @@ class Refiner {
         const Vec3 a = P[p] - P[v], b = P[q] - P[v], pq = P[q] - P[p];
         if (!(dot(a, b) < cos_cap * norm(a) * norm(b))) continue;
         // Beside the next piece too (a facet (v, q, r) on piece (q, r)), the
-        // vertex goes onto the end they share: on the foot, that facet would
-        // lie between the curve and its chord.
+        // vertex goes onto the end they share if that is the nearer end (on
+        // the foot, that facet would lie between the curve and its chord);
+        // else it stays. Unbounded, the U-joint's vertices went up to 2.7
+        // along its borders (size 5.5), the wing and fuselage's 6.6 (36.8).
         int end = -1;
         for (const int x : {p, q})
           for (const int g : edges_.facets(v, x))
             for (const int r : m.triangles[g].v)
               if (r != v && r != x && r != p + q - x && s_.edge_spans.count(edge_key(x, r))) end = x;
         if (end >= 0) {
+          if (norm(P[v] - P[end]) > 0.5 * norm(pq)) continue;
           taken[p] = taken[q] = taken[v] = 1;
           snaps.push_back({v, end, false});
           break;

@@ -679,8 +679,8 @@ if crank:
 # 0.0007 -> 0.11 deg, tetrahedra under 10 deg 878 -> 382. Since then, inner
 # vertices a hair from a border (a cap of over 170 deg on a border piece)
 # are moved onto it, on a node split under them, before: measured
-# 2026-11-27, the U-joint 0.13 -> 0.34 deg, 329 -> 243 tetrahedra under 10
-# deg, 53 moved, and 2 flat inner vertices are left for the removal.
+# 2026-11-27, the U-joint 0.13 -> 0.34 deg, 329 -> 267 tetrahedra under 10
+# deg, 42 moved, and 13 flat inner vertices are left for the removal.
 ujoint = data("cad-part/gmsh_U_Joint_2.stp")
 if ujoint:
     rep, smallest = meshed_angles(ujoint, "U-joint")
