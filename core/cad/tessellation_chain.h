@@ -70,7 +70,8 @@ class TessellationChain {
   // on the corpus only gmsh_simple_plane.brep's first recovery runs away,
   // at its thin walls, and its unsmoothed surface stopped too (2.5 s, the
   // same faces held and the same mesh after it); the ellipses' unsmoothed
-  // surface, which meshes, comes after a recovery that only stalled.
+  // surface, which meshed, came after a recovery that only stalled (until
+  // the border caps were snapped, 2026-11-27: now their first one meshes).
   bool next(bool recovery_stopped, const std::vector<int>& runaway_faces = {}, bool ran_away = false) {
     if (recovery_stopped) {
       if (stopped_recoveries_++ == 0) {
