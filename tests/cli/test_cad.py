@@ -689,6 +689,24 @@ if ujoint:
               "U-joint: %d border caps snapped, smallest dihedral %.4f deg, %d tetrahedra under 10 deg"
               % (rep["cad"]["border_caps_snapped"], smallest.min(), (smallest < 10).sum()))
 
+# The same on a shape of our own, which runs without the shared data: an
+# ellipsoid (semi-axes 1.5, 0.4, 0.2) fragmented with a box that holds its
+# half y < 0 (three solids). Measured 2026-11-27: without the snaps the first
+# recovery stopped (one retry), 0.33 deg, 4,145 tetrahedra under 10 deg; with
+# them 20 moved, no retry, 1.74 deg, 535 under 10 deg.
+def ellipsoid_in_box(occ):
+    ellipsoid = occ.addSphere(0, 0, 0, 1)
+    occ.dilate([(3, ellipsoid)], 0, 0, 0, 1.5, 0.4, 0.2)
+    occ.fragment([(3, ellipsoid)], [(3, occ.addBox(-2, -2, -2, 4, 2, 4))])
+halves = make_brep("ellipsoid_halves", ellipsoid_in_box)
+rep, smallest = meshed_angles(halves, "ellipsoid halves")
+if rep:
+    check(rep["cad"]["solids"] == 3 and rep["cad"]["border_caps_snapped"] >= 10 and rep["cad"]["recovery_retries"] == 0
+          and smallest.min() > 1.0 and (smallest < 10).sum() < 1000,
+          "ellipsoid halves: %d solids, %d border caps snapped, %d retries, smallest dihedral %.3f deg > 1, "
+          "%d tetrahedra under 10 deg" % (rep["cad"]["solids"], rep["cad"]["border_caps_snapped"],
+                                          rep["cad"]["recovery_retries"], smallest.min(), (smallest < 10).sum()))
+
 # The ellipses' ellipsoids come from OpenCASCADE with rows of nodes graded
 # towards their rims (4e-4 to 1.3e-3 from a rim of 0.05 to 0.08 pieces):
 # needles whose tetrahedra were flat, and the first recovery stalled on
