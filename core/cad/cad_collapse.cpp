@@ -13,6 +13,7 @@
 // poles and apexes stay.
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 #include "cad/cad_impl.h"
 #include "surface/face_patches.h"
@@ -214,6 +215,42 @@ class Collapser {
   }
 
  public:
+  // Needle edges: shorter than `ratio` times the longest edge of every facet
+  // on them, on faces not marked in `skip_faces`, collapsed (an inner end
+  // onto the other), shortest (relative) first.
+  int collapse_needle_edges(double ratio, const std::vector<char>& skip_faces) {
+    const Mesh& m = s_.mesh;
+    int total = 0;
+    for (int pass = 0; pass < 4; ++pass) {
+      std::unordered_map<std::uint64_t, double> relative;  // edge -> largest length / longest of a facet
+      for (size_t f = 0; f < m.triangles.size(); ++f) {
+        if (dead_[f]) continue;
+        const auto& v = m.triangles[f].v;
+        double l[3], longest = 0;
+        for (int i = 0; i < 3; ++i) longest = std::max(longest, l[i] = norm(m.points[v[i]] - m.points[v[(i + 1) % 3]]));
+        const bool skipped = skip_faces[s_.facet_face[f]];
+        for (int i = 0; i < 3; ++i) {
+          double& r = relative[edge_key(v[i], v[(i + 1) % 3])];
+          r = std::max(r, skipped || !(longest > 0) ? 1.0 : l[i] / longest);
+        }
+      }
+      std::vector<std::pair<double, std::uint64_t>> needles;
+      for (const auto& [key, r] : relative)
+        if (r < ratio) needles.emplace_back(r, key);
+      std::sort(needles.begin(), needles.end());
+      int done = 0;
+      for (const auto& [r, key] : needles) {
+        const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+        if (removed_[a] || removed_[b]) continue;
+        if ((kind_[a] == Kind::inner && collapse(a, b)) || (kind_[b] == Kind::inner && collapse(b, a))) ++done;
+      }
+      total += done;
+      if (done == 0) break;
+    }
+    if (total) compact_surface(s_, dead_);
+    return total;
+  }
+
   // Each snap's inner vertex moved onto its node where collapse() allows
   // it. The facets around such a vertex are needles along the border, whose
   // normals a move across their width turns by anything: only a fold (in
@@ -322,6 +359,10 @@ bool hugs_border(const CadSurface& s, int x, int y, int z) {
 }
 
 int snap_onto_border(CadSurface& s, const std::vector<BorderSnap>& snaps) { return Collapser(s).snap(snaps); }
+
+int collapse_needle_edges(CadSurface& s, double ratio, const std::vector<char>& skip_faces) {
+  return Collapser(s).collapse_needle_edges(ratio, skip_faces);
+}
 
 int remove_flat_inner_vertices(CadSurface& s, const std::vector<double>& face_deflection) {
   return Collapser(s).remove_flat_inner_vertices(face_deflection);

@@ -175,6 +175,10 @@ struct BorderSnap {
 // Each snap's vertex collapsed onto its node where the geometry allows (a
 // split node is collapsed away again where not). Returns the count moved.
 int snap_onto_border(CadSurface& s, const std::vector<BorderSnap>& snaps);
+// Edges shorter than `ratio` times the longest edge of each of their facets
+// collapsed, an inner end onto the other, on faces not marked in
+// `skip_faces`. Returns the number collapsed.
+int collapse_needle_edges(CadSurface& s, double ratio, const std::vector<char>& skip_faces);
 // Inner vertices of three facets of one face with a corner over 170 deg
 // (nearly on the edge of their neighbours' triangle) removed, the three
 // facets made that triangle, when the vertex is within the face's chord

@@ -78,6 +78,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.refine_flips = stats.refine_flips;
   cad.border_splits = stats.border_splits;
   cad.border_caps_snapped = stats.border_caps_snapped;
+  cad.needle_edges_collapsed = stats.needle_edges_collapsed;
   cad.smoothing_moves = stats.smoothing_moves;
   cad.remeshed_faces = stats.remeshed_faces;
   cad.smoothing_dropped = !topt.smooth && options.tessellation.smooth;

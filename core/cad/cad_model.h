@@ -82,6 +82,7 @@ struct TessellationStats {
   int remeshed_faces = 0;
   int border_splits = 0;        // facets with two edges on one CAD edge, split at their centre
   int border_caps_snapped = 0;  // inner vertices a hair from a border moved onto it
+  int needle_edges_collapsed = 0;  // on faces with a pole not remeshed, edges under 0.2 of their facets' longest
   int dropped_degenerate = 0;   // collapsed triangles at degenerate edges (cone apexes, poles)
   int dropped_folded = 0;       // pairs of one face's triangles on the same nodes, facing away from each other
   int flat_vertices_removed = 0;  // inner vertices of three facets on their neighbours' edge (cad_collapse.cpp)

@@ -86,6 +86,7 @@ struct CadInputReport {
   int occ_triangles = 0, refine_splits = 0, refine_flips = 0, border_splits = 0, collapsed_edges = 0, surface_facets = 0;
   int flat_vertices_removed = 0;
   int border_caps_snapped = 0;    // inner vertices a hair from a border moved onto it
+  int needle_edges_collapsed = 0; // edges under 0.2 of their facets' longest, on faces with a pole not remeshed
   int smoothing_moves = 0;
   int remeshed_faces = 0;         // faces meshed anew inside their border
   bool smoothing_dropped = false;  // the improved tessellation failed; meshed without smoothing

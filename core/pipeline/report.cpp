@@ -122,6 +122,7 @@ std::string report_json(const MeshReport& r) {
       << ", \"border_splits\": " << c.border_splits << ", \"collapsed_edges\": " << c.collapsed_edges
       << ", \"flat_vertices_removed\": " << c.flat_vertices_removed
       << ", \"border_caps_snapped\": " << c.border_caps_snapped
+      << ", \"needle_edges_collapsed\": " << c.needle_edges_collapsed
       << ", \"smoothing_moves\": " << c.smoothing_moves << ", \"remeshed_faces\": " << c.remeshed_faces
       << ", \"smoothing_dropped\": " << (c.smoothing_dropped ? "true" : "false")
       << ", \"remeshing_dropped\": " << (c.remeshing_dropped ? "true" : "false")
@@ -157,6 +158,7 @@ std::string report_table(const MeshReport& r) {
                             std::to_string(c.refine_splits) + " splits, " + std::to_string(c.refine_flips) +
                             " flips, " + std::to_string(c.border_splits) + " border slivers split, " +
                             std::to_string(c.border_caps_snapped) + " border caps snapped, " +
+                            std::to_string(c.needle_edges_collapsed) + " needle edges collapsed at poles, " +
                             std::to_string(c.smoothing_moves) + " smoothing moves" +
                             (c.smoothing_dropped ? " (smoothing dropped)" : "") + ", " +
                             std::to_string(c.flat_vertices_removed) + " flat inner vertices removed, " +

@@ -680,12 +680,14 @@ if crank:
 # vertices a hair from a border (a cap of over 170 deg on a border piece)
 # are moved onto it, on a node split under them, before: measured
 # 2026-11-27, the U-joint 0.13 -> 0.34 deg, 329 -> 267 tetrahedra under 10
-# deg, 42 moved, and 13 flat inner vertices are left for the removal.
+# deg, 42 moved, and 13 flat inner vertices are left for the removal. The
+# needle edges collapsed at poles after them (12 here) made that 297 at the
+# same angle.
 ujoint = data("cad-part/gmsh_U_Joint_2.stp")
 if ujoint:
     rep, smallest = meshed_angles(ujoint, "U-joint")
     if rep:
-        check(rep["cad"]["border_caps_snapped"] >= 40 and smallest.min() > 0.25 and (smallest < 10).sum() < 300,
+        check(rep["cad"]["border_caps_snapped"] >= 40 and smallest.min() > 0.25 and (smallest < 10).sum() < 320,
               "U-joint: %d border caps snapped, smallest dihedral %.4f deg, %d tetrahedra under 10 deg"
               % (rep["cad"]["border_caps_snapped"], smallest.min(), (smallest < 10).sum()))
 
@@ -693,7 +695,8 @@ if ujoint:
 # ellipsoid (semi-axes 1.5, 0.4, 0.2) fragmented with a box that holds its
 # half y < 0 (three solids). Measured 2026-11-27: without the snaps the first
 # recovery stopped (one retry), 0.33 deg, 4,145 tetrahedra under 10 deg; with
-# them 20 moved, no retry, 1.74 deg, 535 under 10 deg.
+# them 20 moved, no retry, 1.74 deg, 535 under 10 deg; with the needle edges
+# of OpenCASCADE's rows at the poles collapsed too (446), 2.49 deg and 94.
 def ellipsoid_in_box(occ):
     ellipsoid = occ.addSphere(0, 0, 0, 1)
     occ.dilate([(3, ellipsoid)], 0, 0, 0, 1.5, 0.4, 0.2)
@@ -702,10 +705,11 @@ halves = make_brep("ellipsoid_halves", ellipsoid_in_box)
 rep, smallest = meshed_angles(halves, "ellipsoid halves")
 if rep:
     check(rep["cad"]["solids"] == 3 and rep["cad"]["border_caps_snapped"] >= 10 and rep["cad"]["recovery_retries"] == 0
-          and smallest.min() > 1.0 and (smallest < 10).sum() < 1000,
-          "ellipsoid halves: %d solids, %d border caps snapped, %d retries, smallest dihedral %.3f deg > 1, "
-          "%d tetrahedra under 10 deg" % (rep["cad"]["solids"], rep["cad"]["border_caps_snapped"],
-                                          rep["cad"]["recovery_retries"], smallest.min(), (smallest < 10).sum()))
+          and rep["cad"]["needle_edges_collapsed"] >= 100 and smallest.min() > 2.0 and (smallest < 10).sum() < 200,
+          "ellipsoid halves: %d solids, %d border caps snapped, %d needle edges collapsed, %d retries, smallest "
+          "dihedral %.3f deg > 2, %d tetrahedra under 10 deg"
+          % (rep["cad"]["solids"], rep["cad"]["border_caps_snapped"], rep["cad"]["needle_edges_collapsed"],
+             rep["cad"]["recovery_retries"], smallest.min(), (smallest < 10).sum()))
 
 # The ellipses' ellipsoids come from OpenCASCADE with rows of nodes graded
 # towards their rims (4e-4 to 1.3e-3 from a rim of 0.05 to 0.08 pieces):
@@ -713,14 +717,16 @@ if rep:
 # them. Moved onto the rims, the ellipses mesh on their first tessellation
 # (measured 2026-11-27: smallest dihedral 0.04 -> 0.31 deg, Gmsh 0.26 at a
 # similar count; 16,907 -> 5,617 tetrahedra under 10 deg; 20.4 -> 7.6 s).
+# The needle edges at their poles collapsed too (2,380): 2.19 deg, 742.
 ellipses = data("cad-assembly/gmsh_ellipses.brep")
 if ellipses:
     rep, smallest = meshed_angles(ellipses, "ellipses")
     if rep:
         check(rep["cad"]["recovery_retries"] == 0 and rep["cad"]["border_caps_snapped"] >= 100
-              and smallest.min() > 0.26 and (smallest < 10).sum() < 7000,
-              "ellipses: %d retries, %d border caps snapped, smallest dihedral %.4f deg > 0.26, %d tetrahedra under 10 deg"
-              % (rep["cad"]["recovery_retries"], rep["cad"]["border_caps_snapped"], smallest.min(), (smallest < 10).sum()))
+              and rep["cad"]["needle_edges_collapsed"] >= 1000 and smallest.min() > 1.5 and (smallest < 10).sum() < 1500,
+              "ellipses: %d retries, %d border caps snapped, %d needle edges collapsed, smallest dihedral %.4f deg > 1.5, "
+              "%d tetrahedra under 10 deg" % (rep["cad"]["recovery_retries"], rep["cad"]["border_caps_snapped"],
+                                              rep["cad"]["needle_edges_collapsed"], smallest.min(), (smallest < 10).sum()))
 
 # A face of zero area (the nose of gmsh_simple_plane.brep) comes back from
 # OpenCASCADE as pairs of triangles on the same collinear nodes, facing away
