@@ -222,16 +222,18 @@ class Collapser {
     const Mesh& m = s_.mesh;
     int total = 0;
     for (int pass = 0; pass < 4; ++pass) {
+      // Facets of skipped faces are not looked at: an edge they share with a
+      // face looked at lies on a face border, and neither of its ends is an
+      // inner vertex, which a collapse needs.
       std::unordered_map<std::uint64_t, double> relative;  // edge -> largest length / longest of a facet
       for (size_t f = 0; f < m.triangles.size(); ++f) {
-        if (dead_[f]) continue;
+        if (dead_[f] || skip_faces[s_.facet_face[f]]) continue;
         const auto& v = m.triangles[f].v;
         double l[3], longest = 0;
         for (int i = 0; i < 3; ++i) longest = std::max(longest, l[i] = norm(m.points[v[i]] - m.points[v[(i + 1) % 3]]));
-        const bool skipped = skip_faces[s_.facet_face[f]];
         for (int i = 0; i < 3; ++i) {
           double& r = relative[edge_key(v[i], v[(i + 1) % 3])];
-          r = std::max(r, skipped || !(longest > 0) ? 1.0 : l[i] / longest);
+          r = std::max(r, longest > 0 ? l[i] / longest : 1.0);
         }
       }
       std::vector<std::pair<double, std::uint64_t>> needles;
@@ -361,6 +363,8 @@ bool hugs_border(const CadSurface& s, int x, int y, int z) {
 int snap_onto_border(CadSurface& s, const std::vector<BorderSnap>& snaps) { return Collapser(s).snap(snaps); }
 
 int collapse_needle_edges(CadSurface& s, double ratio, const std::vector<char>& skip_faces) {
+  // Most parts have no face to look at: no collapser (an index of every vertex's facets) then.
+  if (std::all_of(skip_faces.begin(), skip_faces.end(), [](char skip) { return skip != 0; })) return 0;
   return Collapser(s).collapse_needle_edges(ratio, skip_faces);
 }
 

@@ -219,8 +219,7 @@ class Refiner {
     std::vector<std::vector<int>> star(m.points.size());
     for (size_t f = 0; f < m.triangles.size(); ++f)
       for (int v : m.triangles[f].v) star[v].push_back(static_cast<int>(f));
-    std::vector<char> fixed(m.points.size(), 0);
-    for (const auto& [key, span] : s_.edge_spans) fixed[key >> 32] = fixed[key & 0xffffffffu] = 1;
+    std::vector<char> fixed = border_vertices();
     for (int v : s_.singular) fixed[v] = 1;
     for (size_t v = 0; v < m.points.size(); ++v) fixed[v] |= knife_[v];
     const double low = kSmoothBelowDeg * M_PI / 180.0, high = M_PI - 2 * low;
@@ -500,11 +499,7 @@ class Refiner {
   std::vector<BorderSnap> split_under_border_caps(const std::vector<char>& skip_faces) {
     Mesh& m = s_.mesh;
     const auto& P = m.points;
-    std::vector<char> on_border(P.size(), 0);
-    for (const auto& entry : s_.edge_spans) {
-      on_border[entry.first >> 32] = 1;
-      on_border[entry.first & 0xffffffffu] = 1;
-    }
+    std::vector<char> on_border = border_vertices();
     const double cos_cap = std::cos(kBorderCapCornerDeg * M_PI / 180.0);
     std::vector<char> taken(P.size(), 0);  // a split of this pass is next to it
     std::vector<BorderSnap> snaps;
@@ -586,6 +581,12 @@ class Refiner {
   }
 
  private:
+  // Per vertex: an end of a border piece (on a CAD edge).
+  std::vector<char> border_vertices() const {
+    std::vector<char> on(s_.mesh.points.size(), 0);
+    for (const auto& entry : s_.edge_spans) on[entry.first >> 32] = on[entry.first & 0xffffffffu] = 1;
+    return on;
+  }
   // What a smoothing move of a vertex must keep: its star's smallest corner
   // before (to beat), largest corner before and the cap limit, longest edge.
   struct Limits {
