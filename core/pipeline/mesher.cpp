@@ -287,6 +287,9 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   // fraction of a degree (slivers_test).
   SliverOptions sliver_options = options.slivers;
   sliver_options.ridge_angle_deg = std::min(sliver_options.ridge_angle_deg, options.delaunayzation.flip_angle_deg);
+  sliver_options.face_chord_height = options.delaunayzation.face_flip_offset;
+  sliver_options.chord_height = options.delaunayzation.max_flip_offset;
+  sliver_options.flip_ridge_deg = options.delaunayzation.flip_angle_deg;
   if (options.interior) {
     // The size field and the region lookup are a phase of their own: they
     // do not look at the cancel flag, and a Cancel during "interior

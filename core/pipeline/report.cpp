@@ -68,6 +68,7 @@ std::string report_json(const MeshReport& r) {
   const auto& sl = r.slivers;
   s << "  \"slivers\": {\"angle_deg\": " << exact(sl.angle_deg) << ", \"raised_to_deg\": " << exact(sl.raised_to_deg)
     << ", \"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
+    << ", \"removed_across_ridges\": " << sl.removed_across_ridges
     << ", \"flips_23\": " << sl.flips_23 << ", \"flips_32\": " << sl.flips_32
     << ", \"edge_removals\": " << sl.edge_removals << ", \"moves\": " << sl.moves
     << ", \"surface_moves\": " << sl.surface_moves
@@ -229,7 +230,11 @@ std::string report_table(const MeshReport& r) {
                                std::to_string(r.front.candidates) + " candidates, " + std::to_string(r.front.ties) +
                                " ties");
   const auto& sl = r.slivers;
-  row("slivers (A / B / C)", std::to_string(sl.removed_boundary) + " removed, " +
+  row("slivers (A / B / C)", std::to_string(sl.removed_boundary) + " removed" +
+                                 (sl.removed_across_ridges > 0
+                                      ? " (" + std::to_string(sl.removed_across_ridges) + " across ridges)"
+                                      : "") +
+                                 ", " +
                                  std::to_string(sl.flips_23 + sl.flips_32 + sl.edge_removals) + " flips (" +
                                  std::to_string(sl.flips_23) + " 2-3, " + std::to_string(sl.flips_32) + " 3-2, " +
                                  std::to_string(sl.edge_removals) + " edge removals), " +

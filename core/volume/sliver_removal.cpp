@@ -50,6 +50,25 @@ SmallestAngles smallest_angles(const Mesh& m, double sliver_angle_deg) {
   return all;
 }
 
+// How far case A moves the surface: from the edge the two old facets share
+// (its ends the tetrahedron's vertices off_surface[0..1]) to the edge the
+// new ones share (on_surface[0..1]).
+double diagonal_distance(const Mesh& m, const Tetrahedron& t, const int* off_surface, const int* on_surface) {
+  const Vec3 &p = m.points[t.v[off_surface[0]]], &q = m.points[t.v[off_surface[1]]];
+  const Vec3 &r = m.points[t.v[on_surface[0]]], &s = m.points[t.v[on_surface[1]]];
+  const Vec3 n = cross(q - p, s - r);
+  const double len = norm(n);
+  return len > 0 ? std::abs(dot(r - p, n)) / len : 0.0;
+}
+
+// The chord height of a face on CAD input, 0 elsewhere: how far case A may
+// move the surface across a ridge over ridge_angle_deg.
+double chord_height_of(const SliverOptions& o, int face) {
+  if (face >= 0 && static_cast<size_t>(face) < o.face_chord_height.size() && o.face_chord_height[face] > 0)
+    return o.face_chord_height[face];
+  return o.chord_height;
+}
+
 // Case A over the given slivers (indices into m.tets).
 void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<size_t>& slivers,
                              SliverStats& stats) {
@@ -57,6 +76,7 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<
   for (size_t f = 0; f < m.triangles.size(); ++f) facet_of[sorted_triple(m.triangles[f].v)] = static_cast<int>(f);
   std::vector<bool> removed(m.tets.size(), false);
   const double cos_ridge = std::cos(o.ridge_angle_deg * M_PI / 180.0);
+  const double cos_flip_ridge = std::cos(o.flip_ridge_deg * M_PI / 180.0);
 
   // Removing one sliver exposes faces of its neighbours: repeat until stable.
   for (bool changed = true; changed;) {
@@ -92,9 +112,12 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<
       }
       // The ridge limit before and after, as for a flip: two facets folded
       // at a box's edge replaced by a flat pair would cut the edge off.
-      const Vec3 n0 = facet_normal(m.points, g[0]), n1 = facet_normal(m.points, g[1]);
-      if (dot(n0, n1) < cos_ridge) continue;
-      if (dot(facet_normal(m.points, a), facet_normal(m.points, b)) < cos_ridge) continue;
+      const double ridge_after = dot(facet_normal(m.points, g[0]), facet_normal(m.points, g[1]));
+      const double ridge_before = dot(facet_normal(m.points, a), facet_normal(m.points, b));
+      const bool flat = ridge_after >= cos_ridge && ridge_before >= cos_ridge;
+      if (!flat && !(ridge_after >= cos_flip_ridge && ridge_before >= cos_flip_ridge &&
+                     diagonal_distance(m, t, off_surface, on_surface) <= chord_height_of(o, a.face)))
+        continue;
       removed[ti] = true;
       facet_of.erase(sorted_triple(a.v));
       facet_of.erase(sorted_triple(b.v));
@@ -103,6 +126,7 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<
       facet_of[sorted_triple(g[0].v)] = f1;
       facet_of[sorted_triple(g[1].v)] = f2;
       ++stats.removed_boundary;
+      stats.removed_across_ridges += !flat;
       changed = true;
     }
   }

@@ -3,7 +3,9 @@
 // Case A: a sliver with two faces on the surface (the flat tetrahedra that
 // four nearly coplanar surface vertices make) is removed, and its other two
 // faces replace those two facets, under the rules of a surface flip: same
-// topological face, same regions, ridge angle under the limit. Only slivers
+// topological face, same regions, ridge angle under the limit (on CAD input
+// also, as a flip of Delaunayzation may, across a ridge under the flip angle
+// when the surface moves by at most the face's chord height). Only slivers
 // against the exterior are removed; an interface sliver would have to change
 // region instead.
 // Case B (volume/sliver_improvement.h): an interior sliver is removed by a
@@ -20,6 +22,7 @@
 
 #include <array>
 #include <functional>
+#include <vector>
 
 #include "mesh/mesh.h"
 #include "quality/tet_quality.h"
@@ -36,6 +39,13 @@ struct SliverOptions {
   // curved face the new facets leave the input surface by about this angle
   // times their size, and B and C clear most slivers without it.
   double ridge_angle_deg = 0.1;
+  // CAD input: case A also replaces a pair that a flip of Delaunayzation
+  // could, across a ridge of up to flip_ridge_deg, when the surface moves by
+  // at most the face's chord height (the distance between the two
+  // diagonals): by face id where > 0, else chord_height; 0: no such case.
+  std::vector<double> face_chord_height;
+  double chord_height = 0;
+  double flip_ridge_deg = 20.0;
   bool flips = true;               // case B
   bool moves = true;               // case C
   int max_passes = 8;              // of cases B and C over the remaining slivers
@@ -46,6 +56,7 @@ struct SliverStats {
   double raised_to_deg = 0;     // the raised angle, when the pass went on to it; else 0
   long slivers_before = 0;      // tetrahedra under the sliver angle
   long removed_boundary = 0;    // case A
+  long removed_across_ridges = 0;  // of which over the ridge angle, within the chord height (CAD input)
   long flips_23 = 0;            // case B: face swaps (two tetrahedra into three)
   long flips_32 = 0;            // case B: edge with three tetrahedra around it (three into two)
   long edge_removals = 0;       // case B: edge with four to seven tetrahedra around it
