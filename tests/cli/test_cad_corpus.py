@@ -103,7 +103,7 @@ for rel in MESH:
               and rep["cad"]["deflection"] * divisor / rep["cad"]["size"] < 1 + 1e-9,
               "%s: recovered on the uniform chords (%s)" % (rel, {k: rep["cad"][k] for k in ("recovery_retries", "deflection", "size")} if rep else "?"))
         # Its first tessellation's recovery runs away (7,394 facets missing,
-        # then 36,203 four passes later) and is given up as such, not after
+        # then 18,199 two passes later) and is given up as such, not after
         # the patience's 8 passes (111,972 missing, 132k vertices added).
         check(rep is not None and rep["cad"]["recovery_runaways"] >= 1,
               "%s: a recovery given up as running away (%s)" % (rel, rep["cad"].get("recovery_runaways") if rep else "?"))
