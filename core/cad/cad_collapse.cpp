@@ -259,7 +259,7 @@ class Collapser {
   // space or in the face's (u, v)) or a facet left between the curve and its
   // chord stops it. Where it is stopped, a node split for it goes again
   // (onto a neighbour along its CAD edge: the facets as they were).
-  int snap(const std::vector<BorderSnap>& snaps) {
+  int snap(const std::vector<BorderSnap>& snaps, std::vector<Vec3>* refused) {
     int done = 0;
     for (const BorderSnap& s : snaps) {
       const int u = s.vertex, w = s.node;
@@ -267,6 +267,7 @@ class Collapser {
         ++done;
         continue;
       }
+      if (refused && !removed_[u]) refused->push_back(s_.mesh.points[u]);
       if (!s.split || removed_[w] || kind_[w] != Kind::on_edge) continue;
       for (const int x : neighbours(w))
         if (s_.edge_spans.count(edge_key(w, x)) && collapse(w, x)) break;
@@ -360,7 +361,9 @@ bool hugs_border(const CadSurface& s, int x, int y, int z) {
   return edge_of[0] == edge_of[1] || edge_of[1] == edge_of[2] || edge_of[2] == edge_of[0];
 }
 
-int snap_onto_border(CadSurface& s, const std::vector<BorderSnap>& snaps) { return Collapser(s).snap(snaps); }
+int snap_onto_border(CadSurface& s, const std::vector<BorderSnap>& snaps, std::vector<Vec3>* refused) {
+  return Collapser(s).snap(snaps, refused);
+}
 
 int collapse_needle_edges(CadSurface& s, double ratio, const std::vector<char>& skip_faces) {
   // Most parts have no face to look at: no collapser (an index of every vertex's facets) then.

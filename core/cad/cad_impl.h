@@ -173,8 +173,9 @@ struct BorderSnap {
   bool split;
 };
 // Each snap's vertex collapsed onto its node where the geometry allows (a
-// split node is collapsed away again where not). Returns the count moved.
-int snap_onto_border(CadSurface& s, const std::vector<BorderSnap>& snaps);
+// split node is collapsed away again where not). Returns the count moved;
+// the positions of the vertices not moved go to `refused`.
+int snap_onto_border(CadSurface& s, const std::vector<BorderSnap>& snaps, std::vector<Vec3>* refused = nullptr);
 // Edges shorter than `ratio` times the longest edge of each of their facets
 // collapsed, an inner end onto the other, on faces not marked in
 // `skip_faces`. Returns the number collapsed.
