@@ -115,8 +115,9 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<
       const double ridge_after = dot(facet_normal(m.points, g[0]), facet_normal(m.points, g[1]));
       const double ridge_before = dot(facet_normal(m.points, a), facet_normal(m.points, b));
       const bool flat = ridge_after >= cos_ridge && ridge_before >= cos_ridge;
-      if (!flat && !(ridge_after >= cos_flip_ridge && ridge_before >= cos_flip_ridge &&
-                     diagonal_distance(m, t, off_surface, on_surface) <= chord_height_of(o, a.face)))
+      const double chord_height = chord_height_of(o, a.face);
+      if (!flat && !(chord_height > 0 && ridge_after >= cos_flip_ridge && ridge_before >= cos_flip_ridge &&
+                     diagonal_distance(m, t, off_surface, on_surface) <= chord_height))
         continue;
       removed[ti] = true;
       facet_of.erase(sorted_triple(a.v));
