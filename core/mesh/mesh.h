@@ -40,6 +40,14 @@ inline Vec3 normalized(Vec3 a) {
   const double n = norm(a);
   return n > 0 ? (1.0 / n) * a : a;
 }
+// The distance between the lines through p, q and through r, s (0 when they
+// are parallel): how far a flip that swaps diagonal pq for rs moves the
+// surface (Delaunayzation's flips, sliver case A).
+inline double line_distance(Vec3 p, Vec3 q, Vec3 r, Vec3 s) {
+  const Vec3 n = cross(q - p, s - r);
+  const double len = norm(n);
+  return len > 0 ? std::abs(dot(r - p, n)) / len : 0.0;
+}
 
 constexpr int kUnknownRegion = -1;
 constexpr int kNoFace = -1;

@@ -50,17 +50,6 @@ SmallestAngles smallest_angles(const Mesh& m, double sliver_angle_deg) {
   return all;
 }
 
-// How far case A moves the surface: from the edge the two old facets share
-// (its ends the tetrahedron's vertices off_surface[0..1]) to the edge the
-// new ones share (on_surface[0..1]).
-double diagonal_distance(const Mesh& m, const Tetrahedron& t, const int* off_surface, const int* on_surface) {
-  const Vec3 &p = m.points[t.v[off_surface[0]]], &q = m.points[t.v[off_surface[1]]];
-  const Vec3 &r = m.points[t.v[on_surface[0]]], &s = m.points[t.v[on_surface[1]]];
-  const Vec3 n = cross(q - p, s - r);
-  const double len = norm(n);
-  return len > 0 ? std::abs(dot(r - p, n)) / len : 0.0;
-}
-
 // The chord height of a face on CAD input, 0 elsewhere: how far case A may
 // move the surface across a ridge over ridge_angle_deg.
 double chord_height_of(const SliverOptions& o, int face) {
@@ -116,8 +105,11 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<
       const double ridge_before = dot(facet_normal(m.points, a), facet_normal(m.points, b));
       const bool flat = ridge_after >= cos_ridge && ridge_before >= cos_ridge;
       const double chord_height = chord_height_of(o, a.face);
+      // How far the surface moves: from the edge the two old facets share
+      // (the vertices off the surface facets) to the edge the new ones share.
       if (!flat && !(chord_height > 0 && ridge_after >= cos_flip_ridge && ridge_before >= cos_flip_ridge &&
-                     diagonal_distance(m, t, off_surface, on_surface) <= chord_height))
+                     line_distance(m.points[t.v[off_surface[0]]], m.points[t.v[off_surface[1]]],
+                                   m.points[t.v[on_surface[0]]], m.points[t.v[on_surface[1]]]) <= chord_height))
         continue;
       removed[ti] = true;
       facet_of.erase(sorted_triple(a.v));
