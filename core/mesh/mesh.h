@@ -52,6 +52,14 @@ inline double line_distance(Vec3 p, Vec3 q, Vec3 r, Vec3 s) {
 constexpr int kUnknownRegion = -1;
 constexpr int kNoFace = -1;
 
+// by_face[face] where it is set (> 0), else `otherwise`: a bound per CAD face
+// (its chord height) beside one for the whole surface.
+inline double face_value_or(const std::vector<double>& by_face, int face, double otherwise) {
+  if (face >= 0 && static_cast<size_t>(face) < by_face.size() && by_face[static_cast<size_t>(face)] > 0)
+    return by_face[static_cast<size_t>(face)];
+  return otherwise;
+}
+
 struct Triangle {
   std::array<int, 3> v{};
   int face = kNoFace;           // topological face id (CAD face, input group)

@@ -208,7 +208,7 @@ class Delaunayzer {
       // end (226,800 added vertices, the guard).
       const bool fold_ok = opt_.geometry != nullptr || ridge_acceptable(t, t2);
       if (!convex_in_average_plane(t, t2, A, B) || !fold_ok || !ridge_acceptable(A, B)) continue;
-      const double offset = flip_offset_bound(t.face);
+      const double offset = face_value_or(opt_.face_flip_offset, t.face, opt_.max_flip_offset);
       if (offset > 0 && diagonal_distance(p, q, r, s) > offset) continue;
       const int before = delaunay_[b] + delaunay_[b2];
       const bool dA = query(A), dB = query(B);
@@ -251,12 +251,6 @@ class Delaunayzer {
   }
 
   // How far a flip inside `face` may move the surface; 0: no bound.
-  double flip_offset_bound(int face) const {
-    const auto& by_face = opt_.face_flip_offset;
-    if (face >= 0 && static_cast<size_t>(face) < by_face.size() && by_face[face] > 0) return by_face[face];
-    return opt_.max_flip_offset;
-  }
-
   bool ridge_acceptable(const Triangle& A, const Triangle& B) const {
     const double c = dot(normalized(facet_area_vector(m_.points, A)), normalized(facet_area_vector(m_.points, B)));
     return c >= std::cos(opt_.flip_angle_deg * M_PI / 180.0);

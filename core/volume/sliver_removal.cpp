@@ -50,14 +50,6 @@ SmallestAngles smallest_angles(const Mesh& m, double sliver_angle_deg) {
   return all;
 }
 
-// The chord height of a face on CAD input, 0 elsewhere: how far case A may
-// move the surface across a ridge over ridge_angle_deg.
-double chord_height_of(const SliverOptions& o, int face) {
-  if (face >= 0 && static_cast<size_t>(face) < o.face_chord_height.size() && o.face_chord_height[face] > 0)
-    return o.face_chord_height[face];
-  return o.chord_height;
-}
-
 // Case A over the given slivers (indices into m.tets).
 void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<size_t>& slivers,
                              SliverStats& stats) {
@@ -104,7 +96,9 @@ void remove_boundary_slivers(Mesh& m, const SliverOptions& o, const std::vector<
       const double ridge_after = dot(facet_normal(m.points, g[0]), facet_normal(m.points, g[1]));
       const double ridge_before = dot(facet_normal(m.points, a), facet_normal(m.points, b));
       const bool flat = ridge_after >= cos_ridge && ridge_before >= cos_ridge;
-      const double chord_height = chord_height_of(o, a.face);
+      // The face's chord height on CAD input, 0 elsewhere: how far the pair
+      // may move the surface across a ridge over ridge_angle_deg.
+      const double chord_height = face_value_or(o.face_chord_height, a.face, o.chord_height);
       // How far the surface moves: from the edge the two old facets share
       // (the vertices off the surface facets) to the edge the new ones share.
       if (!flat && !(chord_height > 0 && ridge_after >= cos_flip_ridge && ridge_before >= cos_flip_ridge &&
