@@ -249,7 +249,7 @@ class LpOracle final : public FacetOracle {
 
   bool is_delaunay(int a, int b, int c, Vec3 normal) override {
     ++stats_.queries;
-    catch_up_with_appended_points();
+    grid_.catch_up(*points_);
     const bool yes = decide(a, b, c, normal);
     stats_.delaunay += yes;
     return yes;
@@ -263,7 +263,7 @@ class LpOracle final : public FacetOracle {
   };
 
   bool decide(int a, int b, int c, const Vec3& normal) {
-    if (!valid_triangle(a, b, c)) return false;
+    if (!grid_.has_triangle(a, b, c)) return false;
     const FacetKey key = sorted_key(a, b, c);
     if (stored_apex_still_empty(key)) {
       ++stats_.by_stored_apex;
@@ -447,18 +447,6 @@ class LpOracle final : public FacetOracle {
     f.size = std::max({norm(pb - pa), norm(pc - pb), norm(pa - pc)});
     f.equatorial = equatorial_sphere(pa, pb, pc);
     return f;
-  }
-
-  // A caller that appended points without vertex_added still gets answers
-  // about the whole set.
-  void catch_up_with_appended_points() {
-    for (int id = grid_.size(); id < static_cast<int>(points_->size()); ++id)
-      grid_.update(id, (*points_)[static_cast<size_t>(id)]);
-  }
-
-  bool valid_triangle(int a, int b, int c) const {
-    const int n = grid_.size();
-    return a >= 0 && b >= 0 && c >= 0 && a < n && b < n && c < n && a != b && b != c && a != c;
   }
 
   OracleOptions options_;

@@ -23,8 +23,8 @@ class SphereOracle final : public FacetOracle {
 
   bool is_delaunay(int a, int b, int c, Vec3) override {
     ++stats_.queries;
-    catch_up_with_appended_points();
-    if (!valid_triangle(a, b, c)) return false;
+    grid_.catch_up(*points_);
+    if (!grid_.has_triangle(a, b, c)) return false;
     std::vector<int> occupants;
     if (!equatorial_sphere_occupants(grid_, a, b, c, occupants) || !occupants.empty()) return false;
     ++stats_.by_equatorial_sphere;
@@ -33,18 +33,6 @@ class SphereOracle final : public FacetOracle {
   }
 
  private:
-  // A caller that appended points without vertex_added still gets answers
-  // about the whole set.
-  void catch_up_with_appended_points() {
-    for (int id = grid_.size(); id < static_cast<int>(points_->size()); ++id)
-      grid_.update(id, (*points_)[static_cast<size_t>(id)]);
-  }
-
-  bool valid_triangle(int a, int b, int c) const {
-    const int n = grid_.size();
-    return a >= 0 && b >= 0 && c >= 0 && a < n && b < n && c < n && a != b && b != c && a != c;
-  }
-
   const std::vector<Vec3>* points_ = nullptr;
   PointGrid grid_;
 };

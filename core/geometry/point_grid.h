@@ -31,6 +31,17 @@ class PointGrid {
   void update(int id, const Vec3& p);
 
   int size() const { return static_cast<int>(position_.size()); }
+  // Indexes the points appended to `points` since the grid last saw them
+  // (the oracles answer about the whole set even when a caller appended
+  // points without telling them).
+  void catch_up(const std::vector<Vec3>& points) {
+    for (int id = size(); id < static_cast<int>(points.size()); ++id) update(id, points[static_cast<size_t>(id)]);
+  }
+  // Three distinct indexed points.
+  bool has_triangle(int a, int b, int c) const {
+    const int n = size();
+    return a >= 0 && b >= 0 && c >= 0 && a < n && b < n && c < n && a != b && b != c && a != c;
+  }
   const Vec3& position(int id) const { return position_[static_cast<size_t>(id)]; }
   // A box containing every indexed point (after moves it may be larger than
   // the tight one).

@@ -38,22 +38,13 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "cli"))
-from surface_shapes import icosphere, write_off  # noqa: E402
+from surface_shapes import icosphere, paper_pyramids, write_off  # noqa: E402
 from tet_angles import dihedral_angles  # noqa: E402
 
 DATA = os.environ.get("VDMESH_DATA", os.path.join(HERE, "..", "..", "..", "shared", "data"))
 SHARED = ["surface", "surface-multiregion", "plc-sharp", "surface-large"]
 SLOW = ("cgal_bunny00", "cgal_armadillo", "cgal_cheese", "surface-large/")
 REFUSED = ("cgal_complex_patch", "cgal_horizons.off", "openfoam_buildings")  # open or self-intersecting
-
-
-def pyramid(cx, cy, cz, height):
-    pts = [(cx - .5, cy - .5, cz), (cx + .5, cy - .5, cz), (cx + .5, cy + .5, cz), (cx - .5, cy + .5, cz),
-           (cx, cy, cz + height)]
-    tris = [(0, 2, 1), (0, 3, 2), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]
-    if height < 0:
-        tris = [(a, c, b) for a, b, c in tris]
-    return pts, tris
 
 
 def cube(n):
@@ -88,9 +79,7 @@ def paper_cases(work):
     pts, tris = icosphere(3)
     write_off(os.path.join(work, "sphere-1280.off"), pts, tris)
     out.append(("paper: sphere 1280 facets", os.path.join(work, "sphere-1280.off")))
-    p1, t1 = pyramid(0, 0, 0, -1)
-    p2, t2 = pyramid(0.1454, 0.3569, 1.0019, -1)
-    write_off(os.path.join(work, "pyramids.off"), p1 + p2, t1 + [(a + 5, b + 5, c + 5) for a, b, c in t2])
+    write_off(os.path.join(work, "pyramids.off"), *paper_pyramids())
     out.append(("paper: two pyramids", os.path.join(work, "pyramids.off")))
     pts, tris = cube(8)
     write_off(os.path.join(work, "cube-8.off"), pts, tris)

@@ -1,5 +1,5 @@
-"""Closed test surfaces written by our own code (the paper's sphere), shared
-by the command-line tests and the benchmarks."""
+"""Closed test surfaces written by our own code (the paper's sphere and
+pyramids), shared by the command-line tests and the benchmarks."""
 import math
 
 
@@ -8,6 +8,25 @@ def write_off(path, pts, tris):
         f.write("OFF\n%d %d 0\n" % (len(pts), len(tris)))
         f.writelines("%r %r %r\n" % tuple(p) for p in pts)
         f.writelines("3 %d %d %d\n" % tuple(t) for t in tris)
+
+
+def pyramid(cx, cy, cz, height):
+    """A square pyramid on a unit base centred at (cx, cy, cz); a negative
+    height points it down (its facets turned so they still face out)."""
+    pts = [(cx - .5, cy - .5, cz), (cx + .5, cy - .5, cz), (cx + .5, cy + .5, cz), (cx - .5, cy + .5, cz),
+           (cx, cy, cz + height)]
+    tris = [(0, 2, 1), (0, 3, 2), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]
+    if height < 0:
+        tris = [(a, c, b) for a, b, c in tris]
+    return pts, tris
+
+
+def paper_pyramids():
+    """The paper's two almost touching pyramids (§9.8): the second one's tip
+    offset (0.1454, 0.3569, 0.0019) from the centre of the first one's base."""
+    p1, t1 = pyramid(0, 0, 0, -1)
+    p2, t2 = pyramid(0.1454, 0.3569, 1.0019, -1)
+    return p1 + p2, t1 + [(a + 5, b + 5, c + 5) for a, b, c in t2]
 
 
 def icosphere(levels):

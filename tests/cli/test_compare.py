@@ -15,19 +15,10 @@ import meshio
 import numpy as np
 
 from cli_support import BIN, check, data, finish, run, tmpdir
-from surface_shapes import icosphere, write_off
+from surface_shapes import icosphere, paper_pyramids, write_off
 from tet_angles import dihedral_angles
 
 out = tmpdir()
-
-
-def pyramid(cx, cy, cz, height):
-    pts = [(cx - .5, cy - .5, cz), (cx + .5, cy - .5, cz), (cx + .5, cy + .5, cz), (cx - .5, cy + .5, cz),
-           (cx, cy, cz + height)]
-    tris = [(0, 2, 1), (0, 3, 2), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]
-    if height < 0:
-        tris = [(a, c, b) for a, b, c in tris]
-    return pts, tris
 
 
 def enclosed_volume(pts, tris):
@@ -143,10 +134,8 @@ def check_svg(name, svg, panels):
 
 
 # The paper's two almost touching pyramids (§9.8): two regions.
-p1, t1 = pyramid(0, 0, 0, -1)
-p2, t2 = pyramid(0.1454, 0.3569, 1.0019, -1)
 pyr = os.path.join(out, "pyramids.off")
-pts, tris = p1 + p2, t1 + [(a + 5, b + 5, c + 5) for a, b, c in t2]
+pts, tris = paper_pyramids()
 write_off(pyr, pts, tris)
 report, stdout, svg, _ = compare("pyramids", pyr)
 if report:

@@ -4,7 +4,7 @@ import json
 import os
 
 from cli_support import BIN, SOURCE, check, data, finish, run, tmpdir
-from surface_shapes import icosphere, write_off
+from surface_shapes import icosphere, paper_pyramids, write_off
 
 out = tmpdir()
 bracket = os.path.join(SOURCE, "Resources", "examples", "bracket.obj")
@@ -245,23 +245,8 @@ for args in (["mesh"], ["mesh", bracket], ["mesh", bracket, "-o", os.path.join(o
 # A guard that stops Delaunayzation: exit 4, the missing facets beside the
 # output, no output. The almost touching pyramids of the paper need Steiner
 # points, so allowing none must fail.
-def pyramid(cx, cy, cz, height):
-    pts = [(cx - .5, cy - .5, cz), (cx + .5, cy - .5, cz), (cx + .5, cy + .5, cz), (cx - .5, cy + .5, cz),
-           (cx, cy, cz + height)]
-    tris = [(0, 2, 1), (0, 3, 2), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]
-    if height < 0:
-        tris = [(a, c, b) for a, b, c in tris]
-    return pts, tris
-
-p1, t1 = pyramid(0, 0, 0, -1)
-p2, t2 = pyramid(0.1454, 0.3569, 1.0019, -1)
 pyr = os.path.join(out, "pyramids.off")
-with open(pyr, "w") as f:
-    f.write("OFF\n10 12 0\n")
-    for p in p1 + p2:
-        f.write("%r %r %r\n" % p)
-    for a, b, c in t1 + [(a + 5, b + 5, c + 5) for a, b, c in t2]:
-        f.write("3 %d %d %d\n" % (a, b, c))
+write_off(pyr, *paper_pyramids())
 target = os.path.join(out, "pyr.vtu")
 code, _, err = run("mesh", pyr, "-o", target, "--max-added", "0")
 missing = os.path.join(out, "pyr.missing.off")
