@@ -19,16 +19,6 @@
 namespace vd {
 namespace {
 
-// Every facet is a face of a tetrahedralization built afresh from the output
-// points (not the one the mesher kept).
-int facets_missing_from_fresh_dt(const Mesh& m) {
-  DelaunayTetrahedralization dt;
-  dt.insert(m.points);
-  int missing = 0;
-  for (const Triangle& t : m.triangles) missing += !dt.has_facet(t.v[0], t.v[1], t.v[2]);
-  return missing;
-}
-
 std::map<int, double> area_per_face(const Mesh& m) {
   std::map<int, double> a;
   for (const Triangle& t : m.triangles) a[t.face] += facet_area(m.points, t);
@@ -44,7 +34,7 @@ std::set<std::array<int, 3>> tag_set(const Mesh& m) {
 void expect_valid_mesh(const Mesh& in, const MeshResult& r, bool planar_faces) {
   const Mesh& m = r.mesh;
   EXPECT_TRUE(r.report.complete);
-  EXPECT_EQ(facets_missing_from_fresh_dt(m), 0);
+  EXPECT_EQ(test::facets_missing_from_fresh_dt(m), 0);
   const ConformityReport c = check_conformity(m);
   EXPECT_TRUE(c.ok(1e-9)) << c.summary();
   EXPECT_GT(m.tets.size(), 0u);

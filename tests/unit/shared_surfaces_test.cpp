@@ -33,11 +33,7 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
 // Every output facet is a face of a fresh exact Delaunay tetrahedralization
 // of the output vertices, and the tetrahedra fill the regions exactly.
 void expect_delaunay_and_conforming(const Mesh& m) {
-  DelaunayTetrahedralization dt;
-  dt.insert(m.points);
-  int missing = 0;
-  for (const Triangle& t : m.triangles) missing += !dt.has_facet(t.v[0], t.v[1], t.v[2]);
-  EXPECT_EQ(missing, 0);
+  EXPECT_EQ(test::facets_missing_from_fresh_dt(m), 0);
   const ConformityReport c = check_conformity(m);
   EXPECT_TRUE(c.ok(1e-9)) << c.summary();
 }

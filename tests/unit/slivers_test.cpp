@@ -38,14 +38,6 @@ bool same_triangles(const Mesh& a, const Mesh& b) {
   return true;
 }
 
-int facets_missing_from_delaunay(const Mesh& m) {
-  DelaunayTetrahedralization dt;
-  dt.insert(m.points);
-  int missing = 0;
-  for (const Triangle& t : m.triangles) missing += !dt.has_facet(t.v[0], t.v[1], t.v[2]);
-  return missing;
-}
-
 // The Delaunay tetrahedralization of m's points, as the sliver pass's FacetApexes.
 struct DelaunayApexes {
   DelaunayTetrahedralization dt;
@@ -93,7 +85,7 @@ SliverStats check_pass_helps(const std::string& name, const Mesh& before) {
     EXPECT_NEAR(c.enclosed_volume.at(region), enclosed_before[region], 1e-12 * std::abs(enclosed_before[region]))
         << name << " region " << region;
   // Moves keep every surface facet a face of the Delaunay tetrahedralization.
-  EXPECT_EQ(facets_missing_from_delaunay(after), 0) << name;
+  EXPECT_EQ(test::facets_missing_from_fresh_dt(after), 0) << name;
   // Deterministic: the same input gives the same result.
   Mesh again = before;
   SliverStats stats2;

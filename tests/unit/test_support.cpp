@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "delaunay/delaunay_tetrahedralization.h"
 #include "mesh/shapes.h"
 
 namespace vd::test {
@@ -57,6 +58,14 @@ Mesh thin_wedge(double deg) {
   in.triangles.push_back({{1, 5, 3}, 4, 0, 1});  // y = 1
   quad(2, 3, 5, 4, 5);  // x = 1
   return in;
+}
+
+int facets_missing_from_fresh_dt(const Mesh& m) {
+  DelaunayTetrahedralization dt;
+  dt.insert(m.points);
+  int missing = 0;
+  for (const Triangle& t : m.triangles) missing += !dt.has_facet(t.v[0], t.v[1], t.v[2]);
+  return missing;
 }
 
 }  // namespace vd::test

@@ -28,6 +28,11 @@ Mesh box_in_box();
 // about deg degrees.
 Mesh thin_wedge(double deg);
 
+// Facets of m that are not faces of a Delaunay tetrahedralization built
+// afresh from m's points (not the one the mesher kept): 0 when the surface
+// is recovered.
+int facets_missing_from_fresh_dt(const Mesh& m);
+
 }  // namespace vd::test
 
 // Skips the current test, naming the missing file, when the shared data is
