@@ -69,6 +69,7 @@ std::string report_json(const MeshReport& r) {
   s << "  \"slivers\": {\"angle_deg\": " << exact(sl.angle_deg) << ", \"raised_to_deg\": " << exact(sl.raised_to_deg)
     << ", \"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
     << ", \"removed_across_ridges\": " << sl.removed_across_ridges
+    << ", \"removed_crease_caps\": " << sl.removed_crease_caps
     << ", \"flips_23\": " << sl.flips_23 << ", \"flips_32\": " << sl.flips_32
     << ", \"edge_removals\": " << sl.edge_removals << ", \"moves\": " << sl.moves
     << ", \"surface_moves\": " << sl.surface_moves
@@ -233,6 +234,9 @@ std::string report_table(const MeshReport& r) {
   row("slivers (A / B / C)", std::to_string(sl.removed_boundary) + " removed" +
                                  (sl.removed_across_ridges > 0
                                       ? " (" + std::to_string(sl.removed_across_ridges) + " across ridges)"
+                                      : "") +
+                                 (sl.removed_crease_caps > 0
+                                      ? " (" + std::to_string(sl.removed_crease_caps) + " over crease facets)"
                                       : "") +
                                  ", " +
                                  std::to_string(sl.flips_23 + sl.flips_32 + sl.edge_removals) + " flips (" +

@@ -57,6 +57,7 @@ struct SliverStats {
   long slivers_before = 0;      // tetrahedra under the sliver angle
   long removed_boundary = 0;    // case A
   long removed_across_ridges = 0;  // of which over the ridge angle, within the chord height (CAD input)
+  long removed_crease_caps = 0;    // of which across a face border, over a facet that is a crease
   long flips_23 = 0;            // case B: face swaps (two tetrahedra into three)
   long flips_32 = 0;            // case B: edge with three tetrahedra around it (three into two)
   long edge_removals = 0;       // case B: edge with four to seven tetrahedra around it

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <set>
+#include <algorithm>
 
 #include "converters/registry.h"
 #include "delaunay/delaunay_tetrahedralization.h"
@@ -16,6 +18,8 @@
 #include "quality/tet_quality.h"
 #include "test_support.h"
 #include "volume/sliver_improvement.h"
+#include "volume/sliver_removal.h"
+#include "geometry/predicates.h"
 
 namespace vd {
 namespace {
@@ -258,6 +262,69 @@ TEST(Slivers, CaseARidgeLimitAgainstSurfaceChange) {
       EXPECT_GE(change + 1e-15, previous_change) << name << " ridge " << ridge;
       previous_change = change;
     }
+  }
+}
+
+// Case A across a face border: the sliver between a facet of face 1 and a
+// facet of face 3 that is a crease (its third vertex on the shared edge, at
+// 179.99 deg) goes, and the two new facets are face 1's, oriented with the
+// exterior where the sliver was; with the third vertex 0.2 off the edge (a
+// real facet, 158 deg) the sliver, as flat, stays. c3tm_nefertiti.obj's smallest angle
+// was such a sliver (tests/cli/test_mesh_command.py).
+Mesh crease_sliver(double off_edge) {
+  Mesh m;
+  m.points = {{0, 0, 0}, {2, 0, 0}, {1, off_edge, 0}, {1, 0.3, 0.02}};  // p, q, r, s
+  Tetrahedron t;
+  t.v = {0, 1, 2, 3};
+  t.region = 1;
+  if (orientation(m.points[0], m.points[1], m.points[2], m.points[3]) < 0) std::swap(t.v[0], t.v[1]);
+  m.tets.push_back(t);
+  for (const auto& [v, face] : std::vector<std::pair<std::array<int, 3>, int>>{{{0, 1, 2}, 3}, {{0, 1, 3}, 1}}) {
+    Triangle f;
+    f.v = v;
+    f.face = face;
+    // Facing out of the tetrahedron (region 1) into the exterior, as the
+    // surface is oriented.
+    const int fourth = 0 + 1 + 2 + 3 - v[0] - v[1] - v[2];
+    if (orientation(m.points[v[0]], m.points[v[1]], m.points[v[2]], m.points[fourth]) > 0) std::swap(f.v[1], f.v[2]);
+    f.front = 0;
+    f.back = 1;
+    m.triangles.push_back(f);
+  }
+  return m;
+}
+
+TEST(Slivers, CaseAOverACreaseFacetOfAFaceBorder) {
+  {
+    Mesh m = crease_sliver(1e-4);
+    SliverStats stats;
+    remove_boundary_slivers(m, SliverOptions{}, stats);
+    EXPECT_EQ(stats.removed_crease_caps, 1);
+    EXPECT_TRUE(m.tets.empty());
+    ASSERT_EQ(m.triangles.size(), 2u);
+    for (const Triangle& f : m.triangles) {
+      EXPECT_EQ(f.face, 1);
+      // The vertex of the sliver not on this facet is on its exterior side.
+      const int gone = 0 + 1 + 2 + 3 - f.v[0] - f.v[1] - f.v[2];
+      const bool in_front = orientation(m.points[f.v[0]], m.points[f.v[1]], m.points[f.v[2]], m.points[gone]) > 0;
+      EXPECT_EQ(in_front ? f.front : f.back, 0);
+      EXPECT_EQ(in_front ? f.back : f.front, 1);
+    }
+    std::set<std::array<int, 3>> facets;
+    for (const Triangle& f : m.triangles) {
+      std::array<int, 3> v = f.v;
+      std::sort(v.begin(), v.end());
+      facets.insert(v);
+    }
+    EXPECT_EQ(facets, (std::set<std::array<int, 3>>{{0, 2, 3}, {1, 2, 3}}));
+  }
+  {
+    Mesh m = crease_sliver(0.2);
+    EXPECT_LT(smallest_dihedral_deg(m.points[0], m.points[1], m.points[2], m.points[3]), 5.0);
+    SliverStats stats;
+    remove_boundary_slivers(m, SliverOptions{}, stats);
+    EXPECT_EQ(stats.removed_boundary, 0);
+    EXPECT_EQ(m.tets.size(), 1u);
   }
 }
 
