@@ -11,6 +11,8 @@
 #include <Bnd_Box.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <OSD.hxx>
+#include <OSD_Signal.hxx>
 #include <Interface_Static.hxx>
 #include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
@@ -23,6 +25,8 @@
 #include <TopoDS_Shell.hxx>
 
 #include <algorithm>
+#include <array>
+#include <csignal>
 #include <chrono>
 #include <cctype>
 #include <filesystem>
@@ -38,19 +42,50 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// OpenCASCADE's handlers of the fault signals while a file is read: its
+// readers dereference what a broken file leaves null (a garbled STEP entity:
+// a segmentation fault in StepToTopoDS_TranslateFace), and its handlers turn
+// the fault into a Standard_Failure (OSD_SIGSEGV) thrown where it happened.
+// OSD::SetSignal also takes SIGHUP, SIGINT and SIGQUIT, which are given back
+// at once (Ctrl-C still stops the program); every handler before (the
+// program's, ASan's, FreeCAD's) is put back afterwards.
+class OccSignalsWhileReading {
+ public:
+  OccSignalsWhileReading() {
+    for (size_t i = 0; i < kTaken.size(); ++i) sigaction(kTaken[i], nullptr, &saved_[i]);
+    OSD::SetSignal(OSD_SignalMode_Set, /*theFloatingSignal=*/false);
+    for (size_t i = 0; i < kTaken.size(); ++i)
+      if (!is_fault(kTaken[i])) sigaction(kTaken[i], &saved_[i], nullptr);
+  }
+  ~OccSignalsWhileReading() {
+    for (size_t i = 0; i < kTaken.size(); ++i) sigaction(kTaken[i], &saved_[i], nullptr);
+  }
+  OccSignalsWhileReading(const OccSignalsWhileReading&) = delete;
+  OccSignalsWhileReading& operator=(const OccSignalsWhileReading&) = delete;
+
+ private:
+  // What OSD::SetSignal sets on Linux (OpenCASCADE 7.6, measured).
+  static constexpr std::array<int, 8> kTaken = {SIGHUP, SIGINT, SIGQUIT, SIGILL, SIGBUS, SIGFPE, SIGSEGV, SIGSYS};
+  static bool is_fault(int s) { return s == SIGILL || s == SIGBUS || s == SIGFPE || s == SIGSEGV || s == SIGSYS; }
+  std::array<struct sigaction, 8> saved_{};
+};
+
 TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& cancel) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
   if (std::filesystem::file_size(path, ec) == 0) throw InputError(path + ": empty file");
   const std::string ext = lower_extension(path);
   TopoDS_Shape shape;
+  const OccSignalsWhileReading signals;
   if (ext == ".step" || ext == ".stp") {
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
       throw InputError(path + ": not a readable STEP file (OpenCASCADE's STEP reader failed)");
     const int roots = reader.TransferRoots(cancel.range());
     cancel.check();
-    if (roots == 0) throw InputError(path + ": the STEP file has no shape to transfer");
+    if (roots == 0)
+      throw InputError(path + ": the STEP file has no shape OpenCASCADE could transfer (none, or broken ones: "
+                              "a reference to a missing entity, say)");
     shape = reader.OneShape();
     units = "mm";  // OpenCASCADE converts STEP lengths to millimetres
   } else if (ext == ".iges" || ext == ".igs") {
@@ -59,7 +94,8 @@ TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& c
       throw InputError(path + ": not a readable IGES file (OpenCASCADE's IGES reader failed)");
     const int roots = reader.TransferRoots(cancel.range());
     cancel.check();
-    if (roots == 0) throw InputError(path + ": the IGES file has no shape to transfer");
+    if (roots == 0)
+      throw InputError(path + ": the IGES file has no shape OpenCASCADE could transfer (none, or broken ones)");
     shape = reader.OneShape();
     units = "mm";
   } else if (ext == ".brep" || ext == ".brp") {
@@ -258,7 +294,14 @@ CadModel CadModel::read(const std::string& path, const std::atomic<bool>* cancel
     model.seconds_fuse = seconds_fuse;
     return model;
   } catch (const Standard_Failure& e) {
-    throw InputError(path + ": OpenCASCADE failed: " + e.GetMessageString());
+    // A fault turned into an exception (OccSignalsWhileReading): an
+    // OSD_Signal, or, from the IGES transfer, which catches that and throws
+    // anew, a Standard_Failure saying "System Signal received".
+    const std::string what = e.GetMessageString() ? e.GetMessageString() : "";
+    if (dynamic_cast<const OSD_Signal*>(&e) || what.find("Signal") != std::string::npos)
+      throw InputError(path + ": OpenCASCADE's reader faulted on this file (" + e.DynamicType()->Name() + ": " +
+                       what + "): the file is broken, or holds entities the reader cannot handle");
+    throw InputError(path + ": OpenCASCADE failed: " + what);
   }
 }
 

@@ -764,7 +764,7 @@ if plane:
 def bad(name, content, needle):
     path = os.path.join(out, name)
     if content is not None:
-        with open(path, "w") as f:
+        with open(path, "wb" if isinstance(content, bytes) else "w") as f:
             f.write(content)
     target = os.path.join(out, name + ".vtu")
     code, _, err = run("mesh", path, "-o", target)
@@ -775,6 +775,24 @@ bad("missing.step", None, "no such file")
 bad("empty.step", "", "empty file")
 bad("text.step", "this is not a STEP file\n", "not a readable STEP file")
 bad("text.brep", "hello\n", "not a readable BREP file")
+# Files that made OpenCASCADE's readers dereference null (a segmentation
+# fault, exit 139, before its fault handlers were set while reading,
+# cad_read.cpp): one byte changed in a real file, found by mutating them.
+# The STEP transfer then has no shape; the IGES reader drops the entity that
+# faulted (a B-spline surface whose degree is garbage) and reads the rest,
+# which is no solid (the bearing is an open shell).
+part_step = data("cad-part/gmsh_part.step")
+if part_step:
+    raw = open(part_step, "rb").read()
+    line = b"#149 = FACE_OUTER_BOUND( '', #236, .T. );"
+    check(line in raw, "gmsh_part.step holds the face bound the broken copy changes")
+    bad("dangling.step", raw.replace(line, line.replace(b"#236", b"#99999")), "no shape OpenCASCADE could transfer")
+bearing = data("cad-part/occt_bearing.iges")
+if bearing:
+    raw = open(bearing, "rb").read()
+    line = b"128,3,1,3,1,0,0,1,0,0,0.E+000,0.E+000,0.E+000,0.E+000,1.,1.,1.,  0004031P0006364"
+    check(line in raw, "occt_bearing.iges holds the B-spline surface the broken copy changes")
+    bad("garbled.iges", raw.replace(line, line.replace(b"128,3,1,", b"128,3,\x9f,")), "no solid")
 sheet = make_brep("sheet", lambda occ: occ.addRectangle(0, 0, 0, 1, 1))
 bad(os.path.basename(sheet), None, "no solid")
 def box_without_lid(occ):
