@@ -11,6 +11,9 @@
 #include <Bnd_Box.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_Printer.hxx>
 #include <OSD.hxx>
 #include <OSD_Signal.hxx>
 #include <Interface_Static.hxx>
@@ -32,6 +35,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "cad/cad_impl.h"
 #include "mesh/error.h"
@@ -70,6 +75,29 @@ class OccSignalsWhileReading {
   std::array<struct sigaction, 8> saved_{};
 };
 
+// OpenCASCADE's messages below failures off while a file is read: the IGES
+// reader prints "Total number of loaded entities 2932." to standard output
+// (in colour) through the default messenger, under --quiet too. Whoever set
+// the printers (FreeCAD) gets their levels back afterwards.
+class OccMessagesFailuresOnly {
+ public:
+  OccMessagesFailuresOnly() {
+    const Message_SequenceOfPrinters& printers = Message::DefaultMessenger()->Printers();
+    for (Message_SequenceOfPrinters::Iterator it(printers); it.More(); it.Next()) {
+      saved_.emplace_back(it.Value(), it.Value()->GetTraceLevel());
+      it.Value()->SetTraceLevel(Message_Fail);
+    }
+  }
+  ~OccMessagesFailuresOnly() {
+    for (auto& [printer, level] : saved_) printer->SetTraceLevel(level);
+  }
+  OccMessagesFailuresOnly(const OccMessagesFailuresOnly&) = delete;
+  OccMessagesFailuresOnly& operator=(const OccMessagesFailuresOnly&) = delete;
+
+ private:
+  std::vector<std::pair<Handle(Message_Printer), Message_Gravity>> saved_;
+};
+
 TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& cancel) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
@@ -77,6 +105,7 @@ TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& c
   const std::string ext = lower_extension(path);
   TopoDS_Shape shape;
   const OccSignalsWhileReading signals;
+  const OccMessagesFailuresOnly quiet;
   if (ext == ".step" || ext == ".stp") {
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)

@@ -793,6 +793,10 @@ if bearing:
     line = b"128,3,1,3,1,0,0,1,0,0,0.E+000,0.E+000,0.E+000,0.E+000,1.,1.,1.,  0004031P0006364"
     check(line in raw, "occt_bearing.iges holds the B-spline surface the broken copy changes")
     bad("garbled.iges", raw.replace(line, line.replace(b"128,3,1,", b"128,3,\x9f,")), "no solid")
+    # --quiet is quiet: OpenCASCADE's IGES reader printed "Total number of
+    # loaded entities 2932." to standard output.
+    code, stdout, _ = run("mesh", bearing, "-o", os.path.join(out, "bearing.vtu"), "--quiet")
+    check(code == 3 and stdout == "", "occt_bearing.iges --quiet: nothing on standard output (%r)" % stdout[:200])
 sheet = make_brep("sheet", lambda occ: occ.addRectangle(0, 0, 0, 1, 1))
 bad(os.path.basename(sheet), None, "no solid")
 def box_without_lid(occ):
