@@ -781,18 +781,24 @@ bad("text.brep", "hello\n", "not a readable BREP file")
 # The STEP transfer then has no shape; the IGES reader drops the entity that
 # faulted (a B-spline surface whose degree is garbage) and reads the rest,
 # which is no solid (the bearing is an open shell).
-part_step = data("cad-part/gmsh_part.step")
-if part_step:
-    raw = open(part_step, "rb").read()
-    line = b"#149 = FACE_OUTER_BOUND( '', #236, .T. );"
-    check(line in raw, "gmsh_part.step holds the face bound the broken copy changes")
-    bad("dangling.step", raw.replace(line, line.replace(b"#236", b"#99999")), "no shape OpenCASCADE could transfer")
-bearing = data("cad-part/occt_bearing.iges")
+def one_line_broken(name, relative, line, broken, needle):
+    """A shared file with one line changed, refused with exit 3 naming needle."""
+    path = data(relative)
+    if not path:
+        return None
+    raw = open(path, "rb").read()
+    check(line in raw, "%s holds the line the broken copy changes" % relative)
+    bad(name, raw.replace(line, broken), needle)
+    return path
+
+
+face_bound = b"#149 = FACE_OUTER_BOUND( '', #236, .T. );"
+one_line_broken("dangling.step", "cad-part/gmsh_part.step", face_bound, face_bound.replace(b"#236", b"#99999"),
+                "no shape OpenCASCADE could transfer")
+surface = b"128,3,1,3,1,0,0,1,0,0,0.E+000,0.E+000,0.E+000,0.E+000,1.,1.,1.,  0004031P0006364"
+bearing = one_line_broken("garbled.iges", "cad-part/occt_bearing.iges", surface,
+                          surface.replace(b"128,3,1,", b"128,3,\x9f,"), "no solid")
 if bearing:
-    raw = open(bearing, "rb").read()
-    line = b"128,3,1,3,1,0,0,1,0,0,0.E+000,0.E+000,0.E+000,0.E+000,1.,1.,1.,  0004031P0006364"
-    check(line in raw, "occt_bearing.iges holds the B-spline surface the broken copy changes")
-    bad("garbled.iges", raw.replace(line, line.replace(b"128,3,1,", b"128,3,\x9f,")), "no solid")
     # --quiet is quiet: OpenCASCADE's IGES reader printed "Total number of
     # loaded entities 2932." to standard output.
     code, stdout, _ = run("mesh", bearing, "-o", os.path.join(out, "bearing.vtu"), "--quiet")
