@@ -30,12 +30,32 @@ std::string list_facets(const std::vector<int>& ids, size_t max_shown = 10) {
   return s.str();
 }
 
+constexpr double kSmallestExtent = 1e-100, kLargestCoordinate = 1e100;
+
 void check_indices_and_coordinates(const Mesh& m) {
   if (m.triangles.empty()) throw InputError("the surface has no facets");
   for (size_t i = 0; i < m.points.size(); ++i) {
     const Vec3& p = m.points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw InputError("vertex " + std::to_string(i) + " has a non-finite coordinate");
+  }
+  // Squared lengths and volumes over- or underflow near 1e150 and 1e-150:
+  // a tetrahedron 1e-200 or 1e160 across ran without end (the refinement
+  // splitting edges of infinite length; the lattice stepping by nothing).
+  double lowest[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, highest[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const Vec3& p : m.points)
+    for (int k = 0; k < 3; ++k) lowest[k] = std::min(lowest[k], p[k]), highest[k] = std::max(highest[k], p[k]);
+  double extent = 0, reach = 0;
+  for (int k = 0; k < 3; ++k) {
+    extent = std::max(extent, highest[k] - lowest[k]);
+    reach = std::max({reach, std::abs(lowest[k]), std::abs(highest[k])});
+  }
+  if (!m.points.empty() && (!(extent >= kSmallestExtent) || !(reach <= kLargestCoordinate))) {
+    std::ostringstream s;
+    s << "the surface spans " << extent << " and reaches " << reach << " from the origin; vdmesh's arithmetic"
+      << " needs a span of at least " << kSmallestExtent << " and coordinates of at most " << kLargestCoordinate
+      << " (scale the model, or give it other units)";
+    throw InputError(s.str());
   }
   const int n = static_cast<int>(m.points.size());
   for (size_t f = 0; f < m.triangles.size(); ++f)

@@ -219,6 +219,18 @@ bad("empty.off", "", "empty.off")
 pierce = ("OFF\n8 8 0\n0 0 0\n2 0 0\n0 2 0\n0 0 2\n0.2 0.2 0.2\n3 0.2 0.2\n0.2 3 0.2\n0.2 0.2 3\n"
           "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n3 4 6 5\n3 4 5 7\n3 5 6 7\n3 4 7 6\n")
 bad("pierce.off", pierce, "intersects itself")
+# Scales where squared lengths over- or underflow ran without end (a
+# tetrahedron 1e-200 and 1e160 across); 1e-100 and 1e100 mesh.
+for scale, refused in (("1e-200", True), ("1e160", True), ("1e-100", False), ("1e100", False)):
+    scaled = tet_off.replace("1 0 0\n0 1 0\n0 0 1\n", "%s 0 0\n0 %s 0\n0 0 %s\n" % (scale, scale, scale))
+    if refused:
+        bad("tet%s.off" % scale, scaled, "vdmesh's arithmetic needs a span of at least 1e-100")
+    else:
+        path = os.path.join(out, "tet%s.off" % scale)
+        with open(path, "w") as f:
+            f.write(scaled)
+        code, _, err = run("mesh", path, "-o", os.path.join(out, "tet%s.vtu" % scale), timeout=120)
+        check(code == 0, "a tetrahedron %s across meshes (exit %d: %s)" % (scale, code, err.strip()[:200]))
 code, _, err = run("mesh", os.path.join(out, "does-not-exist.off"), "-o", os.path.join(out, "x.vtu"))
 check(code == 3 and "does-not-exist.off" in err, "missing file: exit 3 naming it (%d: %s)" % (code, err.strip()))
 
