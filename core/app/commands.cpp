@@ -197,6 +197,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   MeshOptions opt;
   const std::string output = args.value("-o", args.value("--output"));
   opt.oracle = args.value("--oracle", "dt");
+  const bool size_given = args.has("--size");
   opt.size.uniform = args.number("--size", 0.0);
   opt.size.gradation = args.number("--gradation", opt.size.gradation);
   opt.interior = !args.flag("--no-interior");
@@ -228,7 +229,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   const auto pos = args.positionals();
   if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh mesh --help)");
   if (output.empty()) throw UsageError("missing -o OUTPUT");
-  if (opt.size.uniform < 0) throw UsageError("--size must be positive");
+  if (size_given && !(opt.size.uniform > 0)) throw UsageError("--size must be positive");
   if (opt.size.gradation <= 0) throw UsageError("--gradation must be positive");
   if (!(opt.surface_grading == 0 || opt.surface_grading >= 1)) throw UsageError("--surface-grading must be 0 or at least 1");
   if (opt.shift < 0 || opt.shift > 0.1) throw UsageError("--shift must be in [0, 0.1]");

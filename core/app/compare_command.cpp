@@ -226,6 +226,7 @@ int compare_command(const std::vector<std::string>& raw) {
     return 0;
   }
   Settings s;
+  const bool size_given = args.has("--size");
   const double size = args.number("--size", 0.0);
   const std::string json_path = args.value("--json"), svg_path = args.value("--svg");
   const std::string keep_dir = args.value("--keep-dir");
@@ -237,7 +238,7 @@ int compare_command(const std::vector<std::string>& raw) {
   s.quiet = args.flag("--quiet");
   const auto pos = args.positionals();
   if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh compare --help)");
-  if (size < 0) throw UsageError("--size must be positive");
+  if (size_given && !(size > 0)) throw UsageError("--size must be positive");
   if (s.timeout <= 0) throw UsageError("--timeout must be positive");
   if (s.seed < 0 || s.seed != std::floor(s.seed)) throw UsageError("--seed must be a non-negative integer");
   const bool do_boundary = runs.find("boundary") != std::string::npos;

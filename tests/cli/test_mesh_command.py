@@ -250,7 +250,10 @@ check(code == 0 and rep["counts"]["unused_input_vertices"] == 1 and rep["counts"
 # Usage errors: exit 2.
 for args in (["mesh"], ["mesh", bracket], ["mesh", bracket, "-o", os.path.join(out, "x.vtu"), "--oracle", "magic"],
              ["mesh", bracket, "-o", os.path.join(out, "x.vtu"), "--seed", "abc"], ["frobnicate"],
-             ["mesh", bracket, "-o", os.path.join(out, "x.unknownext")]):
+             ["mesh", bracket, "-o", os.path.join(out, "x.unknownext")],
+             # 0 was taken as no size, under a message saying it must be positive.
+             ["mesh", bracket, "-o", os.path.join(out, "x.vtu"), "--size", "0"],
+             ["compare", bracket, "--size", "0"]):
     code, _, err = run(*args)
     check(code == 2, "usage error %s: exit 2 (%d: %s)" % (" ".join(args[:1] + args[3:]), code, err.strip()[:200]))
 
