@@ -88,10 +88,6 @@ FacetKey sorted_key(int a, int b, int c) {
   return k;
 }
 
-struct Box {
-  Vec3 lo, hi;
-};
-
 Box box_around(const Vec3& centre, double half) {
   const Vec3 h{half, half, half};
   return {centre - h, centre + h};

@@ -12,6 +12,7 @@
 //  - Indices are 0-based here; writers convert to each format's own base.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -47,6 +48,20 @@ inline double line_distance(Vec3 p, Vec3 q, Vec3 r, Vec3 s) {
   const Vec3 n = cross(q - p, s - r);
   const double len = norm(n);
   return len > 0 ? std::abs(dot(r - p, n)) / len : 0.0;
+}
+
+// The smallest axis-aligned box holding every point (both corners at the
+// origin when there is none).
+struct Box {
+  Vec3 lo, hi;
+};
+inline Box bounding_box(const std::vector<Vec3>& points) {
+  Box b;
+  if (points.empty()) return b;
+  b.lo = b.hi = points.front();
+  for (const Vec3& p : points)
+    for (int i = 0; i < 3; ++i) b.lo[i] = std::min(b.lo[i], p[i]), b.hi[i] = std::max(b.hi[i], p[i]);
+  return b;
 }
 
 constexpr int kUnknownRegion = -1;

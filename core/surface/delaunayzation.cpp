@@ -36,10 +36,8 @@ class Delaunayzer {
         delaunay_[f] = query(m_.triangles[f]);
       }
     }
-    Vec3 lo = m_.points.front(), hi = lo;
-    for (const Vec3& p : m_.points)
-      for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
-    min_edge_ = opt_.min_edge_relative * norm(hi - lo);
+    const Box box = bounding_box(m_.points);
+    min_edge_ = opt_.min_edge_relative * norm(box.hi - box.lo);
     max_added_ = opt_.max_added_vertices >= 0 ? opt_.max_added_vertices
                                               : 20 * static_cast<int>(m_.points.size()) + 1000;
     input_facets_ = static_cast<int>(m_.triangles.size());
@@ -250,7 +248,6 @@ class Delaunayzer {
     return line_distance(m_.points[p], m_.points[q], m_.points[r], m_.points[s]);
   }
 
-  // How far a flip inside `face` may move the surface; 0: no bound.
   bool ridge_acceptable(const Triangle& A, const Triangle& B) const {
     const double c = dot(normalized(facet_area_vector(m_.points, A)), normalized(facet_area_vector(m_.points, B)));
     return c >= std::cos(opt_.flip_angle_deg * M_PI / 180.0);

@@ -42,13 +42,11 @@ void check_indices_and_coordinates(const Mesh& m) {
   // Squared lengths and volumes over- or underflow near 1e150 and 1e-150:
   // a tetrahedron 1e-200 or 1e160 across ran without end (the refinement
   // splitting edges of infinite length; the lattice stepping by nothing).
-  double lowest[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, highest[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (const Vec3& p : m.points)
-    for (int k = 0; k < 3; ++k) lowest[k] = std::min(lowest[k], p[k]), highest[k] = std::max(highest[k], p[k]);
+  const Box box = bounding_box(m.points);
   double extent = 0, reach = 0;
   for (int k = 0; k < 3; ++k) {
-    extent = std::max(extent, highest[k] - lowest[k]);
-    reach = std::max({reach, std::abs(lowest[k]), std::abs(highest[k])});
+    extent = std::max(extent, box.hi[k] - box.lo[k]);
+    reach = std::max({reach, std::abs(box.lo[k]), std::abs(box.hi[k])});
   }
   if (!m.points.empty() && (!(extent >= kSmallestExtent) || !(reach <= kLargestCoordinate))) {
     std::ostringstream s;

@@ -37,10 +37,8 @@ class Front {
   Front(const Mesh& m, AdvancingFrontStats& stats, const std::atomic<bool>* cancel)
       : m_(m), stats_(stats), facets_(m.triangles, [](const Triangle& t) { return t.v; }), poll_(cancel, 1024) {
     grid_.build(m.points);
-    Vec3 lo = m.points.empty() ? Vec3{} : m.points.front(), hi = lo;
-    for (const Vec3& p : m.points)
-      for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
-    diagonal_ = norm(hi - lo);
+    const Box box = bounding_box(m.points);
+    diagonal_ = norm(box.hi - box.lo);
     for (const Triangle& t : m.triangles) {
       if (t.front > 0) push(oriented(t.v[0], t.v[1], t.v[2]), t.front);
       if (t.back > 0) push(oriented(t.v[0], t.v[2], t.v[1]), t.back);

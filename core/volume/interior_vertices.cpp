@@ -15,10 +15,6 @@
 namespace vd {
 namespace {
 
-struct Box {
-  Vec3 lo, hi;
-};
-
 // The bounding box of facet t.
 Box facet_box(const Mesh& m, const Triangle& t) {
   Box b{m.points[t.v[0]], m.points[t.v[0]]};
