@@ -433,7 +433,8 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
         const MeshReport report_before = report;
         timer.start("cap fold splits");
         const int first_split = static_cast<int>(m.points.size());
-        report.interior.cap_folds_split += split_cap_folds(m, refused_folds, options.delaunayzation.geometry);
+        report.interior.cap_folds_split += split_cap_folds(m, refused_folds, options.delaunayzation.geometry,
+                                                         &report.interior.cap_folds_at_sharp_corners);
         refused_folds.clear();
         give_up_early(true);
         try {

@@ -16,6 +16,7 @@
 #include "pipeline/mesher.h"
 #include "quality/conformity.h"
 #include "surface/size_refinement.h"
+#include "volume/cap_vertices.h"
 #include "volume/facet_takers.h"
 #include "volume/interior_vertices.h"
 #include "volume/region_tetrahedra.h"
@@ -376,6 +377,30 @@ TEST(Volume, CapsNoPointCanOpenGetTheirFoldsSplit) {
             << r.report.quality.below_10_deg << "\n";
   EXPECT_GT(r.report.interior.cap_folds_split, 0);
   EXPECT_GT(r.report.quality.min_dihedral_deg, 10.0);
+}
+
+// A fold that is a side of a face's sharp corner between two border edges
+// stays: splitting it would only make the corner smaller (the Exhaust's
+// tangent seam). The same fold is split when the corner is wider, or when
+// one of its sides runs inside the face.
+TEST(Volume, CapFoldsAtSharpBorderCornersAreNotSplit) {
+  const auto folds_split = [](double corner_deg, int face_beyond_side, long* left) {
+    Mesh m;
+    const double a = corner_deg * M_PI / 180.0;
+    m.points = {{0, 0, 0}, {1, 0, 0}, {std::cos(a), std::sin(a), 0}, {0.5, -0.5, 0.3}, {0.4, 0.8, 0.3}};
+    m.triangles = {{{0, 1, 2}, 1, 0, 1},                 // the corner at vertex 0
+                   {{0, 3, 1}, 2, 0, 1},                 // across the fold 0-1: another face
+                   {{0, 2, 4}, face_beyond_side, 0, 1}};  // across the corner's other side
+    const int split = split_cap_folds(m, {{0, 1}}, nullptr, left);
+    EXPECT_EQ(m.points.size(), 5u + static_cast<size_t>(split));
+    return split;
+  };
+  long left = 0;
+  EXPECT_EQ(folds_split(5.0, 3, &left), 0);
+  EXPECT_EQ(left, 1);
+  EXPECT_EQ(folds_split(15.0, 3, &left), 1);  // a wider corner
+  EXPECT_EQ(folds_split(5.0, 1, &left), 1);   // its other side inside face 1
+  EXPECT_EQ(left, 1);
 }
 
 // A plate 0.6 x 0.6 x 0.05 whose top and bottom are the same 12 x 12 grid: a
