@@ -104,8 +104,10 @@ std::vector<int> DelaunayTetrahedralization::insert_one(const Vec3& p, int id, i
   return neighbours(id);
 }
 
-bool DelaunayTetrahedralization::faces_taken_by(const Vec3& p, std::vector<std::array<int, 3>>& faces) const {
+bool DelaunayTetrahedralization::faces_taken_by(const Vec3& p, std::vector<std::array<int, 3>>& faces,
+                                                std::vector<std::array<int, 3>>* boundary) const {
   faces.clear();
+  if (boundary) boundary->clear();
   const DT& dt = impl_->dt;
   const CGALPoint q = to_cgal(p);
   DT::Locate_type type;
@@ -113,19 +115,29 @@ bool DelaunayTetrahedralization::faces_taken_by(const Vec3& p, std::vector<std::
   DT::Cell_handle c = dt.locate(q, type, li, lj, impl_->last_located);
   impl_->last_located = c;
   if (type == DT::VERTEX || type == DT::OUTSIDE_CONVEX_HULL || type == DT::OUTSIDE_AFFINE_HULL) return false;
-  std::vector<DT::Facet> inner;
-  dt.find_conflicts(q, c, CGAL::Emptyset_iterator(), CGAL::Emptyset_iterator(), std::back_inserter(inner));
-  for (const DT::Facet& f : inner) {
-    std::array<int, 3> v;
+  std::vector<DT::Facet> inner, around;
+  if (boundary)
+    dt.find_conflicts(q, c, std::back_inserter(around), CGAL::Emptyset_iterator(), std::back_inserter(inner));
+  else
+    dt.find_conflicts(q, c, CGAL::Emptyset_iterator(), CGAL::Emptyset_iterator(), std::back_inserter(inner));
+  const auto vertices = [&](const DT::Facet& f, std::array<int, 3>& v) {
     bool finite = true;
     for (int k = 0, n = 0; k < 4; ++k) {
       if (k == f.second) continue;
       const DT::Vertex_handle x = f.first->vertex(k);
       finite = finite && !dt.is_infinite(x);
-      v[n++] = finite ? x->info() : -1;
+      v[n++] = dt.is_infinite(x) ? -1 : x->info();
     }
-    if (finite) faces.push_back(v);
-  }
+    return finite;
+  };
+  std::array<int, 3> v;
+  for (const DT::Facet& f : inner)
+    if (vertices(f, v)) faces.push_back(v);
+  if (boundary)
+    for (const DT::Facet& f : around) {
+      vertices(f, v);
+      boundary->push_back(v);
+    }
   return true;
 }
 

@@ -33,7 +33,10 @@ class DelaunayTetrahedralization {
   // The finite faces that inserting p would take away: those between two
   // tetrahedra whose circumspheres hold p (exact). Nothing is changed.
   // False, with `faces` empty, when p is a vertex or outside the convex hull.
-  bool faces_taken_by(const Vec3& p, std::vector<std::array<int, 3>>& faces) const;
+  // `boundary`: the faces around them, which p's new tetrahedra stand on
+  // (-1 for the infinite vertex).
+  bool faces_taken_by(const Vec3& p, std::vector<std::array<int, 3>>& faces,
+                      std::vector<std::array<int, 3>>* boundary = nullptr) const;
 
   int number_of_vertices() const;
   // Back to no vertices: a step that is undone has the tetrahedralization

@@ -57,6 +57,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"rejected_outside\": " << r.interior.rejected_outside << ", \"rejected_near_vertex\": "
     << r.interior.rejected_near_vertex << ", \"rejected_near_surface\": " << r.interior.rejected_near_surface
     << ", \"cap_points\": " << r.interior.cap_points << ", \"cap_points_refused\": " << r.interior.cap_points_refused
+    << ", \"cap_points_fallback\": " << r.interior.cap_points_fallback
     << ", \"cap_folds_split\": " << r.interior.cap_folds_split
     << ", \"cap_folds_at_sharp_corners\": " << r.interior.cap_folds_at_sharp_corners
     << ", \"cap_fold_round_undone\": " << (r.interior.cap_fold_round_undone ? "true" : "false")

@@ -35,11 +35,32 @@ constexpr double kFlatAcrossAWallDeg = 1.0;
 // 2.53.
 constexpr double kSharpFaceCornerDeg = 10.0;
 
+// Is the surface edge {a, b} a side of a face's corner under
+// kSharpFaceCornerDeg, the corner's two sides on the face's border?
+// `facets_on(x, y)`: the surface facets on edge {x, y}.
+template <class FacetsOn>
+bool side_of_sharp_border_corner(const Mesh& m, int a, int b, const FacetsOn& facets_on) {
+  const auto on_border = [&](int x, int y) {
+    const std::vector<int> on = facets_on(x, y);
+    return on.size() != 2 || m.triangles[on[0]].face != m.triangles[on[1]].face;
+  };
+  if (!on_border(a, b)) return false;
+  const double sharp = kSharpFaceCornerDeg * M_PI / 180.0;
+  for (const int f : facets_on(a, b)) {
+    const int c = opposite_vertex(m.triangles[f], a, b);
+    if ((corner_angle(m.points[a], m.points[b], m.points[c]) < sharp && on_border(a, c)) ||
+        (corner_angle(m.points[b], m.points[a], m.points[c]) < sharp && on_border(b, c)))
+      return true;
+  }
+  return false;
+}
+
 struct Cap {
   int tet;
   Vec3 point;
   double fold_length;
   std::array<int, 2> fold{-1, -1};
+  std::vector<Vec3> fallbacks;
 };
 
 }  // namespace
@@ -119,6 +140,12 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
       }
     return true;
   };
+  const auto facets_on = [&](int x, int y) {
+    std::vector<int> on;
+    for (const int f : facets_at_vertices()[x])
+      if (std::find(m.triangles[f].v.begin(), m.triangles[f].v.end(), y) != m.triangles[f].v.end()) on.push_back(f);
+    return on;
+  };
   std::vector<Cap> caps;
   std::unordered_set<long long> folds;
   for (size_t ti = 0; ti < m.tets.size(); ++ti) {
@@ -159,7 +186,7 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
               break;
             }
         }
-      caps.push_back({static_cast<int>(ti), centroid, 2 * shortest, edge});
+      caps.push_back({static_cast<int>(ti), centroid, 2 * shortest, edge, {}});
       continue;
     }
     if (n != 2) continue;
@@ -204,8 +231,26 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
                       : side_of_circumsphere(p0, p1, p2, p3, from_centroid) == SphereSide::inside ? &from_centroid
                                                                                                  : nullptr;
       if (!p) continue;
-      caps.push_back({static_cast<int>(ti), *p, length, {a, b}});
+      caps.push_back({static_cast<int>(ti), *p, length, {a, b}, {}});
       break;
+    }
+    // A fold on a side of a sharp border corner is not split when its
+    // point is refused (split_cap_folds), and that point, under the fold's
+    // middle, mostly is: it lies in the circumspheres of the tetrahedra
+    // over the corner's thin facet. Points under the middles of the cap's
+    // other surface edges are offered too; the one whose new tetrahedra are
+    // fairest goes in (insert_cap_vertices). caxif_as1-oc-214.stp's pins
+    // stand tangent to its block's edges, in corners of 3.2 deg: 4.14 ->
+    // 8.79 deg at seeds 1 and 3 (2026-11-27).
+    if (!caps.empty() && caps.back().tet == static_cast<int>(ti) && side_of_sharp_border_corner(m, a, b, facets_on)) {
+      for (const double depth : {0.2, 0.1, 0.05})
+        for (int k = 0; k < 2; ++k) {
+          const int c = t.v[faces[1 - k]];  // facet k's vertex off the fold
+          for (const int e : {a, b}) {
+            const Vec3 q = 0.5 * (m.points[e] + m.points[c]) + (depth * length) * in;
+            if (side_of_circumsphere(p0, p1, p2, p3, q) == SphereSide::inside) caps.back().fallbacks.push_back(q);
+          }
+        }
     }
     // Else the centroid itself, inside the cap: when the circumsphere's
     // centre lies outside the region, the ball may reach inward less than
@@ -213,34 +258,60 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
     // such (smallest angle 0.12 -> 0.76 deg).
     if ((caps.empty() || caps.back().tet != static_cast<int>(ti)) &&
         side_of_circumsphere(p0, p1, p2, p3, centroid) == SphereSide::inside)
-      caps.push_back({static_cast<int>(ti), centroid, length, {a, b}});
+      caps.push_back({static_cast<int>(ti), centroid, length, {a, b}, {}});
   }
   if (caps.empty()) return {};
 
   std::vector<CapPoint> out;
-  for (const Cap& c : caps) {
-    if (dt.label_at(c.point) != m.tets[c.tet].region) continue;
-    const std::array<int, 4> cell = dt.locate(c.point);
+  const auto fits = [&](const Cap& c, const Vec3& p) {
+    if (dt.label_at(p) != m.tets[c.tet].region) return false;
+    const std::array<int, 4> cell = dt.locate(p);
     bool clear = true;
-    for (int v : cell) clear = clear && norm(m.points[v] - c.point) > 0.1 * c.fold_length;
-    for (const CapPoint& q : out) clear = clear && norm(q.point - c.point) > 0.1 * c.fold_length;
-    if (clear) out.push_back({c.point, c.fold});
+    for (int v : cell) clear = clear && norm(m.points[v] - p) > 0.1 * c.fold_length;
+    for (const CapPoint& q : out) clear = clear && norm(q.point - p) > 0.1 * c.fold_length;
+    return clear;
+  };
+  for (const Cap& c : caps) {
+    if (!fits(c, c.point)) continue;
+    CapPoint point{c.point, {}, c.fold};
+    for (const Vec3& f : c.fallbacks)
+      if (fits(c, f)) point.fallbacks.push_back(f);
+    out.push_back(std::move(point));
   }
   return out;
 }
 
 int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<CapPoint>& points,
-                        std::vector<std::array<int, 2>>* refused_folds) {
+                        std::vector<std::array<int, 2>>* refused_folds, long* from_fallbacks) {
   const TripleIndex surface(m.triangles, [](const Triangle& t) { return t.v; });
   int kept = 0;
   std::vector<std::array<int, 3>> taken;
   for (const CapPoint& cap : points) {
-    const Vec3& p = cap.point;
     // Asked before inserting: a point inserted and taken out again left
     // CGAL's cells in an order that depended on memory addresses, so the
     // same run wrote its tetrahedra in another order each time.
-    bool keeps = dt.faces_taken_by(p, taken);
-    for (const auto& f : taken) keeps = keeps && surface.find(f) < 0;
+    std::vector<std::array<int, 3>> around;
+    const auto keeps_facets = [&](const Vec3& q) {
+      bool keeps = dt.faces_taken_by(q, taken, cap.fallbacks.empty() ? nullptr : &around);
+      for (const auto& f : taken) keeps = keeps && surface.find(f) < 0;
+      return keeps;
+    };
+    Vec3 p = cap.point;
+    bool keeps = keeps_facets(p);
+    if (!keeps) {
+      // The fallback whose new tetrahedra are the fairest.
+      double best = 0;
+      for (const Vec3& q : cap.fallbacks) {
+        if (!keeps_facets(q)) continue;
+        double smallest = 180;
+        for (const auto& f : around)
+          smallest = f[0] < 0 || f[1] < 0 || f[2] < 0
+                         ? 0
+                         : std::min(smallest, smallest_dihedral_deg(m.points[f[0]], m.points[f[1]], m.points[f[2]], q));
+        if (smallest > best) best = smallest, p = q, keeps = true;
+      }
+      if (keeps && from_fallbacks) ++*from_fallbacks;
+    }
     if (!keeps) {
       if (refused_folds && cap.fold[0] >= 0) refused_folds->push_back(cap.fold);
       continue;
@@ -268,14 +339,7 @@ int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds, const
   const EdgeFacetPairs adjacency(m.triangles);
   // Faces are only split here, never flipped, so the adjacency's faces
   // across an edge stay true through the splits of this call.
-  const auto on_border = [&](int x, int y) {
-    const std::vector<int> on = adjacency.facets(edge_key(x, y));
-    return on.size() != 2 || m.triangles[on[0]].face != m.triangles[on[1]].face;
-  };
-  const double sharp = kSharpFaceCornerDeg * M_PI / 180.0;
-  const auto sharp_border_corner = [&](int apex, int p, int q) {
-    return corner_angle(m.points[apex], m.points[p], m.points[q]) < sharp && on_border(apex, p) && on_border(apex, q);
-  };
+  const auto facets_on = [&](int x, int y) { return adjacency.facets(edge_key(x, y)); };
   std::vector<char> touched(m.triangles.size(), 0);
   int split = 0;
   for (std::uint64_t key : keys) {
@@ -284,11 +348,7 @@ int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds, const
     for (int f : sharing) clear = clear && !touched[f];
     if (!clear) continue;
     const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-    bool at_sharp_corner = false;
-    for (int f : sharing) {
-      const int c = opposite_vertex(m.triangles[f], a, b);
-      at_sharp_corner = at_sharp_corner || sharp_border_corner(a, b, c) || sharp_border_corner(b, a, c);
-    }
+    const bool at_sharp_corner = side_of_sharp_border_corner(m, a, b, facets_on);
     if (at_sharp_corner) {
       if (left_at_sharp_corners) ++*left_at_sharp_corners;
       continue;

@@ -41,6 +41,10 @@ class SurfaceGeometry;
 // so).
 struct CapPoint {
   Vec3 point;
+  // For a cap whose fold is a side of a sharp border corner (which
+  // split_cap_folds leaves): points under the middles of the cap's other
+  // surface edges, for when `point` would take a facet.
+  std::vector<Vec3> fallbacks;
   // The fold edge, split when the point is refused; for a centroid, the
   // tetrahedron's longest edge on the surface (-1 when none is).
   std::array<int, 2> fold{-1, -1};
@@ -52,10 +56,12 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
 // surface facet stop being a face of dt (a point near a concave fold can):
 // that is asked of dt's conflict zone first. The surface stays as it is, so
 // no recovery (with its flips across folds) is needed, and the new tetrahedra
-// take the label of their region (dt.labelled_cells() gives them). Returns
-// how many went in; the fold edges of the caps refused go to `refused_folds`.
+// take the label of their region (dt.labelled_cells() gives them). A point
+// refused gives way to the fallback that keeps every facet and whose new
+// tetrahedra have the largest smallest dihedral angle. Returns how many went
+// in; the fold edges of the caps refused go to `refused_folds`.
 int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<CapPoint>& points,
-                        std::vector<std::array<int, 2>>* refused_folds = nullptr);
+                        std::vector<std::array<int, 2>>* refused_folds = nullptr, long* from_fallbacks = nullptr);
 
 // For the caps no point can open without taking a facet (on a surface with
 // one region on both sides, the facets' Delaunay apexes on the far side sit

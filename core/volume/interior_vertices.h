@@ -43,6 +43,7 @@ struct InteriorStats {
   bool cautious_retry = false;
   long cap_points = 0;  // added after the tetrahedra, to open flat caps (volume/cap_vertices.h)
   long cap_points_refused = 0;  // not added: a surface facet would have stopped being Delaunay
+  long cap_points_fallback = 0;  // of cap_points, put under another edge of the cap than its fold
   long cap_folds_split = 0;     // fold edges of refused caps split on the surface (volume/cap_vertices.h)
   long cap_folds_at_sharp_corners = 0;  // of those folds, the sides of sharp face corners, left unsplit
   bool cap_fold_round_undone = false;  // the last round's recovery stopped; the mesh is the one before it
