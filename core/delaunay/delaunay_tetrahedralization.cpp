@@ -125,8 +125,9 @@ bool DelaunayTetrahedralization::faces_taken_by(const Vec3& p, std::vector<std::
     for (int k = 0, n = 0; k < 4; ++k) {
       if (k == f.second) continue;
       const DT::Vertex_handle x = f.first->vertex(k);
-      finite = finite && !dt.is_infinite(x);
-      v[n++] = dt.is_infinite(x) ? -1 : x->info();
+      const bool infinite = dt.is_infinite(x);
+      finite = finite && !infinite;
+      v[n++] = infinite ? -1 : x->info();
     }
     return finite;
   };

@@ -178,13 +178,9 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
         for (int y = x + 1; y < 4; ++y) {
           const int a = t.v[x], b = t.v[y];
           const double length = norm(m.points[a] - m.points[b]);
-          if (length <= edge_length) continue;
-          for (int f : facets_at_vertices()[a])
-            if (std::find(m.triangles[f].v.begin(), m.triangles[f].v.end(), b) != m.triangles[f].v.end()) {
-              edge = {a, b};
-              edge_length = length;
-              break;
-            }
+          if (length <= edge_length || facets_on(a, b).empty()) continue;
+          edge = {a, b};
+          edge_length = length;
         }
       caps.push_back({static_cast<int>(ti), centroid, 2 * shortest, edge, {}});
       continue;
@@ -290,19 +286,19 @@ int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vect
     // Asked before inserting: a point inserted and taken out again left
     // CGAL's cells in an order that depended on memory addresses, so the
     // same run wrote its tetrahedra in another order each time.
-    std::vector<std::array<int, 3>> around;
-    const auto keeps_facets = [&](const Vec3& q) {
-      bool keeps = dt.faces_taken_by(q, taken, cap.fallbacks.empty() ? nullptr : &around);
+    const auto keeps_facets = [&](const Vec3& q, std::vector<std::array<int, 3>>* around) {
+      bool keeps = dt.faces_taken_by(q, taken, around);
       for (const auto& f : taken) keeps = keeps && surface.find(f) < 0;
       return keeps;
     };
     Vec3 p = cap.point;
-    bool keeps = keeps_facets(p);
+    bool keeps = keeps_facets(p, nullptr);
     if (!keeps) {
       // The fallback whose new tetrahedra are the fairest.
       double best = 0;
+      std::vector<std::array<int, 3>> around;
       for (const Vec3& q : cap.fallbacks) {
-        if (!keeps_facets(q)) continue;
+        if (!keeps_facets(q, &around)) continue;
         double smallest = 180;
         for (const auto& f : around)
           smallest = f[0] < 0 || f[1] < 0 || f[2] < 0
