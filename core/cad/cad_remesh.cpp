@@ -336,7 +336,8 @@ bool FaceChart::make(const TopoDS_Face& face, double size, double deflection, co
       theta_mid_ = 0.5 * (lo + hi) * sin_;
       double widest = 0;  // distance from the axis
       for (const gp_Pnt2d& c : corners) widest = std::max(widest, std::abs(cone_apex_distance(c.Y())) * sin_);
-      cone_floor_ = 0.1 * std::min(longest_, deflection > 0 ? std::sqrt(8 * widest * deflection / cos_) : longest_);
+      // (Without a chord height, longest(p) is longest_ and the floor unused.)
+      cone_floor_ = 0.1 * std::min(longest_, std::sqrt(8 * widest * std::max(deflection, 0.0) / cos_));
       return true;  // its chord varies with the radius: longest(p)
     }
     case GeomAbs_Sphere: {

@@ -40,13 +40,14 @@ constexpr double kSharpFaceCornerDeg = 10.0;
 // `facets_on(x, y)`: the surface facets on edge {x, y}.
 template <class FacetsOn>
 bool side_of_sharp_border_corner(const Mesh& m, int a, int b, const FacetsOn& facets_on) {
-  const auto on_border = [&](int x, int y) {
-    const std::vector<int> on = facets_on(x, y);
+  const auto border = [&](const std::vector<int>& on) {
     return on.size() != 2 || m.triangles[on[0]].face != m.triangles[on[1]].face;
   };
-  if (!on_border(a, b)) return false;
+  const auto on_border = [&](int x, int y) { return border(facets_on(x, y)); };
+  const std::vector<int> sides = facets_on(a, b);
+  if (!border(sides)) return false;
   const double sharp = kSharpFaceCornerDeg * M_PI / 180.0;
-  for (const int f : facets_on(a, b)) {
+  for (const int f : sides) {
     const int c = opposite_vertex(m.triangles[f], a, b);
     if ((corner_angle(m.points[a], m.points[b], m.points[c]) < sharp && on_border(a, c)) ||
         (corner_angle(m.points[b], m.points[a], m.points[c]) < sharp && on_border(b, c)))
