@@ -198,10 +198,12 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
 // Delaunay refinement in a chart of their (u, v) that keeps angles (exactly
 // on planes, cylinders, cones, spheres and tori; elsewhere kept only when
 // rounder); faces at a singular vertex their chart cannot place, and faces
-// that would get over `growth_limit` times their facets, are left. Returns
+// that would get over the plan's `growth_limit` times their facets (and are
+// not among its `past_limit`), are left. Returns
 // the faces remeshed, and marks them (by face index) in `remeshed` if given.
+struct RemeshPlan;
 int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
-                 double growth_limit, std::vector<char>* remeshed = nullptr);
+                 const RemeshPlan& plan, std::vector<char>* remeshed = nullptr);
 // Before it: how many times its facets a face may get, from what the whole
 // surface would get; and where each border piece (edge_key of its ends)
 // must be cut for the faces' meshes to be round (Ruppert's segment splits):
@@ -212,6 +214,9 @@ int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<dou
 // whose recovery then ran away there).
 struct RemeshPlan {
   double growth_limit = 0;
+  // By face index: faces past growth_limit that the surface's budget still
+  // takes (plan_remeshing).
+  std::vector<char> past_limit;
   // Per border piece: where the mesher put its nodes, as fractions of the
   // piece's length from its end with the lower vertex id.
   std::map<std::uint64_t, std::vector<double>> border_nodes;

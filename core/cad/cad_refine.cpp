@@ -746,7 +746,7 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
     const RemeshPlan plan = plan_remeshing(cad, s, face_deflection, size);
     for (const auto& [key, fractions] : plan.border_nodes)
       r->split_at(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), fractions);
-    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, plan.growth_limit, &remeshed);
+    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, plan, &remeshed);
   }
   // Caps on the borders of the faces kept as they were (the remeshed ones
   // have none): each pass moves the row next to a border onto it, the next
