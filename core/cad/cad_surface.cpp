@@ -168,6 +168,9 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   }
   stats.held_solids.assign(held.begin(), held.end());
   double seconds_tessellate = 0, seconds_refine = 0, first_facets = 0, previous_worst = 0, best_facets = 0;
+  std::vector<char> held_index(impl_->solids.size(), 0);  // `held` by solid index
+  for (size_t i = 0; i < impl_->solids.size(); ++i) held_index[i] = held.count(impl_->solid_number[i]) ? 1 : 0;
+  std::vector<double> previous_errors;  // the previous round's, by solid index
   Mesh best;  // the previous round's surface
   TessellationStats best_stats;
   try {
@@ -236,7 +239,9 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       // chord 0.13 and 0.84 % at 0.06, with fewer facets), the round is no
       // test of the chords, and the next goes finer still.
       const bool finer = round == 1 || facets > 1.05 * best_facets;
-      const bool better = round == 1 || worst < previous_worst;
+      const bool better =
+          round == 1 || (worst < previous_worst && !pushes_a_held_solid_over(previous_errors, errors, held_index,
+                                                                              options.volume_tolerance));
       const bool converging = round == 1 || !finer || worst < 0.7 * previous_worst;
       // Only the facets around the solids that are off grow.
       double next_facets = 0;
@@ -262,6 +267,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
         best = std::move(s.mesh);
         best_stats = pass;
         previous_worst = worst;
+        previous_errors = errors;
         best_facets = facets;
       }
       // Finer only where the volume is off: the solids over the tolerance
