@@ -216,7 +216,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       // The rounds go by the solids they may refine; the report gives all.
       double worst = 0;
       for (size_t i = 0; i < errors.size(); ++i)
-        if (!held.count(impl_->solid_number[i])) worst = std::max(worst, errors[i]);
+        if (!held_index[i]) worst = std::max(worst, errors[i]);
       const double facets = static_cast<double>(s.mesh.triangles.size());
       if (round == 1) first_facets = facets;
       // Facets grow as the chord height shrinks: the shrink is bounded so
@@ -229,7 +229,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       const double fewest = facets / (kMaxFacetGrowth * first_facets);
       std::map<int, double> solid_shrink;  // by solid number, the solids that are off
       for (size_t i = 0; i < errors.size(); ++i)
-        if (errors[i] > options.volume_tolerance && !held.count(impl_->solid_number[i]))
+        if (errors[i] > options.volume_tolerance && !held_index[i])
           solid_shrink[impl_->solid_number[i]] = std::max(0.8 * options.volume_tolerance / errors[i], fewest);
       // The worst solid's (its shrink is the smallest); only asked while it is off.
       double shrink = 1.0;
