@@ -58,6 +58,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
     mopt.delaunayzation.geometry = geometry.get();
     mopt.delaunayzation.max_flip_offset = stats.deflection;
     mopt.delaunayzation.face_flip_offset = stats.face_deflection;
+    mopt.delaunayzation.volume_limit = topt.volume_tolerance;
   }
 
   CadInputReport cad;

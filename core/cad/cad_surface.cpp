@@ -373,6 +373,16 @@ class CadGeometry : public SurfaceGeometry {
     return chord;
   }
 
+  std::vector<double> region_volumes() const override {
+    std::vector<double> volume;
+    for (size_t i = 0; i < cad_.solids.size(); ++i) {
+      const size_t n = static_cast<size_t>(cad_.solid_number[i]);
+      if (n >= volume.size()) volume.resize(n + 1, 0.0);
+      volume[n] = std::abs(solid_integrals(cad_, i)[0]);
+    }
+    return volume;
+  }
+
  private:
   Vec3 on_face(int number, const Vec3& p) const {
     const int fi = cad_.index_of_face_number(number);

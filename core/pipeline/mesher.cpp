@@ -94,6 +94,7 @@ void accumulate(DelaunayzationResult& total, const DelaunayzationResult& pass) {
   total.flips += pass.flips;
   total.splits += pass.splits;
   total.splits_on_chord += pass.splits_on_chord;
+  total.splits_on_chord_for_volume += pass.splits_on_chord_for_volume;
   total.added_vertices += pass.added_vertices;
   total.added_facets += pass.added_facets;
   total.oracle_wrong += pass.oracle_wrong;
@@ -449,7 +450,8 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
         timer.start("cap fold splits");
         const int first_split = static_cast<int>(m.points.size());
         report.interior.cap_folds_split += split_cap_folds(m, refused_folds, options.delaunayzation.geometry,
-                                                         &report.interior.cap_folds_at_sharp_corners);
+                                                         &report.interior.cap_folds_at_sharp_corners,
+                                                         options.delaunayzation.volume_limit);
         refused_folds.clear();
         give_up_early(true);
         try {

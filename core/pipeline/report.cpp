@@ -50,7 +50,7 @@ std::string report_json(const MeshReport& r) {
     << o.lp_refused_by_limit << ", \"lp_ambiguous\": " << o.lp_ambiguous << ", \"wrong_answers_caught\": "
     << d.oracle_wrong << "},\n";
   s << "  \"delaunayzation\": {\"passes\": " << d.passes << ", \"flips\": " << d.flips << ", \"splits\": " << d.splits
-    << ", \"splits_on_chord\": " << d.splits_on_chord
+    << ", \"splits_on_chord\": " << d.splits_on_chord << ", \"splits_on_chord_for_volume\": " << d.splits_on_chord_for_volume
     << ", \"added_vertices\": " << d.added_vertices << ", \"added_facets\": " << d.added_facets << "},\n";
   s << "  \"interior\": {\"vertices\": " << r.interior_vertices << ", \"offset_points\": " << r.interior.offset_points
     << ", \"lattice_points\": " << r.interior.lattice_points << ", \"candidates\": " << r.interior.candidates
@@ -218,7 +218,12 @@ std::string report_table(const MeshReport& r) {
   row("Delaunayzation", std::to_string(r.delaunayzation.passes) + " passes, " + std::to_string(r.delaunayzation.flips) +
                             " flips, " + std::to_string(r.delaunayzation.splits) + " splits" +
                             (r.delaunayzation.splits_on_chord
-                                 ? " (" + std::to_string(r.delaunayzation.splits_on_chord) + " kept on the chord)"
+                                 ? " (" + std::to_string(r.delaunayzation.splits_on_chord) + " kept on the chord" +
+                                       (r.delaunayzation.splits_on_chord_for_volume
+                                            ? ", " + std::to_string(r.delaunayzation.splits_on_chord_for_volume) +
+                                                  " of them for a solid's volume"
+                                            : std::string()) +
+                                       ")"
                                  : std::string()));
   row("oracle", r.oracle + ": " + std::to_string(o.queries) + " queries, " + std::to_string(o.lp_solved) + " LPs");
   std::string per_region;

@@ -10,6 +10,7 @@
 #include "surface/edge_map.h"
 #include "surface/surface_geometry.h"
 #include "surface/face_patches.h"
+#include "surface/volume_keeper.h"
 
 namespace vd {
 namespace {
@@ -41,6 +42,8 @@ class Delaunayzer {
     max_added_ = opt_.max_added_vertices >= 0 ? opt_.max_added_vertices
                                               : 20 * static_cast<int>(m_.points.size()) + 1000;
     input_facets_ = static_cast<int>(m_.triangles.size());
+    if (opt_.geometry && opt_.volume_limit > 0)
+      volume_ = VolumeKeeper(m_, opt_.geometry->region_volumes(), opt_.volume_limit);
   }
 
   DelaunayzationResult run() {
@@ -216,6 +219,7 @@ class Delaunayzer {
       // Delaunay count first, quality as the tie-break: the pair (count,
       // quality) grows with every flip, so flips cannot cycle.
       if (after > before || (after == before && q_after > q_before * (1 + 1e-9))) {
+        volume_.record_flip(m_, t, t2, A, B);
         replace_facet(b, A);
         replace_facet(b2, B);
         delaunay_[b] = dA;
@@ -285,7 +289,13 @@ class Delaunayzer {
     Vec3 point = m_.points[p] + s * (m_.points[q] - m_.points[p]);
     if (opt_.geometry) {
       bool on_chord = false;
-      point = place_split_point(m_, *opt_.geometry, p, q, sharing, point, &on_chord);
+      const Vec3 chord = point;
+      point = place_split_point(m_, *opt_.geometry, p, q, sharing, chord, &on_chord);
+      if (!on_chord && !volume_.take_split(m_, p, q, sharing, point)) {
+        point = chord;
+        on_chord = true;
+        ++result_.splits_on_chord_for_volume;
+      }
       result_.splits_on_chord += on_chord;
     }
     const int v = static_cast<int>(m_.points.size());
@@ -348,6 +358,7 @@ class Delaunayzer {
   int input_facets_ = 0;
   CancelPoll poll_cancel_{opt_.cancel, 256};
   DelaunayzationResult result_;
+  VolumeKeeper volume_;
 };
 
 }  // namespace

@@ -43,6 +43,10 @@ struct DelaunayzationOptions {
   double split_jitter = 1e-4;    // relative to the edge length, along the edge
   // Places split vertices on the true surface (CAD input); null: on the chord.
   const SurfaceGeometry* geometry = nullptr;
+  // >0, with a geometry that knows its regions' volumes: a split vertex
+  // stays on the chord where the true surface would take a region's volume
+  // farther than this (relative) from the true one (VolumeKeeper).
+  double volume_limit = 0;
   // Set from another thread to stop: delaunayize then throws CancelledError.
   const std::atomic<bool>* cancel = nullptr;
   // Set from another thread when the work is moot (the surface was found to
@@ -55,6 +59,7 @@ struct DelaunayzationResult {
   int flips = 0;
   int splits = 0;            // split operations (one new vertex each)
   int splits_on_chord = 0;   // with a SurfaceGeometry: kept on the chord, the true point being too far off
+  int splits_on_chord_for_volume = 0;  // of those, kept there for a region's volume (volume_limit)
   int added_vertices = 0;
   int added_facets = 0;      // final facet count - input facet count
   int oracle_wrong = 0;      // oracle said Delaunay, the exact check said not

@@ -25,6 +25,8 @@ class SurfaceGeometry {
   virtual Vec3 place_node(const std::vector<int>& faces, const Vec3& chord) const {
     return place_on_surface(faces, chord);
   }
+  // Each region's true volume by region id, where known (0: unknown).
+  virtual std::vector<double> region_volumes() const { return {}; }
 };
 
 }  // namespace vd

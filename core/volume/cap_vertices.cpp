@@ -10,6 +10,8 @@
 #include "surface/delaunayzation.h"
 #include "surface/edge_map.h"
 #include "surface/face_patches.h"
+#include "surface/surface_geometry.h"
+#include "surface/volume_keeper.h"
 
 namespace vd {
 namespace {
@@ -326,7 +328,9 @@ int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vect
 }
 
 int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds, const SurfaceGeometry* geometry,
-                    long* left_at_sharp_corners) {
+                    long* left_at_sharp_corners, double volume_limit) {
+  VolumeKeeper volume;
+  if (geometry && volume_limit > 0) volume = VolumeKeeper(m, geometry->region_volumes(), volume_limit);
   std::vector<std::uint64_t> keys;
   for (const auto& [a, b] : folds) keys.push_back(edge_key(a, b));
   std::sort(keys.begin(), keys.end());
@@ -352,7 +356,9 @@ int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds, const
     }
     const int n = static_cast<int>(m.points.size());
     const Vec3 middle = 0.5 * (m.points[a] + m.points[b]);
-    m.points.push_back(geometry ? place_split_point(m, *geometry, a, b, sharing, middle) : middle);
+    Vec3 point = geometry ? place_split_point(m, *geometry, a, b, sharing, middle) : middle;
+    if (!volume.take_split(m, a, b, sharing, point)) point = middle;
+    m.points.push_back(point);
     if (!m.point_size.empty()) m.point_size.push_back(0.5 * (m.point_size[a] + m.point_size[b]));
     for (int f : sharing) {
       touched[f] = 1;
