@@ -21,9 +21,18 @@ double VolumeKeeper::error(int region) const {
 }
 
 // enclosed_volumes' convention: a facet's normal points out of `back`.
+// One entry per region: a move is judged by its whole change.
 void VolumeKeeper::add(const Triangle& sides, double change, std::vector<std::pair<int, double>>& out) const {
-  if (kept(sides.back)) out.emplace_back(sides.back, change);
-  if (kept(sides.front)) out.emplace_back(sides.front, -change);
+  const auto book = [&out](int region, double dv) {
+    for (auto& [r, sum] : out)
+      if (r == region) {
+        sum += dv;
+        return;
+      }
+    out.emplace_back(region, dv);
+  };
+  if (kept(sides.back)) book(sides.back, change);
+  if (kept(sides.front)) book(sides.front, -change);
 }
 
 bool VolumeKeeper::take_split(const Mesh& m, int p, int q, const std::vector<int>& sharing, const Vec3& point) {

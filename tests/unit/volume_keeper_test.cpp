@@ -85,6 +85,10 @@ TEST(VolumeKeeper, RefusesOnlyWhatTakesARegionFartherPastTheLimit) {
   // 0.1 more would end at 0.92 %, past 0.4 %: refused, nothing booked.
   EXPECT_FALSE(keeper.take_split(m, e.p, e.q, e.sharing, c + Vec3{-0.1, 0, 0}));
   EXPECT_NEAR(keeper.error(1), 0.01 / 12, 1e-12);
+  // Judged by the two facets' change together: 0.06 out adds 0.25 % by each
+  // facet, 0.5 % in all, which would end past 0.4 %.
+  EXPECT_FALSE(keeper.take_split(m, e.p, e.q, e.sharing, c + Vec3{-0.06, 0, 0}));
+  EXPECT_NEAR(keeper.error(1), 0.01 / 12, 1e-12);
 
   // A region already past the limit (1 % over): a move back toward its
   // volume passes, one that adds to it does not, however small.
