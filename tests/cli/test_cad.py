@@ -898,7 +898,7 @@ if path:
         # outer faces only, and split vertices on the CAD surface took them
         # 0.54 to 0.73 % over their volume; where a split vertex would take a
         # solid farther past the tolerance it now stays on the chord
-        # (surface/volume_keeper.h). 0.395 to 0.429 % on 2026-11-28.
+        # (surface/volume_keeper.h). 0.384 to 0.400 % on 2026-11-28.
         cad = {int(v["name"][len("Solid"):]): v["cad"] for v in rep["cad"]["volumes"]}
         wings = {k: vol[region == k].sum() / cad[k] - 1 for k in (9, 10, 11, 12)}
         check(all(abs(e) < 0.005 for e in wings.values()) and rep["delaunayzation"]["splits_on_chord_for_volume"] > 0,
