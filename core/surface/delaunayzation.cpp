@@ -42,8 +42,6 @@ class Delaunayzer {
     max_added_ = opt_.max_added_vertices >= 0 ? opt_.max_added_vertices
                                               : 20 * static_cast<int>(m_.points.size()) + 1000;
     input_facets_ = static_cast<int>(m_.triangles.size());
-    if (opt_.geometry && opt_.volume_limit > 0)
-      volume_ = VolumeKeeper(m_, opt_.geometry->region_volumes(), opt_.volume_limit);
   }
 
   DelaunayzationResult run() {
@@ -85,6 +83,9 @@ class Delaunayzer {
     vertex_facets_.assign(m_.points.size(), {});
     for (size_t f = 0; f < m_.triangles.size(); ++f)
       for (int v : m_.triangles[f].v) vertex_facets_[v].push_back(static_cast<int>(f));
+    // The regions' volumes, which only the flips and splits move.
+    if (opt_.geometry && opt_.volume_limit > 0)
+      volume_ = VolumeKeeper(m_, opt_.geometry->region_volumes(), opt_.volume_limit);
   }
 
   bool abandoned() const { return opt_.abandon && opt_.abandon->load(std::memory_order_relaxed); }

@@ -71,9 +71,9 @@ int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vect
 // over a cocircular quad become four isosceles ones around its centre.
 // On CAD input (`geometry`) the mid-point goes onto the true surface where
 // a recovery split would (place_split_point), and stays on the chord where
-// recovery's would for a solid's volume (`volume_limit`, VolumeKeeper). Returns the number of edges
-// split; the new points are appended to m.points (and m.point_size, when
-// set). The caller inserts them and recovers. A fold that is a side of a
+// recovery's would for a solid's volume (`volume_limit`, VolumeKeeper).
+// Returns the number of edges split; the new points are appended to
+// m.points (and m.point_size, when set). The caller inserts them and recovers. A fold that is a side of a
 // face's sharp corner between two border edges stays (counted in
 // `left_at_sharp_corners`): splitting it only makes the corner smaller.
 int split_cap_folds(Mesh& m, const std::vector<std::array<int, 2>>& folds, const SurfaceGeometry* geometry = nullptr,

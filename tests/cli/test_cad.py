@@ -71,7 +71,7 @@ def tets_in_solids(path, solids, name):
     m = meshio.read(path)
     vol = tet_volumes(m)
     region = [np.asarray(v) for b, v in zip(m.cells, m.cell_data["region"]) if b.type == "tetra"][0]
-    check(vol.min() > 0 and sorted(set(region.tolist())) == list(range(1, solids + 1)),
+    check(len(vol) > 0 and vol.min() > 0 and sorted(set(region.tolist())) == list(range(1, solids + 1)),
           "%s: %d tetrahedra, all positive, in the %d solids (meshio)" % (name, len(vol), solids))
     return vol, region
 
@@ -949,11 +949,8 @@ if path:
     code, _, err = run("mesh", path, "-o", target, "--report", report, "--size", "0.1167", "--quiet")
     check(code == 0, "simple plane at 0.6 times its size meshes (exit %d: %s)" % (code, err.strip()[-300:]))
     if code == 0:
-        import meshio
         rep = json.load(open(report))
-        m = meshio.read(target)
-        vol = tet_volumes(m)
-        region = [np.asarray(v) for b, v in zip(m.cells, m.cell_data["region"]) if b.type == "tetra"][0]
+        vol, region = tets_in_solids(target, 27, "simple plane at 0.6 times its size")
         cad = {int(v["name"][len("Solid"):]): v["cad"] for v in rep["cad"]["volumes"]}
         error = {k: abs(vol[region == k].sum() / c - 1) for k, c in cad.items()}
         shown = ", ".join("Solid%d %.3f %%" % (k, 100 * e) for k, e in sorted(error.items()) if e > 0.004)
