@@ -5,16 +5,19 @@
 #pragma once
 
 #include <algorithm>
+#include <charconv>
 #include <cstdint>
 #include <cstring>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
 #include "mesh/error.h"
 #include "mesh/mesh.h"
+#include "mesh/parallel.h"
 
 namespace vd::io::detail {
 
@@ -224,6 +227,39 @@ class Out {
   std::string buf_;
   std::unique_ptr<Sink> sink_;
 };
+
+// Writes value(0) .. value(n - 1) as text, per_line to a line, separated by
+// spaces: integers as integers, floating point as the shortest text that
+// reads back exactly (as Out's <<). The text is made in pieces on all
+// threads and appended in order, a few pieces at a time so that an array's
+// text never exists whole: the connectivity of a surface-only run on the
+// bunny was a tenth of its time formatted on one thread.
+template <class Value>
+void write_text_values(Out& out, size_t n, size_t per_line, Value value) {
+  using T = decltype(value(size_t{0}));
+  constexpr size_t kPiece = size_t{1} << 15;   // values
+  constexpr size_t kWidest = 26;               // a double's text and a separator
+  const size_t pieces = (n + kPiece - 1) / kPiece;
+  const size_t batch = 2 * static_cast<size_t>(std::max(1, thread_count()));
+  std::vector<std::string> text(std::min(batch, pieces));
+  for (size_t first = 0; first < pieces; first += batch) {
+    const size_t count = std::min(batch, pieces - first);
+    for_each_chunk(static_cast<long>(count), 1, [&](long k, long, long) {
+      const size_t begin = (first + static_cast<size_t>(k)) * kPiece, end = std::min(n, begin + kPiece);
+      std::string& t = text[static_cast<size_t>(k)];
+      t.resize((end - begin) * kWidest);
+      char* at = t.data();
+      for (size_t i = begin; i < end; ++i) {
+        const T v = value(i);
+        if constexpr (std::is_floating_point_v<T>) at = std::to_chars(at, at + kWidest, static_cast<double>(v)).ptr;
+        else at = std::to_chars(at, at + kWidest, static_cast<long long>(v)).ptr;
+        *at++ = (i + 1) % per_line == 0 || i + 1 == n ? '\n' : ' ';
+      }
+      t.resize(static_cast<size_t>(at - t.data()));
+    });
+    for (size_t k = 0; k < count; ++k) out << text[k];
+  }
+}
 
 // Element or node number -> index: a vector while the numbers stay within
 // about twice the count (what every writer produces), a hash map beyond, so

@@ -115,6 +115,13 @@ class VtkCellView {
     const size_t t = cell - tets_;
     return j < 3 ? m_.triangles[t].v[j] : m_.triangle_mid[t][j - 3];
   }
+  // Node k of the connectivity (all cells' nodes in a row).
+  int flat_node(size_t k) const {
+    const size_t in_tets = tets_ * static_cast<size_t>(tet_nodes_);
+    if (k < in_tets) return node(k / static_cast<size_t>(tet_nodes_), static_cast<int>(k % static_cast<size_t>(tet_nodes_)));
+    k -= in_tets;
+    return node(tets_ + k / static_cast<size_t>(tri_nodes_), static_cast<int>(k % static_cast<size_t>(tri_nodes_)));
+  }
   int type(size_t cell) const {
     if (cell < tets_) return tet_nodes_ == 4 ? kVtkTet : kVtkQuadraticTet;
     return tri_nodes_ == 3 ? kVtkTriangle : kVtkQuadraticTriangle;

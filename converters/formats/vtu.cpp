@@ -182,13 +182,7 @@ void write_vtu(const Mesh& m, const std::string& path, const WriteOptions& optio
       base64_append(out.str(), piece.data(), fill);
       out << '\n';
     } else {
-      for (size_t i = 0; i < n; ++i) {
-        const T v = value(i);
-        if constexpr (sizeof(T) == 1) out << static_cast<int>(v);
-        else if constexpr (std::is_floating_point_v<T>) out << static_cast<double>(v);
-        else out << static_cast<long long>(v);
-        out << ((i + 1) % 12 == 0 || i + 1 == n ? '\n' : ' ');
-      }
+      detail::write_text_values(out, n, 12, value);
     }
     out << "        </DataArray>\n";
   };
@@ -196,15 +190,7 @@ void write_vtu(const Mesh& m, const std::string& path, const WriteOptions& optio
   array("Float64", "Points", 3, 3 * m.points.size(),
         [&](size_t i) { return m.points[i / 3][static_cast<int>(i % 3)]; });
   out << "      </Points>\n      <Cells>\n";
-  // The connectivity is asked for in order, so a running (cell, node) pair
-  // stands for its flat index.
-  size_t cell = 0;
-  int node = 0;
-  array("Int64", "connectivity", 1, c.connectivity_size(), [&](size_t) {
-    const int64_t v = c.node(cell, node);
-    if (++node == c.nodes(cell)) node = 0, ++cell;
-    return v;
-  });
+  array("Int64", "connectivity", 1, c.connectivity_size(), [&](size_t i) { return int64_t{c.flat_node(i)}; });
   array("Int64", "offsets", 1, ncells, [&](size_t i) { return c.end(i); });
   array("UInt8", "types", 1, ncells, [&](size_t i) { return static_cast<uint8_t>(c.type(i)); });
   out << "      </Cells>\n      <CellData>\n";

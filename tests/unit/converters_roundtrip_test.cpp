@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <set>
@@ -15,6 +16,7 @@
 
 #include "converters/registry.h"
 #include "mesh/error.h"
+#include "mesh/parallel.h"
 #include "mesh/shapes.h"
 #include "test_support.h"
 
@@ -201,10 +203,12 @@ TEST(ConvertersRoundTrip, VolumeFormatsKeepEverything) {
 // Writers stream through a 1 MiB buffer into FILE.part, renamed at the end:
 // a mesh whose files span many buffers must come back the same, and no .part
 // may be left behind.
-TEST(ConvertersRoundTrip, LargeMeshesStreamThroughTheBuffer) {
+// `copies` unit cubes of tetrahedra side by side: a mesh whose files pass
+// the writers' 1 MiB buffer.
+Mesh many_cubes(int copies) {
   const Mesh cube = cube_tets();
   Mesh m;
-  for (int copy = 0; copy < 4000; ++copy) {
+  for (int copy = 0; copy < copies; ++copy) {
     const int base = static_cast<int>(m.points.size());
     // No shift in y: -2.3 + 0.3 + 2 leaves 2.2e-16, which Abaqus' 20-character
     // numbers cannot carry exactly.
@@ -219,6 +223,11 @@ TEST(ConvertersRoundTrip, LargeMeshesStreamThroughTheBuffer) {
       m.triangles.push_back(t);
     }
   }
+  return m;
+}
+
+TEST(ConvertersRoundTrip, LargeMeshesStreamThroughTheBuffer) {
+  const Mesh m = many_cubes(4000);
   for (const Variant& v : volume_variants()) {
     const std::string path = test::temp_path("large-" + v.file);
     io::write_mesh(m, path, v.options);
@@ -227,6 +236,36 @@ TEST(ConvertersRoundTrip, LargeMeshesStreamThroughTheBuffer) {
     EXPECT_FALSE(std::filesystem::exists(path + ".part")) << describe(v);
     expect_same_volume_mesh(m, io::read_mesh(path), v);
   }
+}
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The ASCII arrays are formatted in pieces on several threads
+// (write_text_values): the file must not depend on how many.
+TEST(ConvertersRoundTrip, TextArraysAreTheSameOnAnyNumberOfThreads) {
+  const Mesh m = many_cubes(4000);
+  std::string text[2];
+  for (int threads : {1, 3}) {
+    set_thread_count(threads);
+    const std::string path = test::temp_path("threads-" + std::to_string(threads) + ".vtu");
+    io::write_mesh(m, path, {});
+    text[threads == 1 ? 0 : 1] = file_text(path);
+  }
+  set_thread_count(0);
+  EXPECT_GT(text[0].size(), size_t{1} << 20);
+  EXPECT_TRUE(text[0] == text[1]) << "1 thread: " << text[0].size() << " bytes, 3 threads: " << text[1].size();
+  // Twelve numbers to a line, as before the pieces: the connectivity's
+  // first line is the first three tetrahedra.
+  const size_t at = text[0].find("Name=\"connectivity\"");
+  ASSERT_NE(at, std::string::npos);
+  const size_t line = text[0].find('\n', at) + 1;
+  std::istringstream first(text[0].substr(line, text[0].find('\n', line) - line));
+  int values = 0;
+  for (long long x; first >> x;) ++values;
+  EXPECT_EQ(values, 12);
 }
 
 TEST(ConvertersRoundTrip, UnwritablePathIsInputErrorAndNoFile) {
