@@ -13,6 +13,7 @@
 
 #include "mesh/cancel.h"
 #include "mesh/disjoint_sets.h"
+#include "mesh/parallel.h"
 #include "mesh/progress.h"
 #include "mesh/tet_faces.h"
 
@@ -170,13 +171,25 @@ bool DelaunayTetrahedralization::has_facet(int a, int b, int c) const {
 // vertices of the cell kCellsAhead on fetched early. Inner faces are looked up
 // from both sides: telling which side comes first would read the neighbour,
 // a cache miss dearer than a lookup.
+// With `parts` > 1, only the runs of kRun cells numbered part, part + parts,
+// ... in memory order are visited (each part of a sweep on its own thread:
+// every thread walks the whole container, which costs little beside the
+// look-ups of the cells it keeps).
+constexpr size_t kRun = 256;
 template <class Visit>
-void for_each_facet_side(const DT& dt, const TripleIndex& index, const std::vector<char>& on_surface, Visit visit) {
+void for_each_facet_side(const DT& dt, const TripleIndex& index, const std::vector<char>& on_surface, Visit visit,
+                         size_t part = 0, size_t parts = 1) {
   auto& cells = const_cast<DT&>(dt).tds().cells();  // non-const: its iterators are cell handles
+  const auto mine = [&](size_t k) { return k / kRun % parts == part; };
   auto ahead = cells.begin();
-  for (int k = 0; k < DelaunayTetrahedralization::kCellsAhead && ahead != cells.end(); ++k) ++ahead;
-  for (auto c = cells.begin(); c != cells.end(); ++c) {
-    if (ahead != cells.end()) prefetch_vertices(ahead++);
+  size_t k = 0, k_ahead = 0;
+  for (; k_ahead < DelaunayTetrahedralization::kCellsAhead && ahead != cells.end(); ++k_ahead) ++ahead;
+  for (auto c = cells.begin(); c != cells.end(); ++c, ++k) {
+    if (ahead != cells.end()) {
+      if (mine(k_ahead)) prefetch_vertices(ahead);
+      ++ahead, ++k_ahead;
+    }
+    if (!mine(k)) continue;
     int id[4];
     for (int i = 0; i < 4; ++i) id[i] = dt.is_infinite(c->vertex(i)) ? -1 : c->vertex(i)->info();
     for (int i = 0; i < 4; ++i) {
@@ -191,11 +204,19 @@ void for_each_facet_side(const DT& dt, const TripleIndex& index, const std::vect
 
 std::vector<char> DelaunayTetrahedralization::has_facets(const std::vector<Triangle>& triangles) const {
   const TripleIndex index(triangles, [](const Triangle& t) { return t.v; });
-  std::vector<char> found(triangles.size(), 0);
-  for_each_facet_side(impl_->dt, index, surface_vertex_flags(impl_->handle.size(), triangles),
-                      [&](int f, int) { found[f] = 1; });
+  const std::vector<char> on_surface = surface_vertex_flags(impl_->handle.size(), triangles);
+  // On all threads, each marking its own table (a facet is found from both
+  // sides, maybe by two threads): a tenth of a surface-only run on one.
+  const size_t parts = impl_->dt.number_of_cells() < 8 * kRun ? 1 : static_cast<size_t>(std::max(1, thread_count()));
+  std::vector<std::vector<char>> found(parts, std::vector<char>(triangles.size(), 0));
+  for_each_chunk(static_cast<long>(parts), 1, [&](long part, long, long) {
+    std::vector<char>& mine = found[static_cast<size_t>(part)];
+    for_each_facet_side(impl_->dt, index, on_surface, [&](int f, int) { mine[f] = 1; }, static_cast<size_t>(part), parts);
+  });
+  for (size_t p = 1; p < parts; ++p)
+    for (size_t f = 0; f < triangles.size(); ++f) found[0][f] |= found[p][f];
   std::vector<char> out(triangles.size());
-  for (size_t f = 0; f < triangles.size(); ++f) out[f] = found[index.find(triangles[f].v)];
+  for (size_t f = 0; f < triangles.size(); ++f) out[f] = found[0][index.find(triangles[f].v)];
   return out;
 }
 
