@@ -42,7 +42,8 @@ std::string crossing_faces(const Mesh& surface, const SelfIntersectionError& err
 }
 
 MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& options, const TessellationOptions& topt,
-                             int retries, int runaways, bool has_fallback, MeshResult* partial) {
+                             int retries, int runaways, bool has_fallback, bool stop_running_away,
+                             MeshResult* partial) {
   TessellationStats stats;
   const Mesh surface = model.tessellate(topt, &stats);
 
@@ -53,6 +54,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   // on the chords.
   mopt.surface_grading = 0;
   if (has_fallback) mopt.delaunayzation.patience_passes = kPatienceWithAFallback;
+  mopt.delaunayzation.stop_running_away = stop_running_away;
   const auto geometry = model.geometry();
   if (options.splits_on_geometry) {
     mopt.delaunayzation.geometry = geometry.get();
@@ -155,12 +157,16 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       return true;
     };
     try {
-      MeshResult result = mesh_tessellation(model, options, t, chain.attempt(), runaways, chain.has_fallback(), partial);
+      MeshResult result = mesh_tessellation(model, options, t, chain.attempt(), runaways, chain.has_fallback(),
+                                            chain.halves_after_runaway(), partial);
       if (chain.attempt() > 0)
         result.report.seconds.insert(result.report.seconds.begin(), {"tessellations recovery gave up on", given_up});
       return result;
     } catch (const RecoveryError& e) {
       last_recovery_failure = e.what();
+      // Said before the next tessellation's line: a run that goes on for
+      // minutes shows why (the counts and faces are the error's).
+      if (options.mesh.progress) options.mesh.progress(std::string("recovery stopped: ") + e.what());
       runaways += e.ran_away();
       if (!next(true, e.faces(), e.ran_away())) throw;
     } catch (const SelfIntersectionError& e) {  // the surface is checked before recovery

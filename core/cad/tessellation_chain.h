@@ -18,6 +18,13 @@ namespace vd::cad {
 // 27k vertices went in) and stopped at the guards after 11 s; the third
 // tessellation meshed in 1.5 s.
 constexpr int kPatienceWithAFallback = 8;
+// Times the uniform chord heights are halved and tried again after a
+// recovery on them stopped (before the other angles): gmsh_simple_plane.brep
+// at size 0.35 stopped on the size / 500 of every face (77 facets of a wing
+// root left after 59 passes) and ran away on the other angles (exit 4 after
+// 198 s), and meshed at size / 1000 (so did 0.32, 0.38, 0.4 and 0.45, in
+// 5.5 to 12.5 s).
+constexpr int kUniformChordHalvings = 2;
 
 class TessellationChain {
  public:
@@ -40,6 +47,10 @@ class TessellationChain {
   bool on_uniform_chords() const { return uniform_; }
   // The uniform chord heights were tried (now, or before a later angle).
   bool uniform_tried() const { return uniform_tried_; }
+  // The current tessellation has the uniform chord heights and they would be
+  // halved if its recovery stopped: it is stopped as soon as it runs away,
+  // instead of at the guards.
+  bool halves_after_runaway() const { return uniform_ && halvings_ < kUniformChordHalvings; }
   // Another tessellation follows if recovery stops on this one (its
   // patience is kPatienceWithAFallback). Not on the uniform chords, though
   // the other angles may follow them: they are the link that meshes thin
@@ -83,9 +94,17 @@ class TessellationChain {
         runaway_faces_ = std::move(both);
       }
     }
+    if (uniform_ && recovery_stopped && halvings_ < kUniformChordHalvings) {
+      // Thin solids need finer chords than the size's share (above).
+      ++halvings_;
+      options_.start_deflection *= 0.5;
+      options_.runaway_faces = runaway_faces_;
+      ++attempt_;
+      return true;
+    }
     if (uniform_) {
-      // Whatever stopped the uniform chords, the other angles follow, with
-      // automatic chord heights again.
+      // Whatever else stopped the uniform chords, the other angles follow,
+      // with automatic chord heights again.
       if (angle_ + 1 >= angles_.size()) return false;
       uniform_ = false;
       options_.smooth = options_.remesh = false;
@@ -117,6 +136,7 @@ class TessellationChain {
   std::vector<double> angles_;
   std::vector<int> runaway_faces_;  // in every stopped recovery so far
   int stopped_recoveries_ = 0;
+  int halvings_ = 0;  // of the uniform chord heights
   double uniform_deflection_ = 0;
   size_t angle_ = 0;
   int attempt_ = 0;

@@ -291,6 +291,9 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   // location in the tetrahedralization) instead of by ray casting; the second
   // recovery is the paper's, against all vertices.
   recover("delaunayzation");
+  // Only the first recovery is stopped for running away alone: the later
+  // ones have their own ways out (give_up_early, an undone fold round).
+  dopt.stop_running_away = false;
   if (crossings.pending()) {
     timer.start("self-intersections (awaited)");
     crossings.await_result();

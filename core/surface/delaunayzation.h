@@ -38,6 +38,11 @@ struct DelaunayzationOptions {
   // missing than the fewest so far. For callers with another way out (CAD
   // input tessellated again): a recovery that runs away rarely comes back.
   int patience_passes = 0;
+  // Also stops a recovery that runs away (as patience_passes > 0 does)
+  // without the patience: for a recovery that needs many passes but has
+  // another way out if it runs away (the uniform chord heights of CAD input,
+  // which are tried again finer).
+  bool stop_running_away = false;
   double min_edge_relative = 1e-7;  // edges shorter than this x bbox diagonal are not split
   std::uint64_t seed = 1;        // position of each split point near the mid-point
   double split_jitter = 1e-4;    // relative to the edge length, along the edge
@@ -64,7 +69,7 @@ struct DelaunayzationResult {
   int added_facets = 0;      // final facet count - input facet count
   int oracle_wrong = 0;      // oracle said Delaunay, the exact check said not
   std::vector<int> missing;  // facets still not Delaunay when a guard stopped the work
-  bool ran_away = false;     // stopped as running away (patience_passes > 0 only)
+  bool ran_away = false;     // stopped as running away (patience_passes > 0 or stop_running_away only)
   bool complete() const { return missing.empty(); }
 };
 

@@ -960,6 +960,30 @@ if path:
         check(max(error.values()) < 0.015,
               "simple plane at 0.6 times its size: every solid within 1.5 %% of its CAD volume (over 0.4 %%: %s)" % shown)
 
+# gmsh_simple_plane.brep at size 0.32: the first tessellation's recovery ran
+# away at the thin wings, and the one on the uniform chord heights (size /
+# 500, 0.00064) stopped with 46 facets of a wing root left after 48 passes;
+# then the other angles ran away too, and the run ended in exit 4 (at 0.35
+# after 198 s). The uniform chords are now tried again at half their height
+# (TessellationChain, kUniformChordHalvings), which meshes it: 575,174
+# tetrahedra in 33 s on 2026-11-28 (0.38, 0.4 and 0.45 mesh too, at a
+# quarter of the height for the first two).
+path = data("cad-assembly/gmsh_simple_plane.brep")
+if path:
+    target = os.path.join(out, "simple_plane_032.vtu")
+    report = os.path.join(out, "simple_plane_032.json")
+    code, _, err = run("mesh", path, "-o", target, "--report", report, "--size", "0.32")
+    rep = json.load(open(report)) if code == 0 else None
+    halved = "tessellate CAD faces again at 20 deg, chord height 0.00032 everywhere" in err
+    stopped = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stopped: ")]
+    check(code == 0 and rep["complete"] and rep["cad"]["solids"] == 27 and halved and len(stopped) == 2
+          and rep["cad"]["recovery_retries"] == 2,
+          "simple plane at size 0.32: meshed on the uniform chords at half their height, after two recoveries "
+          "stopped, each said on the progress lines (exit %d, halved %s, %s)"
+          % (code, halved, [line[:90] for line in stopped] if code == 0 else err.strip()[-300:]))
+    if code == 0:
+        tets_in_solids(target, 27, "simple plane at size 0.32")
+
 # The cautious run, which a run falls back to when its recovery with interior
 # vertices stops, asked for with --cautious: interior candidates that would
 # take a surface facet out of the tetrahedralization are refused

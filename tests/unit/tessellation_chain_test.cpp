@@ -31,10 +31,25 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   EXPECT_EQ(chain.options().deflection, 0);
   EXPECT_EQ(chain.options().start_deflection, 0.5);
   EXPECT_EQ(chain.attempt(), 2);
-  // The full patience on the uniform chords, though angles follow.
+  // The full patience on the uniform chords, though angles follow; only a
+  // recovery that runs away stops early, while they can be halved.
   EXPECT_FALSE(chain.has_fallback());
+  EXPECT_TRUE(chain.halves_after_runaway());
+  // Their recovery stopped: the same again at half the chord heights, twice.
+  ASSERT_TRUE(chain.next(true, {7}));
+  EXPECT_TRUE(chain.on_uniform_chords());
+  EXPECT_EQ(chain.options().start_deflection, 0.25);
+  EXPECT_EQ(chain.options().angle_deg, 20);
+  EXPECT_TRUE(chain.options().smooth && chain.options().remesh);
+  EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{7}));
+  EXPECT_EQ(chain.attempt(), 3);
+  EXPECT_TRUE(chain.halves_after_runaway());
+  ASSERT_TRUE(chain.next(true, {7}, true));
+  EXPECT_EQ(chain.options().start_deflection, 0.125);
+  EXPECT_FALSE(chain.halves_after_runaway());
   ASSERT_TRUE(chain.next(true, {7}));
   EXPECT_FALSE(chain.on_uniform_chords());
+  EXPECT_FALSE(chain.halves_after_runaway());
   EXPECT_TRUE(chain.uniform_tried());
   EXPECT_EQ(chain.options().angle_deg, 30);
   EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
@@ -43,7 +58,7 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   EXPECT_TRUE(chain.has_fallback());
   ASSERT_TRUE(chain.next(true, {7}));
   EXPECT_EQ(chain.options().angle_deg, 40);
-  EXPECT_EQ(chain.attempt(), 4);
+  EXPECT_EQ(chain.attempt(), 6);
   EXPECT_FALSE(chain.has_fallback());
   EXPECT_FALSE(chain.next(true, {7}));
 }
@@ -56,7 +71,11 @@ TEST(TessellationChain, FirstRecoveryRunningAwaySkipsTheUnsmoothedSurface) {
   EXPECT_EQ(chain.options().start_deflection, 0.5);
   EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{4, 7}));
   EXPECT_EQ(chain.attempt(), 1);
-  // Then the other angles, unsmoothed, as after any uniform link.
+  // Then the halved chords, and the other angles, unsmoothed, as after any
+  // uniform link.
+  ASSERT_TRUE(chain.next(true, {7}, true));
+  ASSERT_TRUE(chain.next(true, {7}, true));
+  EXPECT_EQ(chain.options().start_deflection, 0.125);
   ASSERT_TRUE(chain.next(true, {7}, true));
   EXPECT_EQ(chain.options().angle_deg, 30);
   EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
@@ -92,7 +111,8 @@ TEST(TessellationChain, RefusedUniformChordsGoOnToTheOtherAngles) {
   ASSERT_TRUE(chain.next(true, {1}));
   ASSERT_TRUE(chain.next(true, {1}));
   ASSERT_TRUE(chain.on_uniform_chords());
-  ASSERT_TRUE(chain.next(false));  // the uniform chords crossed themselves
+  ASSERT_TRUE(chain.next(false));  // the uniform chords crossed themselves: not halved
+  EXPECT_FALSE(chain.on_uniform_chords());
   EXPECT_EQ(chain.options().angle_deg, 30);
   EXPECT_FALSE(chain.next(false));  // an unsmoothed surface refused: nothing else to try
 }
