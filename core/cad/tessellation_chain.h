@@ -47,10 +47,6 @@ class TessellationChain {
   bool on_uniform_chords() const { return uniform_; }
   // The uniform chord heights were tried (now, or before a later angle).
   bool uniform_tried() const { return uniform_tried_; }
-  // The current tessellation has the uniform chord heights and they would be
-  // halved if its recovery stopped: it is stopped as soon as it runs away,
-  // instead of at the guards.
-  bool halves_after_runaway() const { return uniform_ && halvings_ < kUniformChordHalvings; }
   // Another tessellation follows if recovery stops on this one (its
   // patience is kPatienceWithAFallback). Not on the uniform chords, though
   // the other angles may follow them: they are the link that meshes thin

@@ -39,9 +39,8 @@ struct DelaunayzationOptions {
   // input tessellated again): a recovery that runs away rarely comes back.
   int patience_passes = 0;
   // Also stops a recovery that runs away (as patience_passes > 0 does)
-  // without the patience: for a recovery that needs many passes but has
-  // another way out if it runs away (the uniform chord heights of CAD input,
-  // which are tried again finer).
+  // without the patience: for a recovery that may need many passes, where
+  // one that runs away does not come back (CAD input).
   bool stop_running_away = false;
   double min_edge_relative = 1e-7;  // edges shorter than this x bbox diagonal are not split
   std::uint64_t seed = 1;        // position of each split point near the mid-point

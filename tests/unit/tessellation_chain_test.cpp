@@ -31,10 +31,8 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   EXPECT_EQ(chain.options().deflection, 0);
   EXPECT_EQ(chain.options().start_deflection, 0.5);
   EXPECT_EQ(chain.attempt(), 2);
-  // The full patience on the uniform chords, though angles follow; only a
-  // recovery that runs away stops early, while they can be halved.
+  // The full patience on the uniform chords, though angles follow.
   EXPECT_FALSE(chain.has_fallback());
-  EXPECT_TRUE(chain.halves_after_runaway());
   // Their recovery stopped: the same again at half the chord heights, twice.
   ASSERT_TRUE(chain.next(true, {7}));
   EXPECT_TRUE(chain.on_uniform_chords());
@@ -43,13 +41,10 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   EXPECT_TRUE(chain.options().smooth && chain.options().remesh);
   EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{7}));
   EXPECT_EQ(chain.attempt(), 3);
-  EXPECT_TRUE(chain.halves_after_runaway());
   ASSERT_TRUE(chain.next(true, {7}, true));
   EXPECT_EQ(chain.options().start_deflection, 0.125);
-  EXPECT_FALSE(chain.halves_after_runaway());
   ASSERT_TRUE(chain.next(true, {7}));
   EXPECT_FALSE(chain.on_uniform_chords());
-  EXPECT_FALSE(chain.halves_after_runaway());
   EXPECT_TRUE(chain.uniform_tried());
   EXPECT_EQ(chain.options().angle_deg, 30);
   EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
