@@ -22,6 +22,7 @@ and the largest closed surfaces of the shared data ($VDMESH_DATA).
 """
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -89,8 +90,12 @@ def main():
           " dt recovery speed-up vs tetgen's |")
     print("|---|---|" + "---|" * len(oracles) + "---|---|---|---|")
     for name, path in inputs:
-        tg_in = path
-        if not path.endswith((".off", ".smesh", ".poly", ".stl")):
+        # TetGen writes its output beside its input: a copy in the work
+        # directory (run on the shared file, it wrote five files into it).
+        if path.endswith((".off", ".smesh", ".poly", ".stl")):
+            tg_in = os.path.join(work, "tg" + os.path.splitext(path)[1])
+            shutil.copyfile(path, tg_in)
+        else:
             tg_in = os.path.join(work, "tg.off")
             subprocess.run([vdmesh, "convert", path, tg_in], check=True)
         best = {}  # oracle or "tetgen" -> (code, fastest seconds, largest MiB, fastest recovery s, added facets)
