@@ -61,15 +61,19 @@ bool side_of_sharp_border_corner(const Mesh& m, int a, int b, const FacetsOn& fa
 // On CAD input, a cap point whose new tetrahedra would have an angle under
 // this, and no larger than the cap's, is refused when the cap's fold lies
 // inside a face (insert_cap_vertices): the fold is split instead, on the
-// face. The
-// capacitor's caps on its leads' cylinders (kicad_CP_Radial_D10.0mm.step
-// at 1.5 and 2 times its size): 0.020 -> 7.52 deg and 0.12 -> 8.76 deg. On
-// every fold, refusing every point no fairer than its cap, the splits made
-// flatter tetrahedra than the points did (gmsh_917_fusee.stp 4.90 -> 1.01
-// deg, gmsh_part.step 7.25 -> 3.30); with the bound, but on the borders
-// between faces too, the U-joint's caps over its tangent borders stayed or
-// came back (0.34 -> 0.0068 deg).
-constexpr double kFairCapPointDeg = 1.0;
+// face. The capacitor's caps on its leads' cylinders
+// (kicad_CP_Radial_D10.0mm.step at 1.5 and 2 times its size; caps of 0.018
+// and 0.029 deg, points making 0.006 and 0.010 deg): 0.020 -> 7.52 deg and
+// 0.12 -> 8.76 deg. The bound: at 1 deg, the caps of a lone ellipsoid
+// (tests/cli/test_cad.py; caps of 0.02 to 0.5 deg, points making 0.008 to
+// 0.17 deg) had their folds split too, 5.75 -> 2.81 deg, where the points
+// had let the sliver pass reach 5.75. On every fold, refusing every point no
+// fairer than its cap, the splits made flatter tetrahedra than the points
+// did (gmsh_917_fusee.stp 4.90 -> 1.01 deg, gmsh_part.step 7.25 -> 3.30);
+// with the bound of 1 deg, but on the borders between faces too, the
+// U-joint's caps over its tangent borders stayed or came back (0.34 ->
+// 0.0068 deg).
+constexpr double kFairCapPointDeg = 0.01;
 
 struct Cap {
   int tet;

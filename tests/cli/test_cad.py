@@ -511,11 +511,11 @@ if cap:
           "capacitor: %s short edges collapsed (exit %d)" % (rep["cad"]["collapsed_edges"] if rep else "?", code))
 
 # At 1.5 and 2 times its size (0.858) the capacitor had a flat cap over a
-# fold inside one face, its lead's cylinder: the cap point, on the fold's
-# chord, made tetrahedra flatter still (0.0029 deg), and the sliver pass
-# brought the cap back (0.020 deg at 1.287, 0.12 deg at 1.716). Such a point
-# is now refused and the fold split on the face (cap_vertices.cpp,
-# kFairCapPointDeg): 7.52 and 7.44 deg on 2026-11-28.
+# fold inside one face, its lead's cylinder: the cap point made tetrahedra
+# flatter still (0.006 deg), and the sliver pass brought the cap back (0.020
+# deg at 1.287, 0.12 deg at 1.716). Such a point is now refused and the fold
+# split on the face (cap_vertices.cpp, kFairCapPointDeg): 7.52 and 7.44 deg
+# on 2026-11-28.
 if cap:
     for size in ("1.287", "1.716"):
         rep, lowest = meshed_angles(cap, "capacitor at size " + size, "--size", size)
