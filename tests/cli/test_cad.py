@@ -28,7 +28,12 @@ def make_brep(name, build):
 
 
 def mesh(path, *extra):
-    name = os.path.splitext(os.path.basename(path))[0]
+    return mesh_as(os.path.splitext(os.path.basename(path))[0], path, *extra)
+
+
+def mesh_as(name, path, *extra):
+    """Meshes path to NAME.vtu with its report NAME.json; gives the exit
+    code, the report (None unless exit 0), the mesh's path and stderr."""
     target = os.path.join(out, name + ".vtu")
     report = os.path.join(out, name + ".json")
     code, stdout, stderr = run("mesh", path, "-o", target, "--report", report, *extra)
@@ -984,10 +989,7 @@ if path:
 # quarter of the height for the first two).
 path = data("cad-assembly/gmsh_simple_plane.brep")
 if path:
-    target = os.path.join(out, "simple_plane_032.vtu")
-    report = os.path.join(out, "simple_plane_032.json")
-    code, _, err = run("mesh", path, "-o", target, "--report", report, "--size", "0.32")
-    rep = json.load(open(report)) if code == 0 else None
+    code, rep, target, err = mesh_as("simple_plane_032", path, "--size", "0.32")
     halved = "tessellate CAD faces again at 20 deg, chord height 0.00032 everywhere" in err
     stopped = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stopped: ")]
     check(code == 0 and rep["complete"] and rep["cad"]["solids"] == 27 and halved and len(stopped) == 2
@@ -1005,10 +1007,7 @@ if path:
 # 898 of them (2026-11-27).
 path = data("cad-part/gmsh_part.step")
 if path:
-    target = os.path.join(out, "part_cautious.vtu")
-    report = os.path.join(out, "part_cautious.json")
-    code, _, err = run("mesh", path, "-o", target, "--report", report, "--cautious", "--quiet")
-    rep = json.load(open(report)) if code == 0 else None
+    code, rep, target, err = mesh_as("part_cautious", path, "--cautious", "--quiet")
     check(code == 0 and rep["complete"] and rep["interior"]["rejected_taking_a_facet"] > 0
           and rep["interior"]["cap_folds_split"] == 0 and not rep["interior"]["cap_fold_round_undone"],
           "gmsh_part.step --cautious: candidates taking a facet refused, no fold splits (exit %d, %s)"
