@@ -211,7 +211,8 @@ std::vector<char> DelaunayTetrahedralization::has_facets(const std::vector<Trian
   std::vector<std::vector<char>> found(parts, std::vector<char>(triangles.size(), 0));
   for_each_chunk(static_cast<long>(parts), 1, [&](long part, long, long) {
     std::vector<char>& mine = found[static_cast<size_t>(part)];
-    for_each_facet_side(impl_->dt, index, on_surface, [&](int f, int) { mine[f] = 1; }, static_cast<size_t>(part), parts);
+    for_each_facet_side(
+        impl_->dt, index, on_surface, [&](int f, int) { mine[f] = 1; }, static_cast<size_t>(part), parts);
   });
   for (size_t p = 1; p < parts; ++p)
     for (size_t f = 0; f < triangles.size(); ++f) found[0][f] |= found[p][f];

@@ -406,9 +406,10 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
         const std::vector<CapPoint> caps =
             cap_breaking_points(m, dt, sliver_options.sliver_angle_deg, sliver_options.ridge_angle_deg);
         const int first_cap = static_cast<int>(m.points.size());
+        const bool on_cad = options.delaunayzation.geometry != nullptr;
         const int kept = caps.empty() ? 0
-                                      : insert_cap_vertices(m, dt, caps, &refused_folds, &report.interior.cap_points_fallback,
-                                                            /*refuse_unfair=*/options.delaunayzation.geometry != nullptr);
+                                      : insert_cap_vertices(m, dt, caps, &refused_folds,
+                                                            &report.interior.cap_points_fallback, /*refuse_unfair=*/on_cad);
         report.interior.cap_points_refused += static_cast<long>(caps.size()) - kept;
         if (kept > 0) {
           added_to_dt(first_cap, "a cap vertex");

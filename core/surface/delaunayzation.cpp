@@ -109,7 +109,8 @@ class Delaunayzer {
     // first count. Under kFewMissing, four times the fewest: a handful of
     // facets wanders up and down (below).
     const size_t fewest_factor = fewest_missing_ < kFewMissing ? 4 : 2;
-    const bool running_away = (opt_.patience_passes > 0 || opt_.stop_running_away) && first_missing_ > 0 && missing >= 2 * first_missing_ &&
+    const bool watched = opt_.patience_passes > 0 || opt_.stop_running_away;
+    const bool running_away = watched && first_missing_ > 0 && missing >= 2 * first_missing_ &&
                               missing >= fewest_factor * fewest_missing_;
     result_.ran_away = running_away;
     // With a handful of facets left, their count wanders up and down by a

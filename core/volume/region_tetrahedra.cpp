@@ -45,7 +45,8 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   for_each_chunk(n, kChunk, [&](long chunk, long begin, long end) {
     std::vector<std::array<int, 3>>& found = chunk_faces[static_cast<size_t>(chunk)];
     for (int t = static_cast<int>(begin); t < end; ++t) {
-      if (t + DelaunayTetrahedralization::kCellsAhead < end) dt.prefetch_cell(t + DelaunayTetrahedralization::kCellsAhead);
+      const int ahead = t + DelaunayTetrahedralization::kCellsAhead;
+      if (ahead < end) dt.prefetch_cell(ahead);
       const auto tet = dt.cell(t);
       int touching = 0;
       for (int v : tet) touching += on_facet[static_cast<size_t>(v)];
