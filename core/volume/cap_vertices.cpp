@@ -331,8 +331,9 @@ int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vect
     // flat and no fairer than the cap is refused, as one that takes a facet
     // is (kFairCapPointDeg).
     Vec3 p = cap.point;
-    bool keeps = keeps_facets(p, &around);
-    if (keeps && refuse_unfair && cap.fold_inside_a_face) {
+    const bool judged = refuse_unfair && cap.fold_inside_a_face;  // the faces around only then
+    bool keeps = keeps_facets(p, judged ? &around : nullptr);
+    if (keeps && judged) {
       const double fair = fairness(p);
       keeps = fair > cap.cap_angle_deg || fair >= kFairCapPointDeg;
     }
