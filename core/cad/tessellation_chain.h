@@ -18,13 +18,18 @@ namespace vd::cad {
 // 27k vertices went in) and stopped at the guards after 11 s; the third
 // tessellation meshed in 1.5 s.
 constexpr int kPatienceWithAFallback = 8;
-// Times the uniform chord heights are halved and tried again after a
-// recovery on them stopped (before the other angles): gmsh_simple_plane.brep
+// The uniform chord heights tried again after a recovery on them stopped
+// (before the other angles), as factors of the first: gmsh_simple_plane.brep
 // at size 0.35 stopped on the size / 500 of every face (77 facets of a wing
 // root left after 59 passes) and ran away on the other angles (exit 4 after
-// 198 s), and meshed at size / 1000 (so did 0.32, 0.38, 0.4 and 0.45, in
-// 5.5 to 12.5 s).
-constexpr int kUniformChordHalvings = 2;
+// 198 s), and meshed at size / 1000 (so did 0.32, 0.38, 0.4 and 0.45, in 5.5
+// to 12.5 s). Halved twice only, it still ended in exit 4 at 5 of 10 sizes
+// between 0.30 and 0.43 (2026-11-28): where its wing's skins meet at small
+// angles, the splits of recovery stall or run away, and which chord heights
+// get through moves with them chaotically (0.32 and 0.320008 meshed,
+// 0.3200076 did not), so two more heights between the halvings give it two
+// more chances.
+constexpr double kUniformChordRetries[] = {0.5, 0.25, 0.75, 0.375};
 
 class TessellationChain {
  public:
@@ -90,10 +95,9 @@ class TessellationChain {
         runaway_faces_ = std::move(both);
       }
     }
-    if (uniform_ && recovery_stopped && halvings_ < kUniformChordHalvings) {
+    if (uniform_ && recovery_stopped && retries_ < std::size(kUniformChordRetries)) {
       // Thin solids need finer chords than the size's share (above).
-      ++halvings_;
-      options_.start_deflection *= 0.5;
+      options_.start_deflection = uniform_deflection_ * kUniformChordRetries[retries_++];
       options_.runaway_faces = runaway_faces_;
       ++attempt_;
       return true;
@@ -132,7 +136,7 @@ class TessellationChain {
   std::vector<double> angles_;
   std::vector<int> runaway_faces_;  // in every stopped recovery so far
   int stopped_recoveries_ = 0;
-  int halvings_ = 0;  // of the uniform chord heights
+  size_t retries_ = 0;  // of the uniform chord heights (kUniformChordRetries)
   double uniform_deflection_ = 0;
   size_t angle_ = 0;
   int attempt_ = 0;

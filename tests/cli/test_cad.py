@@ -984,7 +984,7 @@ if path:
 # 500, 0.00064) stopped with 46 facets of a wing root left after 48 passes;
 # then the other angles ran away too, and the run ended in exit 4 (at 0.35
 # after 198 s). The uniform chords are now tried again at half their height
-# (TessellationChain, kUniformChordHalvings), which meshes it: 575,174
+# (TessellationChain, kUniformChordRetries), which meshes it: 575,174
 # tetrahedra in 33 s on 2026-11-28 (0.38, 0.4 and 0.45 mesh too, at a
 # quarter of the height for the first two).
 path = data("cad-assembly/gmsh_simple_plane.brep")
@@ -999,6 +999,26 @@ if path:
           % (code, halved, [line[:90] for line in stopped] if code == 0 else err.strip()[-300:]))
     if code == 0:
         tets_in_solids(target, 27, "simple plane at size 0.32")
+
+# gmsh_simple_plane.brep at size 0.3786: the uniform chords stopped at their
+# height, at half and at a quarter of it (stalls and runaways where the wing's
+# skins meet at small angles), and the run ended in exit 4, as at 5 of 10
+# sizes sampled between 0.30 and 0.43 (2026-11-28). Three quarters and three
+# eighths of the height come next now (kUniformChordRetries): here three
+# quarters meshes it, 437,912 tetrahedra in 62 s (its smallest angle 0.0034
+# deg, one tetrahedron; the next 0.52 deg).
+path = data("cad-assembly/gmsh_simple_plane.brep")
+if path:
+    code, rep, target, err = mesh_as("simple_plane_03786", path, "--size", "0.3786")
+    three_quarters = "tessellate CAD faces again at 20 deg, chord height 0.0005679 everywhere" in err
+    stopped = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stopped: ")]
+    check(code == 0 and rep["complete"] and rep["cad"]["solids"] == 27 and three_quarters and len(stopped) == 4
+          and rep["cad"]["recovery_retries"] == 4,
+          "simple plane at size 0.3786: meshed on the uniform chords at three quarters of their height, after "
+          "four recoveries stopped (exit %d, three quarters %s, %s)"
+          % (code, three_quarters, [line[:90] for line in stopped] if code == 0 else err.strip()[-300:]))
+    if code == 0:
+        tets_in_solids(target, 27, "simple plane at size 0.3786")
 
 # The cautious run, which a run falls back to when its recovery with interior
 # vertices stops, asked for with --cautious: interior candidates that would

@@ -33,7 +33,8 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   EXPECT_EQ(chain.attempt(), 2);
   // The full patience on the uniform chords, though angles follow.
   EXPECT_FALSE(chain.has_fallback());
-  // Their recovery stopped: the same again at half the chord heights, twice.
+  // Their recovery stopped: the same again at half the chord heights, twice,
+  // then at three quarters and three eighths of them.
   ASSERT_TRUE(chain.next(true, {7}));
   EXPECT_TRUE(chain.on_uniform_chords());
   EXPECT_EQ(chain.options().start_deflection, 0.25);
@@ -44,6 +45,13 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   ASSERT_TRUE(chain.next(true, {7}, true));
   EXPECT_EQ(chain.options().start_deflection, 0.125);
   ASSERT_TRUE(chain.next(true, {7}));
+  EXPECT_TRUE(chain.on_uniform_chords());
+  EXPECT_EQ(chain.options().start_deflection, 0.375);
+  EXPECT_TRUE(chain.options().smooth && chain.options().remesh);
+  ASSERT_TRUE(chain.next(true, {7}));
+  EXPECT_EQ(chain.options().start_deflection, 0.1875);
+  EXPECT_EQ(chain.attempt(), 6);
+  ASSERT_TRUE(chain.next(true, {7}));
   EXPECT_FALSE(chain.on_uniform_chords());
   EXPECT_TRUE(chain.uniform_tried());
   EXPECT_EQ(chain.options().angle_deg, 30);
@@ -53,7 +61,7 @@ TEST(TessellationChain, UnsmoothedThenUniformChordsThenOtherAngles) {
   EXPECT_TRUE(chain.has_fallback());
   ASSERT_TRUE(chain.next(true, {7}));
   EXPECT_EQ(chain.options().angle_deg, 40);
-  EXPECT_EQ(chain.attempt(), 6);
+  EXPECT_EQ(chain.attempt(), 8);
   EXPECT_FALSE(chain.has_fallback());
   EXPECT_FALSE(chain.next(true, {7}));
 }
@@ -66,11 +74,14 @@ TEST(TessellationChain, FirstRecoveryRunningAwaySkipsTheUnsmoothedSurface) {
   EXPECT_EQ(chain.options().start_deflection, 0.5);
   EXPECT_EQ(chain.options().runaway_faces, (std::vector<int>{4, 7}));
   EXPECT_EQ(chain.attempt(), 1);
-  // Then the halved chords, and the other angles, unsmoothed, as after any
-  // uniform link.
+  // Then the other uniform heights, and the other angles, unsmoothed, as
+  // after any uniform link.
   ASSERT_TRUE(chain.next(true, {7}, true));
   ASSERT_TRUE(chain.next(true, {7}, true));
   EXPECT_EQ(chain.options().start_deflection, 0.125);
+  ASSERT_TRUE(chain.next(true, {7}, true));
+  ASSERT_TRUE(chain.next(true, {7}, true));
+  EXPECT_EQ(chain.options().start_deflection, 0.1875);
   ASSERT_TRUE(chain.next(true, {7}, true));
   EXPECT_EQ(chain.options().angle_deg, 30);
   EXPECT_FALSE(chain.options().smooth || chain.options().remesh);
