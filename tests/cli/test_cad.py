@@ -979,6 +979,26 @@ if path:
         check(max(error.values()) < 0.015,
               "simple plane at 0.6 times its size: every solid within 1.5 %% of its CAD volume (over 0.4 %%: %s)" % shown)
 
+
+def meshes_on_uniform_chords(size, height, which, stops):
+    """gmsh_simple_plane.brep at `size` meshes on the uniform chord heights
+    at `height` (as the progress line writes it, `which` of the first), after
+    `stops` recoveries stopped, each said on a progress line."""
+    path = data("cad-assembly/gmsh_simple_plane.brep")
+    if not path:
+        return
+    code, rep, target, err = mesh_as("simple_plane_" + size.replace(".", ""), path, "--size", size)
+    on_it = "tessellate CAD faces again at 20 deg, chord height %s everywhere" % height in err
+    stopped = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stopped: ")]
+    check(code == 0 and rep["complete"] and rep["cad"]["solids"] == 27 and on_it and len(stopped) == stops
+          and rep["cad"]["recovery_retries"] == stops,
+          "simple plane at size %s: meshed on the uniform chords at %s of their height, after %d recoveries "
+          "stopped, each said on the progress lines (exit %d, %s)"
+          % (size, which, stops, code, [line[:90] for line in stopped] if code == 0 else err.strip()[-300:]))
+    if code == 0:
+        tets_in_solids(target, 27, "simple plane at size " + size)
+
+
 # gmsh_simple_plane.brep at size 0.32: the first tessellation's recovery ran
 # away at the thin wings, and the one on the uniform chord heights (size /
 # 500, 0.00064) stopped with 46 facets of a wing root left after 48 passes;
@@ -987,18 +1007,7 @@ if path:
 # (TessellationChain, kUniformChordRetries), which meshes it: 575,174
 # tetrahedra in 33 s on 2026-11-28 (0.38, 0.4 and 0.45 mesh too, at a
 # quarter of the height for the first two).
-path = data("cad-assembly/gmsh_simple_plane.brep")
-if path:
-    code, rep, target, err = mesh_as("simple_plane_032", path, "--size", "0.32")
-    halved = "tessellate CAD faces again at 20 deg, chord height 0.00032 everywhere" in err
-    stopped = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stopped: ")]
-    check(code == 0 and rep["complete"] and rep["cad"]["solids"] == 27 and halved and len(stopped) == 2
-          and rep["cad"]["recovery_retries"] == 2,
-          "simple plane at size 0.32: meshed on the uniform chords at half their height, after two recoveries "
-          "stopped, each said on the progress lines (exit %d, halved %s, %s)"
-          % (code, halved, [line[:90] for line in stopped] if code == 0 else err.strip()[-300:]))
-    if code == 0:
-        tets_in_solids(target, 27, "simple plane at size 0.32")
+meshes_on_uniform_chords("0.32", "0.00032", "half", 2)
 
 # gmsh_simple_plane.brep at size 0.3786: the uniform chords stopped at their
 # height, at half and at a quarter of it (stalls and runaways where the wing's
@@ -1007,18 +1016,7 @@ if path:
 # eighths of the height come next now (kUniformChordRetries): here three
 # quarters meshes it, 437,912 tetrahedra in 62 s (its smallest angle 0.0034
 # deg, one tetrahedron; the next 0.52 deg).
-path = data("cad-assembly/gmsh_simple_plane.brep")
-if path:
-    code, rep, target, err = mesh_as("simple_plane_03786", path, "--size", "0.3786")
-    three_quarters = "tessellate CAD faces again at 20 deg, chord height 0.0005679 everywhere" in err
-    stopped = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stopped: ")]
-    check(code == 0 and rep["complete"] and rep["cad"]["solids"] == 27 and three_quarters and len(stopped) == 4
-          and rep["cad"]["recovery_retries"] == 4,
-          "simple plane at size 0.3786: meshed on the uniform chords at three quarters of their height, after "
-          "four recoveries stopped (exit %d, three quarters %s, %s)"
-          % (code, three_quarters, [line[:90] for line in stopped] if code == 0 else err.strip()[-300:]))
-    if code == 0:
-        tets_in_solids(target, 27, "simple plane at size 0.3786")
+meshes_on_uniform_chords("0.3786", "0.0005679", "three quarters", 4)
 
 # The cautious run, which a run falls back to when its recovery with interior
 # vertices stops, asked for with --cautious: interior candidates that would
