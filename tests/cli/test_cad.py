@@ -937,10 +937,7 @@ if path:
 # 0.0015, each of which met it until a change of the face remesher.
 path = data("cad-assembly/gmsh_simple_plane.brep")
 if path:
-    target = os.path.join(out, "simple_plane_02.vtu")
-    report = os.path.join(out, "simple_plane_02.json")
-    code, table, err = run("mesh", path, "-o", target, "--report", report, "--size", "0.2", "--quiet")
-    rep = json.load(open(report)) if code == 0 else None
+    code, rep, target, err = mesh_as("simple_plane_02", path, "--size", "0.2", "--quiet")
     check(code == 0 and rep["interior"]["cap_fold_round_undone"] and not rep["interior"]["cautious_retry"]
           and rep["interior"]["cap_folds_split"] > 0 and rep["cad"]["solids"] == 27 and rep["complete"],
           "simple plane at size 0.2: meshed with its last cap fold round undone (exit %d, %s)"
@@ -963,12 +960,9 @@ if path:
 # -1.06 % (-1.27 % with the refusal alone), 719k tetrahedra.
 path = data("cad-assembly/gmsh_simple_plane.brep")
 if path:
-    target = os.path.join(out, "simple_plane_fine.vtu")
-    report = os.path.join(out, "simple_plane_fine.json")
-    code, _, err = run("mesh", path, "-o", target, "--report", report, "--size", "0.1167", "--quiet")
+    code, rep, target, err = mesh_as("simple_plane_fine", path, "--size", "0.1167", "--quiet")
     check(code == 0, "simple plane at 0.6 times its size meshes (exit %d: %s)" % (code, err.strip()[-300:]))
     if code == 0:
-        rep = json.load(open(report))
         vol, region = tets_in_solids(target, 27, "simple plane at 0.6 times its size")
         cad = {int(v["name"][len("Solid"):]): v["cad"] for v in rep["cad"]["volumes"]}
         error = {k: abs(vol[region == k].sum() / c - 1) for k, c in cad.items()}
