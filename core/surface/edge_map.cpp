@@ -4,54 +4,141 @@
 
 namespace vd {
 
-void FacetList::push_back(int f) {
-  if (n_ < 2) {
-    small_[n_++] = f;
-    return;
-  }
-  if (n_ == 2) big_.assign(small_, small_ + 2);
-  big_.push_back(f);
-  ++n_;
+namespace {
+int log2_of(size_t power_of_two) {
+  int k = 0;
+  while ((size_t{1} << k) < power_of_two) ++k;
+  return k;
 }
-
-void FacetList::erase(int f) {
-  if (n_ <= 2) {
-    int kept = 0;
-    for (int i = 0; i < n_; ++i)
-      if (small_[i] != f) small_[kept++] = small_[i];
-    n_ = kept;
-    return;
-  }
-  big_.erase(std::remove(big_.begin(), big_.end(), f), big_.end());
-  n_ = static_cast<int>(big_.size());
-  if (n_ <= 2) {
-    std::copy(big_.begin(), big_.end(), small_);
-    big_ = {};
-  }
-}
+}  // namespace
 
 EdgeMap::EdgeMap(const std::vector<Triangle>& facets) {
-  map_.reserve(facets.size() * 2);
+  // A closed surface has 3/2 edges a facet; room for them at most half full.
+  size_t capacity = 16;
+  while (capacity < 3 * facets.size()) capacity *= 2;
+  slots_.assign(capacity, Slot{});
+  shift_ = 64 - log2_of(capacity);
   for (size_t f = 0; f < facets.size(); ++f) add(static_cast<int>(f), facets[f]);
 }
 
+size_t EdgeMap::find(std::uint64_t key) const {
+  if (slots_.empty()) return kNone;
+  const size_t mask = slots_.size() - 1;
+  for (size_t i = home(key);; i = (i + 1) & mask) {
+    if (slots_[i].key == key) return i;
+    if (slots_[i].key == kEmpty) return kNone;
+  }
+}
+
+EdgeMap::Slot& EdgeMap::find_or_insert(std::uint64_t key) {
+  if (2 * (size_ + 1) > slots_.size()) grow();
+  const size_t mask = slots_.size() - 1;
+  size_t i = home(key);
+  while (slots_[i].key != key && slots_[i].key != kEmpty) i = (i + 1) & mask;
+  if (slots_[i].key == kEmpty) {
+    slots_[i].key = key;
+    ++size_;
+  }
+  return slots_[i];
+}
+
+void EdgeMap::grow() {
+  std::vector<Slot> old = std::move(slots_);
+  const size_t capacity = std::max<size_t>(16, 2 * old.size());
+  slots_.assign(capacity, Slot{});
+  shift_ = 64 - log2_of(capacity);
+  const size_t mask = capacity - 1;
+  for (const Slot& s : old) {
+    if (s.key == kEmpty) continue;
+    size_t i = home(s.key);
+    while (slots_[i].key != kEmpty) i = (i + 1) & mask;
+    slots_[i] = s;
+  }
+}
+
+// Backward shift: the slots after i that probed past it move up, so that no
+// lookup meets a hole before its key (no tombstones to clean up later).
+void EdgeMap::erase_slot(size_t i) {
+  const size_t mask = slots_.size() - 1;
+  for (size_t j = (i + 1) & mask; slots_[j].key != kEmpty; j = (j + 1) & mask) {
+    const size_t k = home(slots_[j].key);
+    const bool stays = i <= j ? (i < k && k <= j) : (i < k || k <= j);
+    if (stays) continue;
+    slots_[i] = slots_[j];
+    i = j;
+  }
+  slots_[i] = Slot{};
+  --size_;
+}
+
+FacetList EdgeMap::list(const Slot& s) const {
+  FacetList l;
+  l.n_ = s.n;
+  if (s.n <= 2) l.small_[0] = s.a, l.small_[1] = s.b;
+  else l.big_ = big_[static_cast<size_t>(s.a)].data();
+  return l;
+}
+
+void EdgeMap::push(Slot& s, int facet) {
+  if (s.n == 0) {
+    s.a = facet;
+  } else if (s.n == 1) {
+    s.b = facet;
+  } else if (s.n == 2) {
+    int index;
+    if (free_big_.empty()) {
+      index = static_cast<int>(big_.size());
+      big_.emplace_back();
+    } else {
+      index = free_big_.back();
+      free_big_.pop_back();
+    }
+    big_[static_cast<size_t>(index)] = {s.a, s.b, facet};
+    s.a = index;
+    s.b = -1;
+  } else {
+    big_[static_cast<size_t>(s.a)].push_back(facet);
+  }
+  ++s.n;
+}
+
+void EdgeMap::erase(Slot& s, int facet) {
+  if (s.n <= 2) {
+    int kept[2], n = 0;
+    if (s.n >= 1 && s.a != facet) kept[n++] = s.a;
+    if (s.n == 2 && s.b != facet) kept[n++] = s.b;
+    s.n = n;
+    s.a = n >= 1 ? kept[0] : -1;
+    s.b = n == 2 ? kept[1] : -1;
+    return;
+  }
+  std::vector<int>& l = big_[static_cast<size_t>(s.a)];
+  l.erase(std::remove(l.begin(), l.end(), facet), l.end());
+  s.n = static_cast<int>(l.size());
+  if (s.n <= 2) {
+    free_big_.push_back(s.a);
+    s.a = s.n >= 1 ? l[0] : -1;
+    s.b = s.n == 2 ? l[1] : -1;
+    l = {};
+  }
+}
+
 void EdgeMap::add(int facet, const Triangle& t) {
-  for (int i = 0; i < 3; ++i) map_[edge_key(t.v[i], t.v[(i + 1) % 3])].push_back(facet);
+  for (int i = 0; i < 3; ++i) push(find_or_insert(edge_key(t.v[i], t.v[(i + 1) % 3])), facet);
 }
 
 void EdgeMap::remove(int facet, const Triangle& t) {
   for (int i = 0; i < 3; ++i) {
-    auto it = map_.find(edge_key(t.v[i], t.v[(i + 1) % 3]));
-    if (it == map_.end()) continue;
-    it->second.erase(facet);
-    if (it->second.empty()) map_.erase(it);
+    const size_t at = find(edge_key(t.v[i], t.v[(i + 1) % 3]));
+    if (at == kNone) continue;
+    erase(slots_[at], facet);
+    if (slots_[at].n == 0) erase_slot(at);
   }
 }
 
-const FacetList& EdgeMap::facets(int a, int b) const {
-  static const FacetList none;
-  auto it = map_.find(edge_key(a, b));
-  return it == map_.end() ? none : it->second;
+FacetList EdgeMap::facets(int a, int b) const {
+  const size_t at = find(edge_key(a, b));
+  return at == kNone ? FacetList{} : list(slots_[at]);
 }
 
 EdgeFacetPairs::EdgeFacetPairs(const std::vector<Triangle>& facets) {

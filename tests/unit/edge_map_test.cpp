@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <numeric>
 #include <random>
 
@@ -65,6 +66,68 @@ TEST(EdgeFacetPairs, SortedAsStdSortOnASphereNumberedAnyhow) {
 TEST(EdgeFacetPairs, SortedAsStdSortAroundAVertexOfManyEdges) {
   expect_both_agree(cone(7));
   expect_both_agree(cone(100));  // 200 pairs on vertex 0, 200 on vertex 1
+}
+
+
+// The open-addressed EdgeMap against a std::map through random adds and
+// removes: facets on edges of three and more (interfaces) and back, edges
+// emptied (the backward-shift deletion) and the table grown from empty.
+TEST(EdgeMap, AgreesWithAnOrderedMapThroughAddsAndRemoves) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> vertex(0, 40);  // few vertices: shared edges, non-manifold ones
+  std::vector<Triangle> facets;
+  std::vector<char> present;
+  EdgeMap map;
+  std::map<std::uint64_t, std::vector<int>> reference;
+  auto check = [&] {
+    ASSERT_EQ(map.size(), reference.size());
+    for (const auto& [key, list] : reference) {
+      const auto [a, b] = edge_of_key(key);
+      EXPECT_EQ(std::vector<int>(map.facets(a, b)), list) << "edge " << a << "-" << b;
+      EXPECT_TRUE(map.contains(b, a));
+    }
+    size_t seen = 0;
+    for (const auto& [key, list] : map.all()) {
+      ++seen;
+      ASSERT_TRUE(reference.count(key));
+      EXPECT_EQ(std::vector<int>(list), reference[key]);
+    }
+    EXPECT_EQ(seen, reference.size());
+    EXPECT_TRUE(map.facets(41, 42).empty());
+  };
+  for (int step = 0; step < 6000; ++step) {
+    const bool removing = step % 3 == 2 || (step > 4000 && step % 3 != 0);
+    if (removing && !facets.empty()) {
+      const int f = std::uniform_int_distribution<int>(0, static_cast<int>(facets.size()) - 1)(rng);
+      if (!present[f]) continue;
+      map.remove(f, facets[f]);
+      for (int i = 0; i < 3; ++i) {
+        auto& l = reference[edge_key(facets[f].v[i], facets[f].v[(i + 1) % 3])];
+        l.erase(std::remove(l.begin(), l.end(), f), l.end());
+        if (l.empty()) reference.erase(edge_key(facets[f].v[i], facets[f].v[(i + 1) % 3]));
+      }
+      present[f] = 0;
+    } else {
+      Triangle t;
+      t.v = {vertex(rng), vertex(rng), vertex(rng)};
+      if (t.v[0] == t.v[1] || t.v[1] == t.v[2] || t.v[0] == t.v[2]) continue;
+      const int f = static_cast<int>(facets.size());
+      facets.push_back(t);
+      present.push_back(1);
+      map.add(f, t);
+      for (int i = 0; i < 3; ++i) reference[edge_key(t.v[i], t.v[(i + 1) % 3])].push_back(f);
+    }
+    if (step % 500 == 0) check();
+  }
+  check();
+  EXPECT_GT(reference.size(), 0u);
+  // Every facet gone: the map is empty again.
+  for (size_t f = 0; f < facets.size(); ++f)
+    if (present[f]) map.remove(static_cast<int>(f), facets[f]);
+  EXPECT_EQ(map.size(), 0u);
+  size_t left = 0;
+  for (const auto& edge : map.all()) left += edge.second.size() + 1;
+  EXPECT_EQ(left, 0u);
 }
 
 }  // namespace
