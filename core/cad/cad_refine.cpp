@@ -182,9 +182,9 @@ class Refiner {
       std::vector<std::uint64_t> next;
       for (const std::uint64_t key : candidates) {
         if (s_.edge_spans.count(key)) continue;  // on a CAD edge
-        const std::vector<int> around = facets_on(key);
+        const FacetList around = edges_.facets(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu));
         if (around.size() != 2) continue;  // gone, or non-manifold
-        const int f1 = around[0], f2 = around[1];
+        const int f1 = std::min(around[0], around[1]), f2 = std::max(around[0], around[1]);
         if (touched[f1] || touched[f2]) {
           next.push_back(key);
           continue;
