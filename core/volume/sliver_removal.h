@@ -48,6 +48,10 @@ struct SliverOptions {
   double flip_ridge_deg = 20.0;
   bool flips = true;               // case B
   bool moves = true;               // case C
+  // Case C, once the passes stop: more passes in which the tetrahedra
+  // around a moved vertex that are worse than the sliver mended are held
+  // (may not get worse) instead of scoring the move (sliver_improvement.cpp).
+  bool hold_worse = true;
   int max_passes = 8;              // of cases B and C over the remaining slivers
 };
 
@@ -64,6 +68,7 @@ struct SliverStats {
   long moves = 0;               // case C: vertices moved
   long surface_moves = 0;       // of which surface vertices, in their flat patch or along their crease
   long moves_blocked = 0;       // case C: better position found, refused to keep a surface facet Delaunay
+  long held_moves = 0;          // of the moves, those made holding worse tetrahedra (hold_worse)
   long slivers_after = 0;
   // Over all tetrahedra, before case A and after the last pass.
   double min_dihedral_before_deg = 0, min_dihedral_after_deg = 0;

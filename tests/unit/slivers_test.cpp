@@ -159,6 +159,27 @@ TEST(Slivers, SharedSurfaces) {
   EXPECT_GT(surface_moves, 0);
 }
 
+// Case C's second round, which holds the tetrahedra worse than the sliver
+// being mended instead of scoring a move by them: on the lever (interior
+// slivers beside worse ones at its needle facets) and the anchor it mends
+// tetrahedra the first round left, and lowers no smallest angle.
+TEST(Slivers, HoldingWorseNeighboursMendsWhatTheFirstRoundLeft) {
+  for (const char* rel : {"surface/gmsh_lever.stl", "surface/cgal_anchor_dense.off"}) {
+    VD_REQUIRE_DATA(path, rel);
+    const Mesh in = io::read_mesh(path);
+    MeshOptions o;
+    o.slivers.hold_worse = false;
+    const MeshResult first_only = mesh_surface(in, o);
+    o.slivers.hold_worse = true;
+    const MeshResult both = mesh_surface(in, o);
+    EXPECT_EQ(first_only.report.slivers.held_moves, 0) << rel;
+    EXPECT_GT(both.report.slivers.held_moves, 0) << rel;
+    EXPECT_LT(both.report.quality.below_10_deg, first_only.report.quality.below_10_deg) << rel;
+    EXPECT_GE(both.report.quality.min_dihedral_deg, first_only.report.quality.min_dihedral_deg) << rel;
+    EXPECT_TRUE(check_conformity(both.mesh).ok(1e-9)) << rel;
+  }
+}
+
 // The bundled demo part (a bracket of flat faces and straight edges): its
 // last sliver had four surface vertices across a plate, one of them on an
 // edge. Sliding that vertex along the edge (case C on a crease) cleared it;
