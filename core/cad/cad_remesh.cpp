@@ -35,6 +35,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <map>
 #include <memory>
@@ -42,6 +43,7 @@
 #include <unordered_set>
 
 #include "cad/cad_impl.h"
+#include "mesh/parallel.h"
 #include "surface/edge_map.h"
 #include "surface/face_patches.h"
 
@@ -713,11 +715,24 @@ class FaceRemesher {
     kept = std::move(joined);
   }
 
+  // What one face asks of the plan (plan_border_splits), kept apart so that
+  // faces are planned on several threads and merged in their order.
+  struct BorderSplits {
+    std::vector<RemeshPlan::SharpCorner> sharp_corners;
+    std::vector<std::pair<std::uint64_t, std::vector<double>>> nodes;  // in the order met
+    std::exception_ptr failure;  // what the planning threw, rethrown at the merge
+    void merge_into(RemeshPlan& plan) const {
+      plan.sharp_corners.insert(plan.sharp_corners.end(), sharp_corners.begin(), sharp_corners.end());
+      for (const auto& [key, fractions] : nodes) merge_border_nodes(plan.border_nodes[key], fractions);
+      if (failure) std::rethrow_exception(failure);
+    }
+  };
+
   // The border pieces the face needs split for a mesh of round triangles:
   // CGAL's mesher with segment splits is run, and where it put nodes on
-  // each border piece is kept (merge_border_nodes).
+  // each border piece is kept (merge_border_nodes). Reads the surface only.
   void plan_border_splits(int fi, const std::vector<int>& facets, const FaceChart& chart, bool piece,
-                          RemeshPlan& plan) const {
+                          BorderSplits& plan) const {
     FaceBorder b;
     if (!border(fi, facets, chart, b, piece)) return;
     // Before the face's own planning run, which may fail: a face whose new
@@ -758,20 +773,24 @@ class FaceRemesher {
           std::reverse(fractions.begin(), fractions.end());
           for (double& f : fractions) f = 1 - f;
         }
-        merge_border_nodes(plan.border_nodes[key], fractions);
+        plan.nodes.emplace_back(key, std::move(fractions));
       } while (++circulator != done);
     }
   }
 
-  // Meshes face fi anew inside its border; false (nothing changed) when
-  // its facets do not make a clean domain or the mesh would not cover it.
-  bool remesh(int fi, const std::vector<int>& facets, const FaceChart& chart, bool piece, std::vector<char>& dead) {
-    FaceBorder b;
+  // A new mesh of face fi inside its border, into b; false when its facets
+  // do not make a clean domain or the mesh would not cover it. Reads the
+  // surface as it was (the other faces' new meshes are not in it yet), so
+  // faces are meshed on several threads; replace() puts them in, in order.
+  bool mesh_inside(int fi, const std::vector<int>& facets, const FaceChart& chart, bool piece, FaceBorder& b) const {
     if (!border(fi, facets, chart, b, piece) || too_many(fi, b, facets) || !refine<Mesher>(b, chart) ||
         !rounder(b.cdt, facets, chart))
       return false;
-    if (std::abs(domain_area(b.cdt) - b.area) > 1e-9 * b.area) return false;
+    return std::abs(domain_area(b.cdt) - b.area) <= 1e-9 * b.area;
+  }
 
+  // Face fi's new mesh (mesh_inside) in place of its facets.
+  void replace(int fi, const std::vector<int>& facets, const FaceChart& chart, FaceBorder& b, std::vector<char>& dead) {
     // The new facets, with the old facets' tags and orientation.
     const Triangle like = s_.mesh.triangles[facets.front()];
     for (auto v = b.cdt.finite_vertices_begin(); v != b.cdt.finite_vertices_end(); ++v) {
@@ -796,7 +815,6 @@ class FaceRemesher {
       s_.facet_face.push_back(fi);
       dead.push_back(0);
     }
-    return true;
   }
 
  private:
@@ -1040,8 +1058,19 @@ RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::v
     }
   }
   const FaceRemesher remesher(cad, s, plan.growth_limit, plan.past_limit);
-  for (const ChartedFace& c : charted)
-    remesher.plan_border_splits(c.face, c.facets, c.chart, c.piece, plan);
+  // Each face planned on its own (one at a time per thread, the big ones
+  // take long), merged in the faces' order: the same plan on any number of
+  // threads.
+  std::vector<FaceRemesher::BorderSplits> asked(charted.size());
+  for_each_chunk(static_cast<long>(charted.size()), 1, [&](long, long i, long) {
+    const ChartedFace& c = charted[static_cast<size_t>(i)];
+    try {
+      remesher.plan_border_splits(c.face, c.facets, c.chart, c.piece, asked[static_cast<size_t>(i)]);
+    } catch (...) {
+      asked[static_cast<size_t>(i)].failure = std::current_exception();
+    }
+  });
+  for (const FaceRemesher::BorderSplits& a : asked) a.merge_into(plan);
   equal_first_nodes_at_sharp_corners(plan);
   return plan;
 }
@@ -1054,9 +1083,31 @@ int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<dou
   {
     // A piece's cut is found through the facets as they were: the other
     // piece's old facets, dead once it is remeshed, still mark it.
+    // The faces meshed on several threads, each against the surface as it
+    // was; put in one after another in the faces' order (new vertices are
+    // numbered as they go in), so the surface is the same on any number of
+    // threads. What a face's meshing threw is thrown when its turn comes,
+    // after the faces before it went in, as when they were meshed in turn.
     FaceRemesher remesher(cad, s, plan.growth_limit, plan.past_limit);
-    for (const ChartedFace& c : charted_faces(cad, by_face, s, face_deflection, size))
-      if (remesher.remesh(c.face, c.facets, c.chart, c.piece, dead)) remeshed.insert(c.face);
+    const std::vector<ChartedFace> charted = charted_faces(cad, by_face, s, face_deflection, size);
+    std::vector<std::unique_ptr<FaceBorder>> meshes(charted.size());
+    std::vector<std::exception_ptr> failures(charted.size());
+    for_each_chunk(static_cast<long>(charted.size()), 1, [&](long, long i, long) {
+      const ChartedFace& c = charted[static_cast<size_t>(i)];
+      try {
+        auto b = std::make_unique<FaceBorder>();
+        if (remesher.mesh_inside(c.face, c.facets, c.chart, c.piece, *b)) meshes[static_cast<size_t>(i)] = std::move(b);
+      } catch (...) {
+        failures[static_cast<size_t>(i)] = std::current_exception();
+      }
+    });
+    for (size_t i = 0; i < charted.size(); ++i) {
+      if (failures[i]) std::rethrow_exception(failures[i]);
+      if (!meshes[i]) continue;
+      remesher.replace(charted[i].face, charted[i].facets, charted[i].chart, *meshes[i], dead);
+      meshes[i].reset();
+      remeshed.insert(charted[i].face);
+    }
   }
   if (!remeshed.empty()) compact_surface(s, dead);
   if (remeshed_out) {

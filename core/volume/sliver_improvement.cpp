@@ -111,7 +111,6 @@ class TetComplex {
     return latest > failed_at_[t];
   }
   void mark_failed(int t) { failed_at_[t] = clock_; }
-  void forget_failures() { std::fill(failed_at_.begin(), failed_at_.end(), -1); }
   int size() const { return static_cast<int>(tets_.size()); }
   bool alive(int t) const { return alive_[t]; }
   const Tetrahedron& tet(int t) const { return tets_[t]; }
@@ -690,6 +689,15 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
   return dihedral_degrees_of_score(q);
 }
 
+// Is a tetrahedron around a vertex of t worse than t (a move with
+// hold_worse would hold it)?
+bool has_worse_around(const TetComplex& c, int t) {
+  for (int v : c.tet(t).v)
+    for (int s : c.star(v))
+      if (c.quality(s) < c.quality(t)) return true;
+  return false;
+}
+
 // Case C for tetrahedron t: the best accepted move of one of its vertices
 // (interior ones anywhere, surface ones in their slide plane). With
 // `hold_worse`, the tetrahedra around a vertex that are worse than t are
@@ -791,7 +799,6 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
     // 2.9 -> 4.0 s), gmsh_U_Joint_2.stp 242 -> 196, gmsh_ellipses.brep 750
     // -> 664; no smallest angle lower on the surface inputs or CAD corpus.
     for (int hold = 0; hold < (o.hold_worse && can_move ? 2 : 1); ++hold) {
-      if (hold) c.forget_failures();
       for (int pass = 0; pass < o.max_passes; ++pass) {
         const std::vector<std::pair<double, int>> slivers = slivers_under(angle);
         long changes = 0;
@@ -799,9 +806,13 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
         for (const auto& [quality, t] : slivers) {
           // Progress: the share of this pass's slivers looked at.
           if ((++tried & 255) == 0) set_phase_fraction(static_cast<double>(tried) / static_cast<double>(slivers.size()));
-          if (!c.alive(t) || c.quality(t) >= angle || !c.worth_retrying(t)) continue;
+          if (!c.alive(t) || c.quality(t) >= angle) continue;
+          // What failed and has not changed since fails again, but for a
+          // move that holds a worse tetrahedron: only that is new.
+          const bool changed = c.worth_retrying(t);
+          if (!changed && !(hold && has_worse_around(c, t))) continue;
           Replacement r;
-          if (o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) {
+          if (changed && o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) {
             ++changes;
             continue;
           }

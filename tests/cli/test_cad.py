@@ -407,6 +407,21 @@ for rel, solids, interfaces in (("cad-assembly/gmsh_wing_fuselage.step", 2, 1),
               "%s: %d solids, %d interfaces (%d, %d)" % (rel, solids, interfaces, rep["cad"]["solids"], rep["cad"]["interface_faces"]))
         check_mesh(target, rep, rel)
 
+# The faces' new meshes are planned and made on several threads, each
+# against the surface as it was, and put in in the faces' order: one thread
+# and two give the same file (caxif: 192 faces, most of them remeshed).
+path = data("cad-assembly/caxif_as1-oc-214.stp")
+if path:
+    files = {}
+    for threads in ("1", "2"):
+        code, rep, target, err = mesh_as("caxif_threads%s" % threads, path, "--quiet", "--threads", threads)
+        check(code == 0, "caxif on %s threads meshes (exit %s: %s)" % (threads, code, err.strip()[-300:]))
+        if code == 0:
+            files[threads] = (open(target, "rb").read(), rep["cad"]["remeshed_faces"])
+    if len(files) == 2:
+        check(files["1"] == files["2"] and files["1"][1] > 100,
+              "caxif: the same mesh file on 1 and 2 threads (%d faces remeshed)" % files["1"][1])
+
 # The Block's grooves are 0.8 high where its size is 2: the two rows of
 # vertices at their floor and ceiling corners make flat rectangles, and a
 # tetrahedron of four surface vertices lay flat in one (0.0004 deg). Its
