@@ -650,7 +650,10 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
       const Vec3* p[4] = {&l.p[0], &l.p[1], &l.p[2], &l.p[3]};
       p[l.slot] = &x;
       if (l.held > -kNotHeld) {
-        if (smallest_dihedral_score(*p[0], *p[1], *p[2], *p[3]) < l.held) return -kNotHeld;
+        // Under its held score? The floor just below it stops at the first
+        // angle that is, and gives the whole score otherwise.
+        const double below = std::nextafter(l.held, -kNotHeld);
+        if (smallest_dihedral_score_above(*p[0], *p[1], *p[2], *p[3], below) < l.held) return -kNotHeld;
         continue;
       }
       lo = std::min(lo, smallest_dihedral_score_above(*p[0], *p[1], *p[2], *p[3], floor));
@@ -689,12 +692,16 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
   return dihedral_degrees_of_score(q);
 }
 
-// Is a tetrahedron around a vertex of t worse than t (a move with
+// Is a tetrahedron around v worse than `quality` (a move of v with
 // hold_worse would hold it)?
+bool worse_around(const TetComplex& c, int v, double quality) {
+  for (int s : c.star(v))
+    if (c.quality(s) < quality) return true;
+  return false;
+}
 bool has_worse_around(const TetComplex& c, int t) {
   for (int v : c.tet(t).v)
-    for (int s : c.star(v))
-      if (c.quality(s) < c.quality(t)) return true;
+    if (worse_around(c, v, c.quality(t))) return true;
   return false;
 }
 
@@ -703,8 +710,10 @@ bool has_worse_around(const TetComplex& c, int t) {
 // `hold_worse`, the tetrahedra around a vertex that are worse than t are
 // held (see best_position): the move mends t without making anything
 // under it worse.
+// `unchanged`: nothing around t changed since its moves last failed, so
+// only a vertex with a worse tetrahedron around it (one held now) is tried.
 bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, int t, bool hold_worse,
-                   SliverStats& stats) {
+                   bool unchanged, SliverStats& stats) {
   int best_v = -1;
   Vec3 best_to;
   double best_gain = kMinGainDeg;
@@ -716,6 +725,7 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, 
       if (it != planes.end()) plane = &it->second;
     }
     if (c.on_surface(v) && !plane) continue;
+    if (unchanged && !worse_around(c, v, c.quality(t))) continue;
     const double old_q = hold_worse ? c.quality(t) : min_quality(c, c.star(v));
     Vec3 to;
     const double new_q = best_position(c, v, old_q, plane, hold_worse, to);
@@ -816,7 +826,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
             ++changes;
             continue;
           }
-          if (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, stats)) {
+          if (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, !changed, stats)) {
             ++changes;
             continue;
           }
