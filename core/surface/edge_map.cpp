@@ -4,20 +4,17 @@
 
 namespace vd {
 
-namespace {
-int log2_of(size_t power_of_two) {
-  int k = 0;
-  while ((size_t{1} << k) < power_of_two) ++k;
-  return k;
+// Empty slots, 2^k of them for the smallest k >= 4 that gives `at_least`.
+void EdgeMap::empty_slots(size_t at_least) {
+  int bits = 4;
+  while ((size_t{1} << bits) < at_least) ++bits;
+  slots_.assign(size_t{1} << bits, Slot{});
+  shift_ = 64 - bits;
 }
-}  // namespace
 
 EdgeMap::EdgeMap(const std::vector<Triangle>& facets) {
   // A closed surface has 3/2 edges a facet; room for them at most half full.
-  size_t capacity = 16;
-  while (capacity < 3 * facets.size()) capacity *= 2;
-  slots_.assign(capacity, Slot{});
-  shift_ = 64 - log2_of(capacity);
+  empty_slots(3 * facets.size());
   for (size_t f = 0; f < facets.size(); ++f) add(static_cast<int>(f), facets[f]);
 }
 
@@ -44,10 +41,8 @@ EdgeMap::Slot& EdgeMap::find_or_insert(std::uint64_t key) {
 
 void EdgeMap::grow() {
   std::vector<Slot> old = std::move(slots_);
-  const size_t capacity = std::max<size_t>(16, 2 * old.size());
-  slots_.assign(capacity, Slot{});
-  shift_ = 64 - log2_of(capacity);
-  const size_t mask = capacity - 1;
+  empty_slots(2 * old.size());
+  const size_t mask = slots_.size() - 1;
   for (const Slot& s : old) {
     if (s.key == kEmpty) continue;
     size_t i = home(s.key);

@@ -103,6 +103,7 @@ class EdgeMap {
   size_t find(std::uint64_t key) const;
   Slot& find_or_insert(std::uint64_t key);
   void erase_slot(size_t i);
+  void empty_slots(size_t at_least);
   void grow();
   FacetList list(const Slot& s) const;
   void push(Slot& s, int facet);

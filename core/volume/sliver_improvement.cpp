@@ -699,11 +699,6 @@ bool worse_around(const TetComplex& c, int v, double quality) {
     if (c.quality(s) < quality) return true;
   return false;
 }
-bool has_worse_around(const TetComplex& c, int t) {
-  for (int v : c.tet(t).v)
-    if (worse_around(c, v, c.quality(t))) return true;
-  return false;
-}
 
 // Case C for tetrahedron t: the best accepted move of one of its vertices
 // (interior ones anywhere, surface ones in their slide plane). With
@@ -818,9 +813,10 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
           if ((++tried & 255) == 0) set_phase_fraction(static_cast<double>(tried) / static_cast<double>(slivers.size()));
           if (!c.alive(t) || c.quality(t) >= angle) continue;
           // What failed and has not changed since fails again, but for a
-          // move that holds a worse tetrahedron: only that is new.
+          // move that holds a worse tetrahedron: only that is new (and
+          // move_a_vertex tries only such moves then).
           const bool changed = c.worth_retrying(t);
-          if (!changed && !(hold && has_worse_around(c, t))) continue;
+          if (!changed && !hold) continue;
           Replacement r;
           if (changed && o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) {
             ++changes;
