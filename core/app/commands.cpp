@@ -13,6 +13,7 @@
 
 #include "app/cad_plugin_loader.h"
 #include "app/terminal_progress.h"
+#include "app/tuned_allocator.h"
 #include "converters/registry.h"
 #include "delaunay/oracles.h"
 #include "mesh/error.h"
@@ -263,7 +264,11 @@ int mesh_command(const std::vector<std::string>& raw) {
     if (opt.progress) opt.progress("write " + output);
     write_result(result.mesh, output, wopt);
     display.reset();  // the last line ends before the report table
-    if (!report_path.empty()) write_text(report_path, report_json(result.report));
+    if (!report_path.empty()) {
+      MeshReport report = result.report;
+      report.allocator = allocator_in_use();
+      write_text(report_path, report_json(report));
+    }
     if (!quiet) std::fputs(report_table(result.report).c_str(), stdout);
     return 0;
   } catch (const RecoveryError&) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/tuned_allocator.h"
 #include "compare/child_process.h"
 #include "mesh/error.h"
 
@@ -24,6 +25,7 @@ const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
+  vd::app::run_with_tuned_allocator(argv);
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help") {
     std::fputs(kUsage, args.empty() ? stderr : stdout);

@@ -104,6 +104,7 @@ struct MeshReport {
   int size_flips = 0;                // flips inside faces between those splits
   std::vector<long> tets_per_region; // index = region id (0 unused)
   std::string oracle;
+  std::string allocator;             // set by the vdmesh command (app/tuned_allocator.h); empty elsewhere
   OracleStats oracle_stats;
   DelaunayzationResult delaunayzation;
   ShiftStats shift;

@@ -34,6 +34,7 @@ std::string report_json(const MeshReport& r) {
   const auto& q = r.quality;
   s << "{\n";
   s << "  \"complete\": " << (r.complete ? "true" : "false") << ",\n";
+  if (!r.allocator.empty()) s << "  \"allocator\": \"" << r.allocator << "\",\n";
   s << "  \"counts\": {\"input_vertices\": " << r.input_vertices << ", \"input_facets\": " << r.input_facets
     << ", \"unused_input_vertices\": " << r.unused_input_vertices
     << ", \"output_vertices\": " << r.output_vertices << ", \"output_facets\": " << r.output_facets

@@ -11,9 +11,10 @@ SOURCE = os.environ.get("VDMESH_SOURCE_DIR", os.path.join(os.path.dirname(__file
 failures = []
 
 
-def run(*args, timeout=600):
-    """Runs vdmesh; returns (exit code, stdout, stderr)."""
-    p = subprocess.run([BIN, *map(str, args)], capture_output=True, text=True, timeout=timeout)
+def run(*args, timeout=600, env=None):
+    """Runs vdmesh (env: the whole environment, default ours); returns (exit
+    code, stdout, stderr)."""
+    p = subprocess.run([BIN, *map(str, args)], capture_output=True, text=True, timeout=timeout, env=env)
     return p.returncode, p.stdout, p.stderr
 
 

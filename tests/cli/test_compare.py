@@ -269,6 +269,18 @@ if report:
               "crash, %s: vdmesh's side reported and checked" % r["name"])
     check(report["runs"][1]["tetgen_attempts"] and "sizing" in report["runs"][1], "crash: attempts recorded")
 
+# Children get the caller's environment: the tunables vdmesh sets for its own
+# second run (core/app/tuned_allocator.h) do not reach TetGen.
+env_file = os.path.join(out, "tetgen-env.txt")
+recording = fake_tetgen("recording-tetgen", "env > '%s'; exec tetgen \"$@\"" % env_file)
+report, stdout, _, _ = compare("env", pyr, "--tetgen", recording, "--runs", "boundary")
+if os.path.exists(env_file):
+    seen = open(env_file).read()
+    check("GLIBC_TUNABLES" not in seen and "VDMESH_TUNED_ALLOCATOR" not in seen,
+          "TetGen's environment holds no allocator tunables of vdmesh's")
+else:
+    check(False, "the recording TetGen ran")
+
 # The limit applies to vdmesh's side too: 15 s leaves room for a sanitizer
 # build on a loaded machine (3 s failed there).
 hang = fake_tetgen("hanging-tetgen", "sleep 120")

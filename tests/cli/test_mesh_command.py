@@ -67,6 +67,24 @@ if len(runs) == 2:
     check(runs["1"][0] == runs["2"][0], "the same mesh file on 1 and 2 threads")
     check(runs["1"][1]["quality"] == runs["2"][1]["quality"], "the same quality figures on 1 and 2 threads")
     check(runs["1"][1]["slivers"] == runs["2"][1]["slivers"], "the same sliver figures on 1 and 2 threads")
+# The allocator (core/app/tuned_allocator.h): the command runs itself again
+# with glibc's tunables for huge pages, one arena and freed memory kept,
+# unless the caller set GLIBC_TUNABLES (an empty one too) or the build is
+# sanitized; the report says which ran, and the mesh is the same either way.
+if "2" in runs:
+    sanitized = os.environ.get("VDMESH_SANITIZED", "0") == "1"
+    check(runs["2"][1].get("allocator") == ("as given" if sanitized else "tuned"),
+          "the report names the allocator: %s (sanitized build: %s)" % (runs["2"][1].get("allocator"), sanitized))
+    plain_env = dict(os.environ, GLIBC_TUNABLES="")
+    target, rep_path = os.path.join(out, "sphere-plain.vtu"), os.path.join(out, "sphere-plain.json")
+    code, _, err = run("mesh", sphere_path, "-o", target, "--size", "0.068", "--quiet", "--threads", "2",
+                       "--report", rep_path, env=plain_env)
+    check(code == 0, "sphere with GLIBC_TUNABLES set (exit %d: %s)" % (code, err.strip()[-300:]))
+    if code == 0:
+        plain = json.load(open(rep_path))
+        check(plain.get("allocator") == "as given", "GLIBC_TUNABLES set: the allocator as given (%s)" % plain.get("allocator"))
+        check(open(target, "rb").read() == runs["2"][0], "the same mesh file with either allocator")
+
 # On a terminal (a pseudo-terminal here) each phase is one line, drawn over
 # while it runs ("\r", erase) and left with its seconds; in a log, the phase
 # names only.
