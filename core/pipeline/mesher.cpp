@@ -358,6 +358,8 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
                                 report.delaunayzation.added_vertices == before.added_vertices;
       if (regions && surface_kept) {
         dt.label_new_cells(from, *regions);
+        // The old list freed first: the two side by side were the run's peak.
+        m.tets = std::vector<Tetrahedron>();
         m.tets = dt.labelled_cells(&report.regions.tets_in_exterior);
         report.regions.labelled_by_new_vertices = true;
       } else {
@@ -420,6 +422,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
           // it so): no recovery, and the new tetrahedra took their region's
           // label.
           timer.start("volume with cap vertices");
+          m.tets = std::vector<Tetrahedron>();  // freed first, as above
           m.tets = dt.labelled_cells();
         }
       };

@@ -305,6 +305,10 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
 int insert_cap_vertices(Mesh& m, DelaunayTetrahedralization& dt, const std::vector<CapPoint>& points,
                         std::vector<std::array<int, 2>>* refused_folds, long* from_fallbacks, bool refuse_unfair) {
   const TripleIndex surface(m.triangles, [](const Triangle& t) { return t.v; });
+  // Room for all at once: a handful of points doubling the vertex list beside
+  // the tetrahedralization was 1.1 MB of a 125k-tetrahedra box's peak.
+  m.points.reserve(m.points.size() + points.size());
+  if (!m.point_size.empty()) m.point_size.reserve(m.points.size() + points.size());
   int kept = 0;
   std::vector<std::array<int, 3>> taken;
   for (const CapPoint& cap : points) {

@@ -12,14 +12,14 @@ bool has(const std::array<int, 3>& f, int v) { return f[0] == v || f[1] == v || 
 }  // namespace
 
 FacetWitnesses::FacetWitnesses(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles,
-                               const FacetApexes& apexes)
+                               const std::vector<std::array<int, 2>>& apexes_of)
     : points_(points), facets_of_(points.size()), in_large_(triangles.size(), 0), grouped_(2 * triangles.size(), 0) {
   double edge_sum = 0;
   for (const Triangle& t : triangles)
     for (int e = 0; e < 3; ++e) edge_sum += norm(points[t.v[(e + 1) % 3]] - points[t.v[e]]);
   cell_ = triangles.empty() ? 1.0 : 2.0 * edge_sum / (3.0 * triangles.size());
   facets_.reserve(triangles.size());
-  const std::vector<std::array<int, 2>> apexes_of = apexes(triangles);
+  if (apexes_of.size() != triangles.size()) throw std::logic_error("facet witnesses: apexes of other triangles");
   for (size_t k = 0; k < triangles.size(); ++k) {
     const Triangle& t = triangles[k];
     const std::array<int, 2>& apex = apexes_of[k];

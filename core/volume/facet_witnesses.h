@@ -31,10 +31,13 @@ namespace vd {
 
 class FacetWitnesses {
  public:
-  // `points` is read as it changes (it must outlive this); every triangle
-  // must be a face of the Delaunay tetrahedralization `apexes` describes
-  // (std::logic_error otherwise).
-  FacetWitnesses(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles, const FacetApexes& apexes);
+  // `points` is read as it changes (it must outlive this); `apexes[k]`: the
+  // apexes of triangle k's two tetrahedra in the Delaunay tetrahedralization
+  // (FacetApexes), -1 on the hull, -2 for a triangle that is not a face of it
+  // (std::logic_error). Given as a list, not the function: the
+  // tetrahedralization can go before these are built.
+  FacetWitnesses(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles,
+                 const std::vector<std::array<int, 2>>& apexes);
 
   // True when every surface facet stays Delaunay with vertex `moving` at p.
   // The facets of a moving surface vertex change shape:
