@@ -11,15 +11,16 @@ namespace vd::app {
 namespace {
 
 // hugetlb=1: malloc asks for transparent huge pages (madvise) on the memory
-// it takes from the system. arena_max=1: one heap for all threads; worker
-// threads each touching their own heap cost a huge page apiece, and our
-// threads allocate little. mmap_threshold (the largest glibc accepts) and
+// it takes from the system. mmap_threshold (the largest glibc accepts) and
 // trim_threshold: blocks stay in the heap, freed memory is reused instead
 // of unmapped and faulted in again (return_free_memory() still trims it
-// where a phase wants it back).
+// where a phase wants it back). The number of arenas stays glibc's: one
+// arena for all threads (arena_max=1) saved Nefertiti's surface run 14 MiB
+// of thread heaps but cost gmsh_simple_plane.brep 2 to 4 s of 22 in lock
+// waits (OpenCASCADE's fuse and the faces remeshed on two threads allocate
+// a lot), 27.0 / 25.0 s against 22.8 / 22.2 s.
 constexpr const char* kTunables =
-    "glibc.malloc.hugetlb=1:glibc.malloc.arena_max=1:"
-    "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=4294967295";
+    "glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=4294967295";
 constexpr const char* kMarker = "VDMESH_TUNED_ALLOCATOR";
 
 bool tuned = false;

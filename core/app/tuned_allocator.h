@@ -10,8 +10,8 @@ namespace vd::app {
 // get the caller's environment. Why: on this machine's VM a first touch of a
 // 4 KiB page costs several microseconds, and a surface run of 100k facets
 // took 24,600 of them (a fifth of its time in the kernel); with
-// transparent huge pages on the heap, one arena and freed memory kept for
-// reuse, about a thousand. glibc reads its tunables only when the program is
+// transparent huge pages on the heap and freed memory kept for reuse, about
+// a thousand. glibc reads its tunables only when the program is
 // loaded, hence the second run.
 void run_with_tuned_allocator(char** argv);
 
