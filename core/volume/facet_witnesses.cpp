@@ -226,7 +226,7 @@ void FacetWitnesses::spread(int id) {
   // looked through: a fifth of that run. Now only flat tetrahedra's
   // (radius +inf) and the very largest balls are.
   int level = 0;
-  while (level < kLevels && !(largest < 3.0 * cell_ * kLevelScale[level])) ++level;
+  while (level < kLevels && !(largest < kFitCells * cell_ * kLevelScale[level])) ++level;
   if (level == kLevels) {
     if (!in_large_[id]) large_.push_back(id), in_large_[id] = 1;
     return;
