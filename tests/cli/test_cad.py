@@ -2,16 +2,15 @@
 Gmsh's OpenCASCADE kernel in the test (so no shared data is needed), checked
 against the volumes OpenCASCADE computes and read back by meshio; then real
 STEP/BREP files from the shared data; then bad input."""
-import json
 import os
 import shutil
 import subprocess
 
 import numpy as np
 
-from cli_support import BIN, check, data, finish, run, tmpdir
+from cad_support import mesh_as, out, tet_volumes
+from cli_support import BIN, check, data, finish, run
 
-out = tmpdir()
 
 
 def make_brep(name, build):
@@ -29,22 +28,6 @@ def make_brep(name, build):
 
 def mesh(path, *extra):
     return mesh_as(os.path.splitext(os.path.basename(path))[0], path, *extra)
-
-
-def mesh_as(name, path, *extra):
-    """Meshes path to NAME.vtu with its report NAME.json; gives the exit
-    code, the report (None unless exit 0), the mesh's path and stderr."""
-    target = os.path.join(out, name + ".vtu")
-    report = os.path.join(out, name + ".json")
-    code, stdout, stderr = run("mesh", path, "-o", target, "--report", report, *extra)
-    rep = json.load(open(report)) if code == 0 else None
-    return code, rep, target, stderr
-
-
-def tet_volumes(m):
-    tets = m.cells_dict["tetra"]
-    p = m.points[tets]
-    return np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0]) / 6.0
 
 
 def check_mesh(path, rep, name):
@@ -67,18 +50,6 @@ def check_mesh(path, rep, name):
         err = abs(mine - v["cad"]) / v["cad"]
         check(err < 0.005, "%s: %s volume %.6g vs OpenCASCADE %.6g (%.3f %% < 0.5 %%)" % (name, v["name"], mine, v["cad"], 100 * err))
     return m
-
-
-def tets_in_solids(path, solids, name):
-    """Tetrahedron volumes and regions of the mesh (meshio), checked: all
-    positive, in the regions 1..solids."""
-    import meshio
-    m = meshio.read(path)
-    vol = tet_volumes(m)
-    region = [np.asarray(v) for b, v in zip(m.cells, m.cell_data["region"]) if b.type == "tetra"][0]
-    check(len(vol) > 0 and vol.min() > 0 and sorted(set(region.tolist())) == list(range(1, solids + 1)),
-          "%s: %d tetrahedra, all positive, in the %d solids (meshio)" % (name, len(vol), solids))
-    return vol, region
 
 
 def converted_surface(path, name):
@@ -909,123 +880,6 @@ check(code == 3 and "--size 1e-07 asks for about" in err and "GiB of memory" in 
       and not os.path.exists(os.path.join(out, "unitbox_tiny.vtu")) and time.time() - started < 60,
       "CAD --size 1e-7 on a unit box: exit 3 naming the size and the memory (exit %d after %.1f s: %s)"
       % (code, time.time() - started, err.strip()[:300]))
-
-# gmsh_simple_plane.brep at its default size: recovered on the uniform chord
-# heights (test_cad_corpus), with interior vertices and cap fold splits.
-path = data("cad-assembly/gmsh_simple_plane.brep")
-if path:
-    target = os.path.join(out, "simple_plane.vtu")
-    report = os.path.join(out, "simple_plane.json")
-    code, table, err = run("mesh", path, "-o", target, "--report", report)
-    rep = json.load(open(report)) if code == 0 else None
-    # The report table says how many solids are off by over 0.5 % (6 of 27
-    # here on 2026-11-28), apart from the per-solid rows.
-    off = [line for line in table.splitlines() if "volumes off by over 0.5 %" in line]
-    bad = [v for v in rep["cad"]["volumes"] if abs(v["mesh"] / v["cad"] - 1) > 0.005] if rep else []
-    check(len(off) == 1 and (" %d of 27 solids (largest " % len(bad)) in off[0] and len(bad) > 0,
-          "simple plane: the table counts the solids off by over 0.5 %% (%s, %d in the JSON)" % (off, len(bad)))
-    check(code == 0 and rep["interior"]["cap_folds_split"] > 0 and rep["cad"]["solids"] == 27 and rep["complete"],
-          "simple plane: meshed (exit %d, %s)" % (code, rep["interior"] if rep else err.strip()[-300:]))
-    if code == 0:
-        vol, region = tets_in_solids(target, 27, "simple plane")
-        # The wing shells (Solid9 to 12, 3 mm thick): recovery splits their
-        # outer faces only, and split vertices on the CAD surface took them
-        # 0.54 to 0.73 % over their volume; where a split vertex would take a
-        # solid farther past the tolerance it now stays on the chord
-        # (surface/volume_keeper.h). 0.384 to 0.400 % on 2026-11-28.
-        cad = {int(v["name"][len("Solid"):]): v["cad"] for v in rep["cad"]["volumes"]}
-        wings = {k: vol[region == k].sum() / cad[k] - 1 for k in (9, 10, 11, 12)}
-        check(all(abs(e) < 0.005 for e in wings.values()) and rep["delaunayzation"]["splits_on_chord_for_volume"] > 0,
-              "simple plane: the wing shells within 0.5 %% of their CAD volume (%s; %d splits kept on the chord "
-              "for a volume; meshio)" % (", ".join("Solid%d %+.3f %%" % (k, 100 * e) for k, e in sorted(wings.items())),
-                                         rep["delaunayzation"]["splits_on_chord_for_volume"]))
-
-# A cap fold round undone (pipeline/mesher.cpp): gmsh_simple_plane.brep at
-# size 0.2 recovers its surface, its interior vertices and the first round
-# of cap fold splits, but the recovery after the second round runs away at
-# the wing roots. That round is undone and the mesh before it kept. Until
-# 2026-11-27 the whole run was made again cautiously (below). Which runs get
-# there is chaotic: until 2026-11-28 the default size (0.19446) did, then
-# no more once split vertices stayed on the chord for a solid's volume; at
-# 0.2 and 0.22 it does, at 0.24 and 0.26 the cautious run comes instead
-# (2026-11-28); until 2026-11-26 this test ran at chord heights 0.001, then
-# 0.0015, each of which met it until a change of the face remesher.
-path = data("cad-assembly/gmsh_simple_plane.brep")
-if path:
-    code, rep, target, err = mesh_as("simple_plane_02", path, "--size", "0.2", "--quiet")
-    check(code == 0 and rep["interior"]["cap_fold_round_undone"] and not rep["interior"]["cautious_retry"]
-          and rep["interior"]["cap_folds_split"] > 0 and rep["cad"]["solids"] == 27 and rep["complete"],
-          "simple plane at size 0.2: meshed with its last cap fold round undone (exit %d, %s)"
-          % (code, rep["interior"] if rep else err.strip()[-300:]))
-    if code == 0:
-        tets_in_solids(target, 27, "simple plane at size 0.2")
-
-# gmsh_simple_plane.brep at size 0.1167 (0.6 times its default 0.19446;
-# which tessellation of the chain meshes moves with the size, and at
-# 0.116678 this fault did not show): on the uniform chords' third volume
-# round, OpenCASCADE gave the fuselage's inside faces (Face102, Face103) 270
-# facets instead of 972, so their remeshing asked for 120 times their facets,
-# over the per-face limit of 50, and they kept OpenCASCADE's: the two shells
-# behind them (Solid5, Solid6, held at the uniform chords, so no round looks
-# at them) came out 3.67 % over their volume. Faces past the limit are now
-# remeshed while the whole surface stays within its budget (cad_remesh.cpp,
-# plan_remeshing), and a round that pushes a held solid over the tolerance
-# is refused (cad_model.h); either alone keeps the shells in. Measured
-# 2026-11-28: Solid5 and Solid6 -0.28 %, the worst solid (a nose piece)
-# -1.06 % (-1.27 % with the refusal alone), 719k tetrahedra.
-path = data("cad-assembly/gmsh_simple_plane.brep")
-if path:
-    code, rep, target, err = mesh_as("simple_plane_fine", path, "--size", "0.1167", "--quiet")
-    check(code == 0, "simple plane at 0.6 times its size meshes (exit %d: %s)" % (code, err.strip()[-300:]))
-    if code == 0:
-        vol, region = tets_in_solids(target, 27, "simple plane at 0.6 times its size")
-        cad = {int(v["name"][len("Solid"):]): v["cad"] for v in rep["cad"]["volumes"]}
-        error = {k: abs(vol[region == k].sum() / c - 1) for k, c in cad.items()}
-        shown = ", ".join("Solid%d %.3f %%" % (k, 100 * e) for k, e in sorted(error.items()) if e > 0.004)
-        check(vol.min() > 0 and len(error) == 27 and error[5] < 0.005 and error[6] < 0.005,
-              "simple plane at 0.6 times its size: the shells behind the fuselage's inside within 0.5 %% "
-              "(Solid5 %.3f %%, Solid6 %.3f %%; meshio)" % (100 * error[5], 100 * error[6]))
-        check(max(error.values()) < 0.015,
-              "simple plane at 0.6 times its size: every solid within 1.5 %% of its CAD volume (over 0.4 %%: %s)" % shown)
-
-
-def meshes_on_uniform_chords(size, height, which, stops):
-    """gmsh_simple_plane.brep at `size` meshes on the uniform chord heights
-    at `height` (as the progress line writes it, `which` of the first), after
-    `stops` recoveries stopped, each said on a progress line."""
-    path = data("cad-assembly/gmsh_simple_plane.brep")
-    if not path:
-        return
-    code, rep, target, err = mesh_as("simple_plane_" + size.replace(".", ""), path, "--size", size)
-    on_it = "tessellate CAD faces again at 20 deg, chord height %s everywhere" % height in err
-    stopped = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stopped: ")]
-    check(code == 0 and rep["complete"] and rep["cad"]["solids"] == 27 and on_it and len(stopped) == stops
-          and rep["cad"]["recovery_retries"] == stops,
-          "simple plane at size %s: meshed on the uniform chords at %s of their height, after %d recoveries "
-          "stopped, each said on the progress lines (exit %d, %s)"
-          % (size, which, stops, code, [line[:90] for line in stopped] if code == 0 else err.strip()[-300:]))
-    if code == 0:
-        tets_in_solids(target, 27, "simple plane at size " + size)
-
-
-# gmsh_simple_plane.brep at size 0.32: the first tessellation's recovery ran
-# away at the thin wings, and the one on the uniform chord heights (size /
-# 500, 0.00064) stopped with 46 facets of a wing root left after 48 passes;
-# then the other angles ran away too, and the run ended in exit 4 (at 0.35
-# after 198 s). The uniform chords are now tried again at half their height
-# (TessellationChain, kUniformChordRetries), which meshes it: 575,174
-# tetrahedra in 33 s on 2026-11-28 (0.38, 0.4 and 0.45 mesh too, at a
-# quarter of the height for the first two).
-meshes_on_uniform_chords("0.32", "0.00032", "half", 2)
-
-# gmsh_simple_plane.brep at size 0.3786: the uniform chords stopped at their
-# height, at half and at a quarter of it (stalls and runaways where the wing's
-# skins meet at small angles), and the run ended in exit 4, as at 5 of 10
-# sizes sampled between 0.30 and 0.43 (2026-11-28). Three quarters and three
-# eighths of the height come next now (kUniformChordRetries): here three
-# quarters meshes it, 437,912 tetrahedra in 62 s (its smallest angle 0.0034
-# deg, one tetrahedron; the next 0.52 deg).
-meshes_on_uniform_chords("0.3786", "0.0005679", "three quarters", 4)
 
 # The cautious run, which a run falls back to when its recovery with interior
 # vertices stops, asked for with --cautious: interior candidates that would
