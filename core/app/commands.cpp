@@ -258,17 +258,14 @@ int mesh_command(const std::vector<std::string>& raw) {
 
   MeshResult partial;
   try {
-    const MeshResult result = cad_input
+    MeshResult result = cad_input
                                   ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, retry_tessellation, &partial)
                                   : mesh_surface_file(pos[0], opt, &partial);
     if (opt.progress) opt.progress("write " + output);
     write_result(result.mesh, output, wopt);
     display.reset();  // the last line ends before the report table
-    if (!report_path.empty()) {
-      MeshReport report = result.report;
-      report.allocator = allocator_in_use();
-      write_text(report_path, report_json(report));
-    }
+    result.report.allocator = allocator_in_use();
+    if (!report_path.empty()) write_text(report_path, report_json(result.report));
     if (!quiet) std::fputs(report_table(result.report).c_str(), stdout);
     return 0;
   } catch (const RecoveryError&) {

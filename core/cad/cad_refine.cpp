@@ -101,6 +101,21 @@ constexpr double kFlipRidgeDeg = 20.0;
 // (gmsh_t20_component8.step: vertices on top of each other).
 constexpr double kGradedFloor = 0.2;
 constexpr double kSmoothBelowDeg = 30.0;
+constexpr double kSmoothTiltDeg = 30.0;
+// A facet's corner over this at an inner vertex facing a border piece makes
+// it a cap on the border (split_under_border_caps); each pass of snaps moves
+// one row of such vertices (gmsh_ellipses.brep: 5 to 8 passes, the U-joint 4).
+constexpr double kBorderCapCornerDeg = 170.0;
+constexpr int kBorderCapPasses = 16;
+// On a face the remeshing left and with a pole, an edge shorter than this
+// times the longest edge of each of its facets is a needle's and is
+// collapsed (CAD corpus, 2026-11-27: the ellipses 0.31 -> 2.19 deg,
+// simple_plane 1.01 -> 1.64, the wing and fuselage 0.58 -> 0.79, the fusee
+// 4.96 -> 3.91; at 0.1 the ellipses 1.00 and simple_plane 0.74. On every
+// face the remeshing left it made pythonocc_11752.stp's surface cross
+// itself in three more places, and took the gains of smoothing and of the
+// remeshing on gmsh_part.step and a loft).
+constexpr double kNeedleEdgeRatio = 0.2;
 
 // Do the corners at c and d facing edge (a, b) sum to at most pi (by a
 // relative 1e-9)? The sine of their sum decides, from cross and dot products,
@@ -118,21 +133,6 @@ bool opposite_corners_at_most_pi(const Vec3& c, const Vec3& a, const Vec3& b, co
   if (sin_sum < -1e-8 * lengths) return false;  // in (pi, 2 pi), past pi (1 + 1e-9)
   return corner_angle(c, a, b) + corner_angle(d, b, a) <= M_PI * (1 + 1e-9);
 }
-constexpr double kSmoothTiltDeg = 30.0;
-// A facet's corner over this at an inner vertex facing a border piece makes
-// it a cap on the border (split_under_border_caps); each pass of snaps moves
-// one row of such vertices (gmsh_ellipses.brep: 5 to 8 passes, the U-joint 4).
-constexpr double kBorderCapCornerDeg = 170.0;
-constexpr int kBorderCapPasses = 16;
-// On a face the remeshing left and with a pole, an edge shorter than this
-// times the longest edge of each of its facets is a needle's and is
-// collapsed (CAD corpus, 2026-11-27: the ellipses 0.31 -> 2.19 deg,
-// simple_plane 1.01 -> 1.64, the wing and fuselage 0.58 -> 0.79, the fusee
-// 4.96 -> 3.91; at 0.1 the ellipses 1.00 and simple_plane 0.74. On every
-// face the remeshing left it made pythonocc_11752.stp's surface cross
-// itself in three more places, and took the gains of smoothing and of the
-// remeshing on gmsh_part.step and a loft).
-constexpr double kNeedleEdgeRatio = 0.2;
 
 class Refiner {
  public:

@@ -68,7 +68,7 @@ if len(runs) == 2:
     check(runs["1"][1]["quality"] == runs["2"][1]["quality"], "the same quality figures on 1 and 2 threads")
     check(runs["1"][1]["slivers"] == runs["2"][1]["slivers"], "the same sliver figures on 1 and 2 threads")
 # The allocator (core/app/tuned_allocator.h): the command runs itself again
-# with glibc's tunables for huge pages, one arena and freed memory kept,
+# with glibc's tunables for huge pages and freed memory kept,
 # unless the caller set GLIBC_TUNABLES (an empty one too) or the build is
 # sanitized; the report says which ran, and the mesh is the same either way.
 if "2" in runs:
