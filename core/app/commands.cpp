@@ -46,6 +46,8 @@ const char* kMeshHelp =
     "                          PCT % (default 0.4; at most 4 tessellations; 0: once); split vertices\n"
     "                          stay on the chord where the CAD point would take a solid farther past it\n"
     "  --planar-splits         CAD: split vertices at chord mid-points (the paper) instead of on the CAD geometry\n"
+    "  --full-fuse             CAD: fuse the solids in full at once (by default they are glued first, as\n"
+    "                          touching only, and fused in full when the glued surface crosses itself)\n"
     "  --no-smoothing          CAD: keep the tessellation's vertices inside faces where they are (by default\n"
     "                          those with a corner under 30 or over 120 deg move, on the CAD face, towards\n"
     "                          their neighbours' middle; a smoothed surface that fails is meshed again unsmoothed)\n"
@@ -146,8 +148,10 @@ MeshResult mesh_surface_file(const std::string& path, const MeshOptions& opt, Me
 }
 
 MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool splits_on_geometry,
-                         const cad::TessellationOptions& tessellation, bool retry_tessellation, MeshResult* partial) {
+                         const cad::TessellationOptions& tessellation, bool retry_tessellation, bool glue_first,
+                         MeshResult* partial) {
   cad::CadMeshOptions copt;
+  copt.glue_first = glue_first;
   if (!retry_tessellation) copt.retry_angles_deg.clear();
   copt.mesh = opt;
   copt.splits_on_geometry = splits_on_geometry;
@@ -227,6 +231,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   wopt.binary = args.flag("--binary");
   const bool quiet = args.flag("--quiet");
   const bool planar_splits = args.flag("--planar-splits");
+  const bool full_fuse = args.flag("--full-fuse");
   const cad::TessellationOptions tessellation = tessellation_options(args);
   const auto pos = args.positionals();
   if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh mesh --help)");
@@ -259,7 +264,8 @@ int mesh_command(const std::vector<std::string>& raw) {
   MeshResult partial;
   try {
     MeshResult result = cad_input
-                                  ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, retry_tessellation, &partial)
+                                  ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, retry_tessellation, !full_fuse,
+                                                  &partial)
                                   : mesh_surface_file(pos[0], opt, &partial);
     if (opt.progress) opt.progress("write " + output);
     write_result(result.mesh, output, wopt);

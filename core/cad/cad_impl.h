@@ -33,7 +33,9 @@ namespace vd::cad {
 struct CadModel::Impl {
   std::string name;               // the file, for messages
   std::string units = "as given";
+  TopoDS_Shape input;             // the solids as read, before the fuse
   TopoDS_Shape shape;             // after the general fuse
+  bool glued = false;             // the fuse assumed the solids only touch (BOPAlgo_GlueShift)
   std::vector<TopoDS_Solid> solids;
   std::vector<int> solid_number;  // Solid<n> of solids[i]
   std::vector<TopoDS_Face> faces; // the faces of the solids

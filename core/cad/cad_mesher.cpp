@@ -73,6 +73,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.solids = model.solid_count();
   cad.faces = model.face_count();
   cad.interface_faces = model.interface_face_count();
+  cad.fuse = model.solid_count() < 2 && !model.glued() ? "none" : model.glued() ? "glued" : "in full";
   cad.size = stats.size;
   cad.size_chosen = stats.size_chosen;
   cad.deflection = stats.deflection;
@@ -124,9 +125,12 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   return result;
 }
 
-}  // namespace
+// Thrown out of the chain when a glued model's surface is refused: the
+// refusal may be the gluing's (solids that cross, left unsplit).
+struct GlueRefused {};
 
-MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshResult* partial) {
+// The chain of tessellations on one model (tessellation_chain.h).
+MeshResult mesh_chain(const CadModel& model, const CadMeshOptions& options, MeshResult* partial) {
   TessellationOptions topt = options.tessellation;
   topt.size = options.mesh.size.uniform;
   topt.cancel = options.mesh.cancel;
@@ -173,6 +177,7 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       runaways += e.ran_away();
       if (!next(true, e.faces(), e.ran_away())) throw;
     } catch (const SelfIntersectionError& e) {  // the surface is checked before recovery
+      if (model.glued()) throw GlueRefused{};
       if (next(false)) continue;
       // The uniform chords or a later angle crossing themselves says
       // nothing of the file: the recovery failure that led to them stands.
@@ -185,10 +190,33 @@ MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshRe
       throw InputError(std::string(e.what()) + "; " +
                        (faults.empty() ? "OpenCASCADE's check of the shape finds it valid" : faults));
     } catch (const InputError&) {
+      if (model.glued()) throw GlueRefused{};
       if (next(false)) continue;
       if (chain.uniform_tried() && !last_recovery_failure.empty()) throw RecoveryError(last_recovery_failure);
       throw;
     }
+  }
+}
+
+}  // namespace
+
+MeshResult mesh_cad(const CadModel& model, const CadMeshOptions& options, MeshResult* partial) {
+  if (!model.glued()) return mesh_chain(model, options, partial);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    return mesh_chain(model, options, partial);
+  } catch (const GlueRefused&) {
+    // Any refused surface of a glued model: the whole chain again on the
+    // full fuse, so that a refusal that is not the gluing's ends as it would
+    // have without it (a file that meshes after one costs the fuse again).
+    if (options.mesh.progress) options.mesh.progress("fuse the solids in full (the glued surface was refused)");
+    const double refused = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const CadModel full = model.fused_in_full(options.mesh.cancel);
+    MeshResult result = mesh_chain(full, options, partial);
+    for (auto& [phase, seconds] : result.report.seconds)
+      if (phase == "fuse solids") seconds += model.seconds_fuse;
+    result.report.seconds.insert(result.report.seconds.begin(), {"glued surface refused", refused});
+    return result;
   }
 }
 

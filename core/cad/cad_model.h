@@ -117,10 +117,13 @@ class CadModel {
   // shells or shapes without solids, the shape.
   // A raised `cancel` flag stops the transfer, sewing and fuse within a
   // fraction of a second (CancelledError); parsing the file does not look.
-  static CadModel read(const std::string& path, const std::atomic<bool>* cancel = nullptr);
+  // `fuse`: how solids are made conformal (Fuse::glued_first only for
+  // mesh_cad, which checks the glued surface and fuses again if need be).
+  enum class Fuse { in_full, glued_first };
+  static CadModel read(const std::string& path, const std::atomic<bool>* cancel = nullptr, Fuse fuse = Fuse::in_full);
   // A BREP in memory (the Python module and FreeCAD hand shapes over this way).
   static CadModel from_brep_string(const std::string& brep, const std::string& name = "<brep>",
-                                   const std::atomic<bool>* cancel = nullptr);
+                                   const std::atomic<bool>* cancel = nullptr, Fuse fuse = Fuse::in_full);
 
   CadModel(CadModel&&) noexcept;
   CadModel& operator=(CadModel&&) noexcept;
@@ -132,6 +135,14 @@ class CadModel {
   double bbox_diagonal() const;
   std::string units() const;            // "mm" for STEP/IGES (converted), "as given" for BREP
   double seconds_read = 0, seconds_fuse = 0;
+  // The solids were fused as only touching (OpenCASCADE's gluing): faster,
+  // and the same shape wherever solids meet at faces, edges or vertices
+  // only. Solids that cross are left unsplit: their tessellation crosses
+  // itself, and mesh_cad meshes fused_in_full() instead.
+  bool glued() const;
+  // The model of the same solids fused in full (the solids that cross each
+  // other split at their intersections). Only for a glued model.
+  CadModel fused_in_full(const std::atomic<bool>* cancel = nullptr) const;
 
   // A size from the part's dimensions when the user gives none.
   double default_size() const;

@@ -9,7 +9,8 @@ namespace vd::cad {
 namespace {
 
 MeshResult mesh_file(const std::string& path, const CadMeshOptions& options, MeshResult* partial) {
-  return mesh_cad(CadModel::read(path), options, partial);
+  return mesh_cad(CadModel::read(path, options.mesh.cancel,
+                                 options.glue_first ? CadModel::Fuse::glued_first : CadModel::Fuse::in_full), options, partial);
 }
 
 Mesh tessellate_file(const std::string& path, const TessellationOptions& options) {

@@ -24,7 +24,7 @@ struct CadEntryPoints {
 
 // Bumped when CadEntryPoints or the option structs change shape, so that a
 // stale plugin beside a newer program is refused rather than misread.
-constexpr int kCadPluginAbi = 2;
+constexpr int kCadPluginAbi = 3;
 
 }  // namespace vd::cad
 

@@ -236,8 +236,9 @@ void number_subshapes(const TopoDS_Shape& input, const TopoDS_Shape& result, Top
   numbers.swap(n2);
 }
 
+// `glue`: fuse the solids as touching only (see CadModel::glued).
 std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::string& name, std::string units,
-                                            double& seconds_fuse, OccCancel& cancel) {
+                                            double& seconds_fuse, OccCancel& cancel, bool glue) {
   auto impl = std::make_unique<CadModel::Impl>();
   impl->name = name;
   impl->units = std::move(units);
@@ -256,6 +257,7 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
       throw InputError(name + ": Solid" + std::to_string(i) + " is not closed (" + std::to_string(open) +
                        " edges bound only one face)");
   }
+  impl->input = input;
 
   const auto t0 = Clock::now();
   std::vector<TopoDS_Shape> solid_shapes, face_shapes;
@@ -272,6 +274,15 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
     // caxif, the ring and the wing-fuselage byte for byte the same).
     fuse->SetRunParallel(thread_count() > 1);
     fuse->SetNonDestructive(true);
+    // Glued first: the solids of an assembly touch, and do not cross. The
+    // fuse then skips the intersections of faces, edges and vertices that
+    // touching solids do not have (gmsh_simple_plane.brep's 27 solids in
+    // 0.67 s instead of 2.69, caxif's 18 in 2.16 instead of 2.78, into the
+    // same shapes). Where solids do cross, their faces are left whole and the
+    // tessellation crosses itself; mesh_cad then fuses again in full
+    // (CadModel::fused_in_full).
+    if (glue) fuse->SetGlue(BOPAlgo_GlueShift);
+    impl->glued = glue;
     fuse->Build(cancel.range());
     cancel.check();  // before the errors: a stopped fuse reports one
     if (fuse->HasErrors() || !fuse->IsDone()) {
@@ -310,7 +321,7 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
 
 }  // namespace
 
-CadModel CadModel::read(const std::string& path, const std::atomic<bool>* cancel_flag) {
+CadModel CadModel::read(const std::string& path, const std::atomic<bool>* cancel_flag, Fuse fuse) {
   const auto t0 = Clock::now();
   OccCancel cancel(cancel_flag);
   try {
@@ -318,7 +329,7 @@ CadModel CadModel::read(const std::string& path, const std::atomic<bool>* cancel
     TopoDS_Shape shape = read_file(path, units, cancel);
     const double seconds_read = std::chrono::duration<double>(Clock::now() - t0).count();
     double seconds_fuse = 0;
-    CadModel model(build_model(shape, path, units, seconds_fuse, cancel));
+    CadModel model(build_model(shape, path, units, seconds_fuse, cancel, fuse == Fuse::glued_first));
     model.seconds_read = seconds_read;
     model.seconds_fuse = seconds_fuse;
     return model;
@@ -335,7 +346,7 @@ CadModel CadModel::read(const std::string& path, const std::atomic<bool>* cancel
 }
 
 CadModel CadModel::from_brep_string(const std::string& brep, const std::string& name,
-                                    const std::atomic<bool>* cancel_flag) {
+                                    const std::atomic<bool>* cancel_flag, Fuse fuse) {
   OccCancel cancel(cancel_flag);
   try {
     std::istringstream in(brep);
@@ -345,13 +356,30 @@ CadModel CadModel::from_brep_string(const std::string& brep, const std::string& 
     cancel.check();
     if (shape.IsNull()) throw InputError(name + ": not a BREP shape");
     double seconds_fuse = 0;
-    CadModel model(build_model(shape, name, "as given (BREP has no units)", seconds_fuse, cancel));
+    CadModel model(
+        build_model(shape, name, "as given (BREP has no units)", seconds_fuse, cancel, fuse == Fuse::glued_first));
     model.seconds_fuse = seconds_fuse;
     return model;
   } catch (const Standard_Failure& e) {
     throw InputError(name + ": OpenCASCADE failed: " + e.GetMessageString());
   }
 }
+
+CadModel CadModel::fused_in_full(const std::atomic<bool>* cancel_flag) const {
+  if (!impl_->glued) throw std::logic_error("fused_in_full: the model was fused in full already");
+  OccCancel cancel(cancel_flag);
+  try {
+    double seconds_fuse = 0;
+    CadModel model(build_model(impl_->input, impl_->name, impl_->units, seconds_fuse, cancel, false));
+    model.seconds_read = seconds_read;
+    model.seconds_fuse = seconds_fuse;
+    return model;
+  } catch (const Standard_Failure& e) {
+    throw InputError(impl_->name + ": OpenCASCADE failed: " + e.GetMessageString());
+  }
+}
+
+bool CadModel::glued() const { return impl_->glued; }
 
 CadModel::CadModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 CadModel::CadModel(CadModel&&) noexcept = default;

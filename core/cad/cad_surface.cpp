@@ -286,10 +286,16 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
 
 std::vector<double> CadModel::volume_errors(const Mesh& surface, const std::vector<double>& cad_volume) const {
   const std::vector<double> volume = enclosed_volumes(surface);
+  // Solids that overlap come out of the fuse in pieces, the common one
+  // numbered after the first of them (number_subshapes): the facets carry
+  // the number, so a number's pieces are measured together.
+  std::map<int, double> cad_by_number;
+  for (size_t i = 0; i < impl_->solids.size(); ++i) cad_by_number[impl_->solid_number[i]] += cad_volume[i];
   std::vector<double> error(impl_->solids.size(), 0.0);
   for (size_t i = 0; i < impl_->solids.size(); ++i) {
     const int n = impl_->solid_number[i];
-    if (cad_volume[i] > 0 && n < static_cast<int>(volume.size())) error[i] = std::abs(volume[n] / cad_volume[i] - 1.0);
+    const double cad = cad_by_number[n];
+    if (cad_volume[i] > 0 && n < static_cast<int>(volume.size())) error[i] = std::abs(volume[n] / cad - 1.0);
   }
   return error;
 }
@@ -378,7 +384,7 @@ class CadGeometry : public SurfaceGeometry {
     for (size_t i = 0; i < cad_.solids.size(); ++i) {
       const size_t n = static_cast<size_t>(cad_.solid_number[i]);
       if (n >= volume.size()) volume.resize(n + 1, 0.0);
-      volume[n] = std::abs(solid_integrals(cad_, i)[0]);
+      volume[n] += std::abs(solid_integrals(cad_, i)[0]);  // pieces of one solid (below)
     }
     return volume;
   }
@@ -433,11 +439,12 @@ std::unique_ptr<SurfaceGeometry> CadModel::geometry() const { return std::make_u
 
 std::vector<GeometryCheck> CadModel::volume_checks(const Mesh& mesh) const {
   const std::vector<double> volume = region_volumes(mesh);
+  // A number's pieces together (volume_errors).
+  std::map<int, double> cad_by_number;
+  for (size_t s = 0; s < impl_->solids.size(); ++s) cad_by_number[impl_->solid_number[s]] += solid_integrals(*impl_, s)[0];
   std::vector<GeometryCheck> out;
-  for (size_t s = 0; s < impl_->solids.size(); ++s) {
-    const int n = impl_->solid_number[s];
-    out.push_back({"Solid" + std::to_string(n), solid_integrals(*impl_, s)[0], n < static_cast<int>(volume.size()) ? volume[n] : 0.0});
-  }
+  for (const auto& [n, cad] : cad_by_number)
+    out.push_back({"Solid" + std::to_string(n), cad, n < static_cast<int>(volume.size()) ? volume[n] : 0.0});
   return out;
 }
 

@@ -74,6 +74,9 @@ struct CadInputReport {
   bool used = false;
   std::string units;
   int solids = 0, faces = 0, interface_faces = 0;
+  // How the solids were made conformal: "none" (one solid), "glued" (as
+  // touching only), "in full" (after a glued surface crossed itself).
+  std::string fuse = "none";
   double size = 0;                 // edge length of the tessellation and the interior
   bool size_chosen = false;        // from the part's dimensions (no --size)
   double deflection = 0;           // chord height of the face tessellation (its last round)

@@ -116,7 +116,8 @@ std::string report_json(const MeshReport& r) {
       return a.str();
     };
     s << "  \"cad\": {\"units\": \"" << c.units << "\", \"solids\": " << c.solids << ", \"faces\": " << c.faces
-      << ", \"interface_faces\": " << c.interface_faces << ", \"size\": " << exact(c.size)
+      << ", \"interface_faces\": " << c.interface_faces << ", \"fuse\": \"" << c.fuse << "\""
+      << ", \"size\": " << exact(c.size)
       << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << exact(c.deflection)
       << ", \"angular_deflection_deg\": " << exact(c.angle_deg) << ", \"tessellation_rounds\": " << c.tessellation_rounds
       << ", \"recovery_retries\": " << c.recovery_retries << ", \"recovery_runaways\": " << c.recovery_runaways
@@ -155,7 +156,8 @@ std::string report_table(const MeshReport& r) {
   if (r.cad.used) {
     const auto& c = r.cad;
     row("CAD", std::to_string(c.solids) + " solids, " + std::to_string(c.faces) + " faces, " +
-                   std::to_string(c.interface_faces) + " interfaces; units " + c.units);
+                   std::to_string(c.interface_faces) + " interfaces; units " + c.units +
+                   (c.fuse == "none" ? "" : "; fused " + c.fuse));
     row("size", num(c.size) + (c.size_chosen ? " (chosen: bounding box diagonal / 25)" : " (given)") +
                     ", chord height " + num(c.deflection) + ", angle " + num(c.angle_deg) + " deg");
     row("tessellation", std::to_string(c.occ_triangles) + " OpenCASCADE triangles, " +

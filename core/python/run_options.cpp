@@ -88,6 +88,8 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     deflection (float, 0): chord height of the face tessellation (0: per face, size / 10,
         at most the mean thickness 2V/A / 50 of the solids on either side)
     planar_splits (bool, False): split vertices at chord mid-points instead of on the CAD geometry
+    full_fuse (bool, False): fuse the solids in full at once, instead of gluing them first
+        (as touching only) and fusing in full when the glued surface crosses itself
     angular_deflection (float, 20): OpenCASCADE's angular deflection (deg) on curved faces;
         unless it, deflection, max_passes or max_added is given, a recovery that stops at
         its guards is tried again: unsmoothed, then with one chord height everywhere
@@ -105,7 +107,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "cautious", "oracle",     "lp_limit", "volume",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
       "order",    "progress",   "cancel",      "threads"};
-  static const std::set<std::string> kCad = {"deflection", "planar_splits", "angular_deflection", "volume_tolerance",
+  static const std::set<std::string> kCad = {"deflection", "planar_splits", "full_fuse", "angular_deflection", "volume_tolerance",
                                              "smoothing", "face_remesh"};
   RunOptions run;
   MeshOptions& opt = run.cad.mesh;
@@ -179,6 +181,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       run.cad.retry_angles_deg.clear();  // a tessellation given by hand is kept
     }
     else if (name == "planar_splits") run.cad.splits_on_geometry = !boolean(value, name);
+    else if (name == "full_fuse") run.cad.glue_first = !boolean(value, name);
     else if (name == "angular_deflection") {
       run.cad.tessellation.angle_deg = number(value, name);
       run.cad.retry_angles_deg.clear();

@@ -151,9 +151,10 @@ CadSource cad_source(py::handle path, py::handle brep, const char* function) {
   return s;
 }
 
-cad::CadModel read_cad(const CadSource& source, const std::atomic<bool>* cancel = nullptr) {
-  return source.path.empty() ? cad::CadModel::from_brep_string(source.brep, "<brep>", cancel)
-                             : cad::CadModel::read(source.path, cancel);
+cad::CadModel read_cad(const CadSource& source, const std::atomic<bool>* cancel = nullptr,
+                       cad::CadModel::Fuse fuse = cad::CadModel::Fuse::in_full) {
+  return source.path.empty() ? cad::CadModel::from_brep_string(source.brep, "<brep>", cancel, fuse)
+                             : cad::CadModel::read(source.path, cancel, fuse);
 }
 
 py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs) {
@@ -165,7 +166,8 @@ py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs
     copt.mesh = opt;
     if (opt.progress) opt.progress("read CAD");
     set_thread_count(opt.threads);  // the general fuse's threads too
-    const cad::CadModel model = read_cad(source, opt.cancel);
+    const cad::CadModel model =
+        read_cad(source, opt.cancel, copt.glue_first ? cad::CadModel::Fuse::glued_first : cad::CadModel::Fuse::in_full);
     throw_if_cancelled(opt.cancel);
     MeshResult partial;
     try {

@@ -279,6 +279,36 @@ if code == 0:
         pairs = {tuple(sorted(x)) for x in zip(front[inner].tolist(), back[inner].tolist())}
         check(len(set(face[inner].tolist())) == 1 and pairs == {(1, 2)},
               "two boxes: the interface is one face between regions 1 and 2 (faces %s, sides %s)" % (set(face[inner].tolist()), pairs))
+    check(rep["cad"]["fuse"] == "glued", "two touching boxes: glued (fuse %r)" % rep["cad"]["fuse"])
+
+# Solids that cross: the glued fuse leaves their faces whole, the glued
+# surface crosses itself, and the solids are fused again in full. The box
+# B pokes out of the unit box A: the common piece keeps A's number (the
+# first solid wins the overlap), so region 1 is all of A (volume 1) and
+# region 2 what B has outside it (0.125).
+crossing = make_brep("crossing_boxes", lambda occ: (occ.addBox(0, 0, 0, 1, 1, 1), occ.addBox(0.5, 0.25, 0.25, 1, 0.5, 0.5)))
+code, rep, target, err = mesh(crossing, "--size", "0.25")
+check(code == 0, "two crossing boxes mesh (exit %s: %s)" % (code, err.strip()[-300:]))
+if code == 0:
+    check(rep["cad"]["fuse"] == "in full" and "glued surface refused" in rep["seconds"],
+          "crossing boxes: the glued surface refused, fused in full (fuse %r, phases %s)"
+          % (rep["cad"]["fuse"], list(rep["seconds"])[:3]))
+    wanted = {"Solid1": 1.0, "Solid2": 0.125}
+    got = {v["name"]: v["cad"] for v in rep["cad"]["volumes"]}
+    check(set(got) == set(wanted) and all(abs(got[k] - wanted[k]) < 1e-9 for k in wanted),
+          "crossing boxes: the report's CAD volumes per solid number are A's and B's outside A (%s)" % got)
+    import meshio
+    m = meshio.read(target)
+    vol = tet_volumes(m)
+    region = [np.asarray(v) for b, v in zip(m.cells, m.cell_data["region"]) if b.type == "tetra"][0]
+    by_region = {int(k): vol[region == k].sum() for k in set(region.tolist())}
+    check(vol.min() > 0 and set(by_region) == {1, 2} and abs(by_region[1] - 1.0) < 1e-9
+          and abs(by_region[2] - 0.125) < 1e-9,
+          "crossing boxes: regions 1 and 2 of volumes 1 and 0.125 (meshio: %s)" % by_region)
+    code2, rep2, target2, err2 = mesh_as("crossing_boxes_full", crossing, "--size", "0.25", "--full-fuse")
+    check(code2 == 0 and rep2["cad"]["fuse"] == "in full" and "glued surface refused" not in rep2["seconds"]
+          and open(target, "rb").read() == open(target2, "rb").read(),
+          "crossing boxes: --full-fuse fuses in full at once, into the same mesh (exit %s)" % code2)
 
 # Convergence on an assembly with a curved interface (the issue: each
 # region's volume within 0.5 % at the default size, tighter as the size
@@ -551,6 +581,12 @@ if ring:
               "2.05 before), %d tetrahedra under 10 deg, volume error %.3f %%"
               % (rep["interior"]["cap_folds_split"], rep["cad"]["remeshed_faces"], smallest.min(),
                  (smallest < 10).sum(), 100 * worst))
+    # Its torus and sphere touch, and do not cross: glued, they fuse into
+    # the shape the full fuse makes (the same mesh, byte for byte).
+    code, full, target, err = mesh_as("gmsh_ring_full", ring, "--quiet", "--full-fuse")
+    check(rep is not None and rep["cad"]["fuse"] == "glued" and code == 0 and full["cad"]["fuse"] == "in full"
+          and open(target, "rb").read() == open(os.path.join(out, "gmsh_ring.vtu"), "rb").read(),
+          "gmsh_ring.brep: glued and fused in full, the same mesh (exit %s)" % code)
 
 # Smoothing of the tessellation on the CAD faces: gmsh_part.step's flat
 # tetrahedra sat on caps along CAD edges (corners of 172-174 deg at a face's
