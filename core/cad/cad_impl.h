@@ -38,6 +38,9 @@ struct CadModel::Impl {
   bool glued = false;             // the fuse assumed the solids only touch (BOPAlgo_GlueShift)
   std::vector<TopoDS_Solid> solids;
   std::vector<int> solid_number;  // Solid<n> of solids[i]
+  // The input solids solids[i] is a piece of (empty without a fuse); two
+  // or more for the common piece of solids that overlap.
+  std::vector<std::vector<int>> solid_origins;
   std::vector<TopoDS_Face> faces; // the faces of the solids
   std::vector<int> face_number;   // Face<n> of faces[i]
   TopTools_IndexedMapOfShape face_index;  // face -> 1 + index into faces

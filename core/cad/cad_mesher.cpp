@@ -120,6 +120,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   }
   cad.volumes = model.volume_checks(result.mesh);
   cad.areas = model.area_checks(result.mesh);
+  cad.overlaps = model.overlaps();
   result.report.cad = cad;
   result.report.seconds.insert(result.report.seconds.begin(), cad_seconds.begin(), cad_seconds.end());
   return result;

@@ -154,6 +154,8 @@ class CadModel {
   // Volume per solid and area per face, OpenCASCADE against the mesh.
   std::vector<GeometryCheck> volume_checks(const Mesh& mesh) const;
   std::vector<GeometryCheck> area_checks(const Mesh& mesh) const;
+  // The common pieces of overlapping solids (after the full fuse).
+  std::vector<SolidOverlap> overlaps() const;
   // OpenCASCADE's own check of the shape (BOPAlgo_ArgumentAnalyzer: sub-shapes that
   // cross, curves off their surfaces, kinks, ...), named by the faces they
   // lie on; empty when it finds the shape valid. Slow (10 s on

@@ -34,6 +34,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -203,27 +204,35 @@ namespace {
 // from (FreeCAD's numbering of the input); pieces without an origin, and
 // the second of two input faces that became one interface, get no number of
 // their own (the first input face's number wins).
+// `origins` (optional): every input number each result shape came from
+// (two or more for the common piece of overlapping solids).
 template <class History>
 void number_subshapes(const TopoDS_Shape& input, const TopoDS_Shape& result, TopAbs_ShapeEnum kind,
-                      History& history, std::vector<TopoDS_Shape>& shapes, std::vector<int>& numbers) {
+                      History& history, std::vector<TopoDS_Shape>& shapes, std::vector<int>& numbers,
+                      std::vector<std::vector<int>>* origins = nullptr) {
   TopTools_IndexedMapOfShape in, out;
   TopExp::MapShapes(input, kind, in);
   TopExp::MapShapes(result, kind, out);
   std::vector<int> number(out.Extent() + 1, 0);
+  std::vector<std::vector<int>> from(out.Extent() + 1);
   for (int i = 1; i <= in.Extent(); ++i) {
     TopTools_ListOfShape images;
     if (history) images = history->Modified(in(i));
     if (images.IsEmpty() && !(history && history->IsDeleted(in(i)))) images.Append(in(i));
     for (const TopoDS_Shape& image : images) {
       const int k = out.FindIndex(image);
-      if (k > 0 && number[k] == 0) number[k] = i;
+      if (k <= 0) continue;
+      if (number[k] == 0) number[k] = i;
+      if (from[k].empty() || from[k].back() != i) from[k].push_back(i);
     }
   }
   int next = in.Extent();
+  std::vector<std::vector<int>> found;
   for (int k = 1; k <= out.Extent(); ++k) {
     if (number[k] == 0) number[k] = ++next;
     shapes.push_back(out(k));
     numbers.push_back(number[k]);
+    found.push_back(from[k]);
   }
   // Ordered by number, so that Solid1/Face1 come first.
   std::vector<size_t> order(shapes.size());
@@ -231,9 +240,11 @@ void number_subshapes(const TopoDS_Shape& input, const TopoDS_Shape& result, Top
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return numbers[a] < numbers[b]; });
   std::vector<TopoDS_Shape> s2;
   std::vector<int> n2;
-  for (size_t i : order) s2.push_back(shapes[i]), n2.push_back(numbers[i]);
+  std::vector<std::vector<int>> o2;
+  for (size_t i : order) s2.push_back(shapes[i]), n2.push_back(numbers[i]), o2.push_back(found[i]);
   shapes.swap(s2);
   numbers.swap(n2);
+  if (origins) origins->swap(o2);
 }
 
 // `glue`: fuse the solids as touching only (see CadModel::glued).
@@ -292,7 +303,8 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
                        " solids failed: " + report.str());
     }
     impl->shape = fuse->Shape();
-    number_subshapes(input, impl->shape, TopAbs_SOLID, fuse, solid_shapes, impl->solid_number);
+    number_subshapes(input, impl->shape, TopAbs_SOLID, fuse, solid_shapes, impl->solid_number,
+                     &impl->solid_origins);
     number_subshapes(input, impl->shape, TopAbs_FACE, fuse, face_shapes, face_numbers);
   } else {
     impl->shape = solids(1);
@@ -386,7 +398,9 @@ CadModel::CadModel(CadModel&&) noexcept = default;
 CadModel& CadModel::operator=(CadModel&&) noexcept = default;
 CadModel::~CadModel() = default;
 
-int CadModel::solid_count() const { return static_cast<int>(impl_->solids.size()); }
+int CadModel::solid_count() const {
+  return static_cast<int>(std::set<int>(impl_->solid_number.begin(), impl_->solid_number.end()).size());
+}
 int CadModel::face_count() const { return static_cast<int>(impl_->faces.size()); }
 double CadModel::bbox_diagonal() const { return impl_->diagonal; }
 std::string CadModel::units() const { return impl_->units; }

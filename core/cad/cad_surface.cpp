@@ -448,6 +448,14 @@ std::vector<GeometryCheck> CadModel::volume_checks(const Mesh& mesh) const {
   return out;
 }
 
+std::vector<SolidOverlap> CadModel::overlaps() const {
+  std::vector<SolidOverlap> out;
+  for (size_t s = 0; s < impl_->solids.size() && s < impl_->solid_origins.size(); ++s)
+    if (impl_->solid_origins[s].size() > 1)
+      out.push_back({impl_->solid_origins[s], std::abs(solid_integrals(*impl_, s)[0])});
+  return out;
+}
+
 std::vector<GeometryCheck> CadModel::area_checks(const Mesh& mesh) const {
   std::map<int, double> area;
   const bool curved = mesh.triangle_mid.size() == mesh.triangles.size() && !mesh.triangles.empty();

@@ -69,6 +69,13 @@ struct ReferenceMeasure {
   double mesh = 0;
 };
 
+// The common piece of solids that overlap (an assembly's interference):
+// meshed as the first of them.
+struct SolidOverlap {
+  std::vector<int> solids;  // solid numbers, ascending
+  double volume = 0;        // OpenCASCADE's volume of the common piece
+};
+
 // Filled for CAD input (core/cad): what was read and how the surface was made.
 struct CadInputReport {
   bool used = false;
@@ -95,6 +102,7 @@ struct CadInputReport {
   bool smoothing_dropped = false;  // the improved tessellation failed; meshed without smoothing
   bool remeshing_dropped = false;  // and without the remeshing
   std::vector<ReferenceMeasure> volumes, areas;
+  std::vector<SolidOverlap> overlaps;
 };
 
 struct MeshReport {

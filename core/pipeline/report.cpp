@@ -133,7 +133,11 @@ std::string report_json(const MeshReport& r) {
       << ", \"smoothing_dropped\": " << (c.smoothing_dropped ? "true" : "false")
       << ", \"remeshing_dropped\": " << (c.remeshing_dropped ? "true" : "false")
       << ", \"surface_facets\": " << c.surface_facets << ",\n    \"volumes\": " << measures(c.volumes)
-      << ",\n    \"areas\": " << measures(c.areas) << "},\n";
+      << ",\n    \"areas\": " << measures(c.areas) << ",\n    \"overlaps\": [";
+    for (size_t i = 0; i < c.overlaps.size(); ++i)
+      s << (i ? ", " : "") << "{\"solids\": " << json_array(c.overlaps[i].solids)
+        << ", \"volume\": " << exact(c.overlaps[i].volume) << "}";
+    s << "]},\n";
   }
   s << "  \"missing_facets\": [";
   for (size_t i = 0; i < r.missing_facets.size(); ++i) s << (i ? ", " : "") << json_array(r.missing_facets[i]);
@@ -201,7 +205,15 @@ std::string report_table(const MeshReport& r) {
     if (off > 0)
       row("volumes off by over 0.5 %", std::to_string(off) + " of " + std::to_string(c.volumes.size()) +
                                           " solids (largest " + which + ", " + num(100.0 * worst) + " %)");
-    double worst_area = 0;
+    // An overlap is usually a modelling fault of the assembly: said apart.
+    for (const auto& o : c.overlaps) {
+      std::string names;
+      for (size_t i = 0; i < o.solids.size(); ++i)
+        names += (i == 0 ? "" : i + 1 == o.solids.size() ? " and " : ", ") + ("Solid" + std::to_string(o.solids[i]));
+      row("overlapping solids", names + " share a volume of " + num(o.volume) + ", meshed as Solid" +
+                                    std::to_string(o.solids.front()));
+    }
+        double worst_area = 0;
     std::string which_area;
     for (const auto& a : c.areas) {
       const double e = a.reference != 0 ? (a.mesh - a.reference) / a.reference : 0.0;

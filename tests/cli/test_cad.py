@@ -279,7 +279,8 @@ if code == 0:
         pairs = {tuple(sorted(x)) for x in zip(front[inner].tolist(), back[inner].tolist())}
         check(len(set(face[inner].tolist())) == 1 and pairs == {(1, 2)},
               "two boxes: the interface is one face between regions 1 and 2 (faces %s, sides %s)" % (set(face[inner].tolist()), pairs))
-    check(rep["cad"]["fuse"] == "glued", "two touching boxes: glued (fuse %r)" % rep["cad"]["fuse"])
+    check(rep["cad"]["fuse"] == "glued" and rep["cad"]["overlaps"] == [],
+          "two touching boxes: glued, no overlap (fuse %r, overlaps %s)" % (rep["cad"]["fuse"], rep["cad"]["overlaps"]))
 
 # Solids that cross: the glued fuse leaves their faces whole, the glued
 # surface crosses itself, and the solids are fused again in full. The box
@@ -293,6 +294,9 @@ if code == 0:
     check(rep["cad"]["fuse"] == "in full" and "glued surface refused" in rep["seconds"],
           "crossing boxes: the glued surface refused, fused in full (fuse %r, phases %s)"
           % (rep["cad"]["fuse"], list(rep["seconds"])[:3]))
+    ov = rep["cad"]["overlaps"]
+    check(rep["cad"]["solids"] == 2 and len(ov) == 1 and ov[0]["solids"] == [1, 2] and abs(ov[0]["volume"] - 0.125) < 1e-9,
+          "crossing boxes: 2 solids, their overlap of 0.125 reported (solids %s, overlaps %s)" % (rep["cad"]["solids"], ov))
     wanted = {"Solid1": 1.0, "Solid2": 0.125}
     got = {v["name"]: v["cad"] for v in rep["cad"]["volumes"]}
     check(set(got) == set(wanted) and all(abs(got[k] - wanted[k]) < 1e-9 for k in wanted),
