@@ -73,7 +73,8 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.solids = model.solid_count();
   cad.faces = model.face_count();
   cad.interface_faces = model.interface_face_count();
-  cad.fuse = model.solid_count() < 2 && !model.glued() ? "none" : model.glued() ? "glued" : "in full";
+  cad.fuse = model.fuse_kind();
+  cad.overlaps = model.overlaps();  // in the partial report of exit 4 too
   cad.size = stats.size;
   cad.size_chosen = stats.size_chosen;
   cad.deflection = stats.deflection;
@@ -120,7 +121,6 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   }
   cad.volumes = model.volume_checks(result.mesh);
   cad.areas = model.area_checks(result.mesh);
-  cad.overlaps = model.overlaps();
   result.report.cad = cad;
   result.report.seconds.insert(result.report.seconds.begin(), cad_seconds.begin(), cad_seconds.end());
   return result;

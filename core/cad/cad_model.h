@@ -140,6 +140,8 @@ class CadModel {
   // only. Solids that cross are left unsplit: their tessellation crosses
   // itself, and mesh_cad meshes fused_in_full() instead.
   bool glued() const;
+  // "none" (one solid, no fuse), "glued" or "in full": the report's cad.fuse.
+  std::string fuse_kind() const;
   // The model of the same solids fused in full (the solids that cross each
   // other split at their intersections). Only for a glued model.
   CadModel fused_in_full(const std::atomic<bool>* cancel = nullptr) const;

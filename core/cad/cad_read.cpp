@@ -2,6 +2,7 @@
 // the FreeCAD numbering of solids and faces carried through the fuse.
 #include <BRepAlgoAPI_BuilderAlgo.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepLib.hxx>
@@ -268,7 +269,6 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
       throw InputError(name + ": Solid" + std::to_string(i) + " is not closed (" + std::to_string(open) +
                        " edges bound only one face)");
   }
-  impl->input = input;
 
   const auto t0 = Clock::now();
   std::vector<TopoDS_Shape> solid_shapes, face_shapes;
@@ -292,10 +292,21 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
     // same shapes). Where solids do cross, their faces are left whole and the
     // tessellation crosses itself; mesh_cad then fuses again in full
     // (CadModel::fused_in_full).
-    if (glue) fuse->SetGlue(BOPAlgo_GlueShift);
+    if (glue) {
+      fuse->SetGlue(BOPAlgo_GlueShift);
+      // Kept for fused_in_full as read: tessellating the glued model writes
+      // triangulations into the faces it shares with the input, and the
+      // full fuse and its bounding box must not see them.
+      impl->input = BRepBuilderAPI_Copy(input, Standard_True, Standard_True).Shape();
+    }
     impl->glued = glue;
+    impl->fuse = glue ? "glued" : "in full";
     fuse->Build(cancel.range());
     cancel.check();  // before the errors: a stopped fuse reports one
+    if (glue && (fuse->HasErrors() || !fuse->IsDone())) {
+      // Whatever stopped the glued fuse, the full one decides.
+      return build_model(input, name, impl->units, seconds_fuse, cancel, false);
+    }
     if (fuse->HasErrors() || !fuse->IsDone()) {
       std::ostringstream report;
       fuse->DumpErrors(report);
@@ -407,11 +418,15 @@ std::string CadModel::units() const { return impl_->units; }
 double CadModel::default_size() const { return impl_->diagonal / 25.0; }
 
 int CadModel::interface_face_count() const {
-  TopTools_IndexedDataMapOfShapeListOfShape face_solids;
-  TopExp::MapShapesAndUniqueAncestors(impl_->shape, TopAbs_FACE, TopAbs_SOLID, face_solids);
+  // Between two solid numbers: not between two pieces of one overlapping
+  // solid (number_subshapes).
+  std::vector<int> front, back;
+  face_sides(*impl_, front, back);
   int shared = 0;
-  for (int i = 1; i <= face_solids.Extent(); ++i) shared += face_solids(i).Extent() > 1;
+  for (size_t f = 0; f < front.size(); ++f) shared += front[f] > 0 && back[f] > 0 && front[f] != back[f];
   return shared;
 }
+
+std::string CadModel::fuse_kind() const { return impl_->fuse; }
 
 }  // namespace vd::cad

@@ -129,10 +129,12 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
     const auto& [signed_volume, area] = solid_integrals(*impl_, i);
     const double volume = std::abs(signed_volume);
     cad_volume[i] = volume;
-    solid_deflection[impl_->solid_number[i]] =
-        options.start_deflection > 0 ? options.start_deflection
-        : area > 0 && volume > 0     ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0)
-                                     : stats.size / 10.0;
+    const double deflection = options.start_deflection > 0 ? options.start_deflection
+                              : area > 0 && volume > 0     ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0)
+                                                           : stats.size / 10.0;
+    // The pieces of one overlapping solid (number_subshapes): the finest.
+    const auto [it, first] = solid_deflection.emplace(impl_->solid_number[i], deflection);
+    if (!first) it->second = std::min(it->second, deflection);
     solid_angle_deg[impl_->solid_number[i]] = options.angle_deg;
   }
   if (options.size > 0 && options.refine) {

@@ -213,7 +213,7 @@ std::string report_table(const MeshReport& r) {
       row("overlapping solids", names + " share a volume of " + num(o.volume) + ", meshed as Solid" +
                                     std::to_string(o.solids.front()));
     }
-        double worst_area = 0;
+    double worst_area = 0;
     std::string which_area;
     for (const auto& a : c.areas) {
       const double e = a.reference != 0 ? (a.mesh - a.reference) / a.reference : 0.0;
