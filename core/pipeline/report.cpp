@@ -52,7 +52,8 @@ std::string report_json(const MeshReport& r) {
     << d.oracle_wrong << "},\n";
   s << "  \"delaunayzation\": {\"passes\": " << d.passes << ", \"flips\": " << d.flips << ", \"splits\": " << d.splits
     << ", \"splits_on_chord\": " << d.splits_on_chord << ", \"splits_on_chord_for_volume\": " << d.splits_on_chord_for_volume
-    << ", \"added_vertices\": " << d.added_vertices << ", \"added_facets\": " << d.added_facets << "},\n";
+    << ", \"added_vertices\": " << d.added_vertices << ", \"added_facets\": " << d.added_facets
+    << ", \"shell_splits\": " << (d.shell_splits ? "true" : "false") << "},\n";
   s << "  \"interior\": {\"vertices\": " << r.interior_vertices << ", \"offset_points\": " << r.interior.offset_points
     << ", \"lattice_points\": " << r.interior.lattice_points << ", \"candidates\": " << r.interior.candidates
     << ", \"rejected_outside\": " << r.interior.rejected_outside << ", \"rejected_near_vertex\": "
@@ -239,7 +240,8 @@ std::string report_table(const MeshReport& r) {
                                                   " of them for a solid's volume"
                                             : std::string()) +
                                        ")"
-                                 : std::string()));
+                                 : std::string()) +
+                            (r.delaunayzation.shell_splits ? "; edges from corners split on concentric shells" : ""));
   row("oracle", r.oracle + ": " + std::to_string(o.queries) + " queries, " + std::to_string(o.lp_solved) + " LPs");
   std::string per_region;
   for (size_t i = 1; i < r.tets_per_region.size(); ++i)

@@ -42,6 +42,7 @@ class Delaunayzer {
     max_added_ = opt_.max_added_vertices >= 0 ? opt_.max_added_vertices
                                               : 20 * static_cast<int>(m_.points.size()) + 1000;
     input_facets_ = static_cast<int>(m_.triangles.size());
+    result_.shell_splits = opt_.shell_splits;
   }
 
   DelaunayzationResult run() {
@@ -284,9 +285,39 @@ class Delaunayzer {
     }
   }
 
+  // A vertex of the input where three or more faces meet.
+  bool is_corner(int v) {
+    if (corner_.empty()) {
+      corner_.assign(m_.points.size(), 0);
+      for (size_t u = 0; u < m_.points.size(); ++u) {
+        int a = -1, b = -1;
+        for (int f : vertex_facets_[u]) {
+          const int face = m_.triangles[f].face;
+          if (face == a || face == b) continue;
+          if (a < 0) a = face;
+          else if (b < 0) b = face;
+          else { corner_[u] = 1; break; }
+        }
+      }
+    }
+    return v < static_cast<int>(corner_.size()) && corner_[v];
+  }
+
   int split_edge(int p, int q) {
     std::uniform_real_distribution<double> jitter(-opt_.split_jitter, opt_.split_jitter);
-    const double s = 0.5 + jitter(rng_);
+    double s = 0.5 + jitter(rng_);
+    if (opt_.shell_splits) {
+      // Concentric shells (Ruppert; Shewchuk): an edge from a corner is
+      // split at the power of two nearest its middle, measured from the
+      // corner, so that the splits of the edges around it fall on common
+      // spheres and stop taking each other's facets out.
+      const bool cp = is_corner(p), cq = is_corner(q);
+      if (cp != cq) {
+        const double length = norm(m_.points[q] - m_.points[p]);
+        const double r = std::exp2(std::round(std::log2(0.5 * length)));
+        s = (cp ? r / length : 1.0 - r / length) + (s - 0.5);  // the same jitter
+      }
+    }
     const std::vector<int> sharing = edges_.facets(p, q);
     Vec3 point = m_.points[p] + s * (m_.points[q] - m_.points[p]);
     if (opt_.geometry) {
@@ -358,6 +389,7 @@ class Delaunayzer {
   double min_edge_ = 0;
   int max_added_ = 0;
   int input_facets_ = 0;
+  std::vector<char> corner_;  // is_corner, for the vertices before the first split
   CancelPoll poll_cancel_{opt_.cancel, 256};
   DelaunayzationResult result_;
   VolumeKeeper volume_;

@@ -88,21 +88,25 @@ if path:
               "simple plane at 0.6 times its size: every solid within 1.5 %% of its CAD volume (over 0.4 %%: %s)" % shown)
 
 
-def meshes_on_uniform_chords(size, height, which, stops):
+def meshes_on_uniform_chords(size, height, which, stops, stalls):
     """gmsh_simple_plane.brep at `size` meshes on the uniform chord heights
     at `height` (as the progress line writes it, `which` of the first), after
-    `stops` recoveries stopped, each said on a progress line."""
+    `stops` recoveries stopped and `stalls` stalled (tried again with shell
+    splits), each said on a progress line."""
     path = data("cad-assembly/gmsh_simple_plane.brep")
     if not path:
         return
     code, rep, target, err = mesh_as("simple_plane_" + size.replace(".", ""), path, "--size", size)
     on_it = "tessellate CAD faces again at 20 deg, chord height %s everywhere" % height in err
     stopped = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stopped: ")]
+    stalled = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stalled: ")]
     check(code == 0 and rep["complete"] and rep["cad"]["solids"] == 27 and on_it and len(stopped) == stops
-          and rep["cad"]["recovery_retries"] == stops,
+          and rep["cad"]["recovery_retries"] == stops and len(stalled) == stalls
+          and rep["delaunayzation"]["shell_splits"] == (stalls > 0)
+          and ("recovery stalled (mid-point splits)" in rep["seconds"]) == (stalls > 0),
           "simple plane at size %s: meshed on the uniform chords at %s of their height, after %d recoveries "
-          "stopped, each said on the progress lines (exit %d, %s)"
-          % (size, which, stops, code, [line[:90] for line in stopped] if code == 0 else err.strip()[-300:]))
+          "stopped and %d stalled, each said on the progress lines (exit %d, %s)"
+          % (size, which, stops, stalls, code, [line[:90] for line in stopped + stalled] if code == 0 else err.strip()[-300:]))
     if code == 0:
         tets_in_solids(target, 27, "simple plane at size " + size)
 
@@ -115,7 +119,7 @@ def meshes_on_uniform_chords(size, height, which, stops):
 # (TessellationChain, kUniformChordRetries), which meshes it: 575,174
 # tetrahedra in 33 s on 2026-11-28 (0.38, 0.4 and 0.45 mesh too, at a
 # quarter of the height for the first two).
-meshes_on_uniform_chords("0.32", "0.00032", "half", 2)
+meshes_on_uniform_chords("0.32", "0.00032", "half", 2, 0)
 
 # gmsh_simple_plane.brep at size 0.3786: the uniform chords stopped at their
 # height, at half and at a quarter of it (stalls and runaways where the wing's
@@ -124,6 +128,23 @@ meshes_on_uniform_chords("0.32", "0.00032", "half", 2)
 # eighths of the height come next now (kUniformChordRetries): here three
 # quarters meshes it, 437,912 tetrahedra in 62 s (its smallest angle 0.0034
 # deg, one tetrahedron; the next 0.52 deg).
-meshes_on_uniform_chords("0.3786", "0.0005679", "three quarters", 4)
+meshes_on_uniform_chords("0.3786", "0.0005679", "three quarters", 4, 0)
+
+# gmsh_simple_plane.brep at size 0.4067: every link of the chain stopped
+# (the uniform heights stalled with 46 to 118 facets of 3e-7 to 5e-7 around
+# the CAD vertex where the wing root's skins meet the fuselage; exit 4 after
+# 46 s until 2026-11-29). The chain then runs once more with the edges from
+# corners split on concentric shells (cad_mesher.cpp, mesh_chain_or_shells),
+# and its first uniform height meshes: 232,400 tetrahedra, 0.70 deg.
+path = data("cad-assembly/gmsh_simple_plane.brep")
+if path:
+    code, rep, target, err = mesh_as("simple_plane_04067", path, "--size", "0.4067")
+    again = "every tessellation's recovery stopped; all again with shell splits from corners" in err
+    check(code == 0 and again and rep["delaunayzation"]["shell_splits"]
+          and "recoveries stopped (mid-point splits)" in rep["seconds"] and rep["cad"]["recovery_retries"] == 1,
+          "simple plane at size 0.4067: every link stopped, then meshed with shell splits on the uniform chords "
+          "(exit %d, %s)" % (code, err.strip()[-300:] if code else "retries %d" % rep["cad"]["recovery_retries"]))
+    if code == 0:
+        tets_in_solids(target, 27, "simple plane at size 0.4067")
 
 finish()
