@@ -148,10 +148,10 @@ MeshResult mesh_surface_file(const std::string& path, const MeshOptions& opt, Me
 }
 
 MeshResult mesh_cad_file(const std::string& path, const MeshOptions& opt, bool splits_on_geometry,
-                         const cad::TessellationOptions& tessellation, bool retry_tessellation, bool glue_first,
-                         MeshResult* partial) {
+                         const cad::TessellationOptions& tessellation, bool retry_tessellation,
+                         cad::CadModel::Fuse fuse, MeshResult* partial) {
   cad::CadMeshOptions copt;
-  copt.glue_first = glue_first;
+  copt.fuse = fuse;
   if (!retry_tessellation) copt.retry_angles_deg.clear();
   copt.mesh = opt;
   copt.splits_on_geometry = splits_on_geometry;
@@ -231,7 +231,8 @@ int mesh_command(const std::vector<std::string>& raw) {
   wopt.binary = args.flag("--binary");
   const bool quiet = args.flag("--quiet");
   const bool planar_splits = args.flag("--planar-splits");
-  const bool full_fuse = args.flag("--full-fuse");
+  const cad::CadModel::Fuse fuse =
+      args.flag("--full-fuse") ? cad::CadModel::Fuse::in_full : cad::CadModel::Fuse::glued_first;
   const cad::TessellationOptions tessellation = tessellation_options(args);
   const auto pos = args.positionals();
   if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh mesh --help)");
@@ -263,9 +264,8 @@ int mesh_command(const std::vector<std::string>& raw) {
 
   MeshResult partial;
   try {
-    MeshResult result = cad_input
-                                  ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, retry_tessellation, !full_fuse,
-                                                  &partial)
+    MeshResult result = cad_input ? mesh_cad_file(pos[0], opt, !planar_splits, tessellation, retry_tessellation,
+                                                  fuse, &partial)
                                   : mesh_surface_file(pos[0], opt, &partial);
     if (opt.progress) opt.progress("write " + output);
     write_result(result.mesh, output, wopt);

@@ -35,8 +35,9 @@ struct CadModel::Impl {
   std::string units = "as given";
   TopoDS_Shape input;             // glued: a copy of the solids as read, for fused_in_full
   TopoDS_Shape shape;             // after the general fuse
-  bool glued = false;             // the fuse assumed the solids only touch (BOPAlgo_GlueShift)
-  std::string fuse = "none";      // "none" (one solid), "glued", "in full"
+  // "none" (one solid), "glued" (the fuse took the solids as only touching,
+  // BOPAlgo_GlueShift), "in full".
+  std::string fuse = "none";
   std::vector<TopoDS_Solid> solids;
   std::vector<int> solid_number;  // Solid<n> of solids[i]
   // The input solids solids[i] is a piece of (empty without a fuse); two

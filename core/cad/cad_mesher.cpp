@@ -223,7 +223,6 @@ MeshResult mesh_chain_or_shells(const CadModel& model, const CadMeshOptions& opt
     CadMeshOptions shells = options;
     shells.mesh.delaunayzation.shell_splits = true;
     MeshResult result = mesh_chain(model, shells, partial);
-    result.report.delaunayzation.shell_splits = true;
     result.report.seconds.insert(result.report.seconds.begin(), {"recoveries stopped (mid-point splits)", stopped});
     return result;
   }

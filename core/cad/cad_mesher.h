@@ -43,8 +43,8 @@ struct CadMeshOptions {
   MeshOptions mesh = cad_mesh_defaults();  // mesh.size.uniform: the size (0: chosen from the part)
   TessellationOptions tessellation; // its size is taken from mesh.size.uniform
   bool splits_on_geometry = true;   // false: the paper's planar mid-points
-  // Read by the callers that read the model (CadModel::Fuse::glued_first).
-  bool glue_first = true;
+  // Read by the callers that read the model (CadModel::read).
+  CadModel::Fuse fuse = CadModel::Fuse::glued_first;
   // When recovery stops at its guards (RecoveryError) on an automatic chord
   // height, tessellate again at these angular deflections, in turn: the
   // failures seen come from OpenCASCADE's triangles along one seam (the

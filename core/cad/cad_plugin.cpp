@@ -9,8 +9,7 @@ namespace vd::cad {
 namespace {
 
 MeshResult mesh_file(const std::string& path, const CadMeshOptions& options, MeshResult* partial) {
-  return mesh_cad(CadModel::read(path, options.mesh.cancel,
-                                 options.glue_first ? CadModel::Fuse::glued_first : CadModel::Fuse::in_full), options, partial);
+  return mesh_cad(CadModel::read(path, options.mesh.cancel, options.fuse), options, partial);
 }
 
 Mesh tessellate_file(const std::string& path, const TessellationOptions& options) {

@@ -299,7 +299,6 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
       // full fuse and its bounding box must not see them.
       impl->input = BRepBuilderAPI_Copy(input, Standard_True, Standard_True).Shape();
     }
-    impl->glued = glue;
     impl->fuse = glue ? "glued" : "in full";
     fuse->Build(cancel.range());
     cancel.check();  // before the errors: a stopped fuse reports one
@@ -389,7 +388,7 @@ CadModel CadModel::from_brep_string(const std::string& brep, const std::string& 
 }
 
 CadModel CadModel::fused_in_full(const std::atomic<bool>* cancel_flag) const {
-  if (!impl_->glued) throw std::logic_error("fused_in_full: the model was fused in full already");
+  if (!glued()) throw std::logic_error("fused_in_full: the model was fused in full already");
   OccCancel cancel(cancel_flag);
   try {
     double seconds_fuse = 0;
@@ -402,7 +401,7 @@ CadModel CadModel::fused_in_full(const std::atomic<bool>* cancel_flag) const {
   }
 }
 
-bool CadModel::glued() const { return impl_->glued; }
+bool CadModel::glued() const { return impl_->fuse == "glued"; }
 
 CadModel::CadModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 CadModel::CadModel(CadModel&&) noexcept = default;

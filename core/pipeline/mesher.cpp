@@ -98,6 +98,7 @@ void accumulate(DelaunayzationResult& total, const DelaunayzationResult& pass) {
   total.added_vertices += pass.added_vertices;
   total.added_facets += pass.added_facets;
   total.oracle_wrong += pass.oracle_wrong;
+  total.shell_splits = total.shell_splits || pass.shell_splits;
   total.missing = pass.missing;
 }
 

@@ -181,7 +181,8 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       run.cad.retry_angles_deg.clear();  // a tessellation given by hand is kept
     }
     else if (name == "planar_splits") run.cad.splits_on_geometry = !boolean(value, name);
-    else if (name == "full_fuse") run.cad.glue_first = !boolean(value, name);
+    else if (name == "full_fuse")
+      run.cad.fuse = boolean(value, name) ? cad::CadModel::Fuse::in_full : cad::CadModel::Fuse::glued_first;
     else if (name == "angular_deflection") {
       run.cad.tessellation.angle_deg = number(value, name);
       run.cad.retry_angles_deg.clear();

@@ -166,8 +166,7 @@ py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs
     copt.mesh = opt;
     if (opt.progress) opt.progress("read CAD");
     set_thread_count(opt.threads);  // the general fuse's threads too
-    const cad::CadModel model =
-        read_cad(source, opt.cancel, copt.glue_first ? cad::CadModel::Fuse::glued_first : cad::CadModel::Fuse::in_full);
+    const cad::CadModel model = read_cad(source, opt.cancel, copt.fuse);
     throw_if_cancelled(opt.cancel);
     MeshResult partial;
     try {
