@@ -167,8 +167,9 @@ class CadModel {
   struct Impl;
 
  private:
-  // |tessellated / CAD - 1| per solid (cad_volume per solid, 0: unknown, error 0).
-  std::vector<double> volume_errors(const Mesh& surface, const std::vector<double>& cad_volume) const;
+  // |tessellated / CAD - 1| per solid, its number's pieces together (a CAD
+  // volume of 0: unknown, error 0).
+  std::vector<double> volume_errors(const Mesh& surface) const;
   explicit CadModel(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

@@ -73,6 +73,17 @@ const std::array<double, 2>& solid_integrals(const CadModel::Impl& cad, size_t i
   return v;
 }
 
+// The CAD volume of each solid number. Solids that overlap come out of the
+// fuse in pieces, the common one numbered after the first of them
+// (number_subshapes); the facets carry the number, so a number's pieces are
+// measured together.
+std::map<int, double> volume_by_number(const CadModel::Impl& cad) {
+  std::map<int, double> volume;
+  for (size_t i = 0; i < cad.solids.size(); ++i)
+    volume[cad.solid_number[i]] += std::abs(solid_integrals(cad, i)[0]);
+  return volume;
+}
+
 // Each face's value: the smallest of its solids' (`by_solid`, by solid
 // number). front/back: the solids on each face's sides (face_sides).
 std::vector<double> smallest_of_solids(const std::vector<int>& front, const std::vector<int>& back,
@@ -123,12 +134,10 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   // chord height. What is still off is measured, and the tessellation made
   // again finer, on the solids that are off only.
   const bool automatic = !(options.deflection > 0);
-  std::vector<double> cad_volume(impl_->solids.size(), 0.0);
   std::map<int, double> solid_deflection, solid_angle_deg;  // by solid number
   for (size_t i = 0; i < impl_->solids.size(); ++i) {
     const auto& [signed_volume, area] = solid_integrals(*impl_, i);
     const double volume = std::abs(signed_volume);
-    cad_volume[i] = volume;
     const double deflection = options.start_deflection > 0 ? options.start_deflection
                               : area > 0 && volume > 0     ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0)
                                                            : stats.size / 10.0;
@@ -214,7 +223,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       // plates of gmsh_ellipses.brep lost 1.3 % at thickness / 50. Both
       // criteria of OpenCASCADE's mesher bound the chords' sag, which the
       // volume error follows: chord height linearly, the angle squared.
-      const std::vector<double> errors = volume_errors(s.mesh, cad_volume);
+      const std::vector<double> errors = volume_errors(s.mesh);
       // The rounds go by the solids they may refine; the report gives all.
       double worst = 0;
       for (size_t i = 0; i < errors.size(); ++i)
@@ -286,18 +295,14 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   }
 }
 
-std::vector<double> CadModel::volume_errors(const Mesh& surface, const std::vector<double>& cad_volume) const {
+std::vector<double> CadModel::volume_errors(const Mesh& surface) const {
   const std::vector<double> volume = enclosed_volumes(surface);
-  // Solids that overlap come out of the fuse in pieces, the common one
-  // numbered after the first of them (number_subshapes): the facets carry
-  // the number, so a number's pieces are measured together.
-  std::map<int, double> cad_by_number;
-  for (size_t i = 0; i < impl_->solids.size(); ++i) cad_by_number[impl_->solid_number[i]] += cad_volume[i];
+  const std::map<int, double> cad = volume_by_number(*impl_);
   std::vector<double> error(impl_->solids.size(), 0.0);
   for (size_t i = 0; i < impl_->solids.size(); ++i) {
     const int n = impl_->solid_number[i];
-    const double cad = cad_by_number[n];
-    if (cad_volume[i] > 0 && n < static_cast<int>(volume.size())) error[i] = std::abs(volume[n] / cad - 1.0);
+    const double whole = cad.at(n);
+    if (whole > 0 && n < static_cast<int>(volume.size())) error[i] = std::abs(volume[n] / whole - 1.0);
   }
   return error;
 }
@@ -441,11 +446,8 @@ std::unique_ptr<SurfaceGeometry> CadModel::geometry() const { return std::make_u
 
 std::vector<GeometryCheck> CadModel::volume_checks(const Mesh& mesh) const {
   const std::vector<double> volume = region_volumes(mesh);
-  // A number's pieces together (volume_errors).
-  std::map<int, double> cad_by_number;
-  for (size_t s = 0; s < impl_->solids.size(); ++s) cad_by_number[impl_->solid_number[s]] += solid_integrals(*impl_, s)[0];
   std::vector<GeometryCheck> out;
-  for (const auto& [n, cad] : cad_by_number)
+  for (const auto& [n, cad] : volume_by_number(*impl_))
     out.push_back({"Solid" + std::to_string(n), cad, n < static_cast<int>(volume.size()) ? volume[n] : 0.0});
   return out;
 }
