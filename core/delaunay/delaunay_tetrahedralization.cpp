@@ -11,6 +11,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "geometry/predicates.h"
 #include "mesh/cancel.h"
 #include "mesh/disjoint_sets.h"
 #include "mesh/parallel.h"
@@ -311,6 +312,51 @@ void DelaunayTetrahedralization::label_new_cells(int first, const std::vector<in
     if (label < 0) throw std::logic_error("label_new_cells: a new tetrahedron has no new vertex");
     c->info().value = label;
   }
+}
+
+bool DelaunayTetrahedralization::relabel_changed_cells(const Mesh& surface,
+                                                       const std::vector<std::array<int, 3>>& changed) {
+  DT& dt = impl_->dt;
+  for (const auto& k : changed) {
+    if (std::max({k[0], k[1], k[2]}) >= static_cast<int>(impl_->handle.size())) continue;
+    DT::Cell_handle c;
+    int i, j, l;
+    if (!dt.is_facet(impl_->at(k[0]), impl_->at(k[1]), impl_->at(k[2]), c, i, j, l)) continue;
+    c->info().value = -1;
+    c->neighbor(6 - i - j - l)->info().value = -1;
+  }
+  const TripleIndex facet_of(surface.triangles, [](const Triangle& t) { return t.v; });
+  std::vector<DT::Cell_handle> pending;
+  for (auto c : dt.all_cell_handles()) {
+    if (c->info().value >= 0) continue;
+    if (dt.is_infinite(c)) c->info().value = 0;  // beyond the hull: the exterior, as label_cells has it
+    else pending.push_back(c);
+  }
+  // The label of finite cell c from its face i, -1 when that tells nothing yet.
+  const auto label_from = [&](const DT::Cell_handle& c, int i) {
+    const std::array<int, 3> face = {c->vertex((i + 1) & 3)->info(), c->vertex((i + 2) & 3)->info(),
+                                     c->vertex((i + 3) & 3)->info()};
+    const int f = facet_of.find(face);
+    if (f >= 0) {
+      const Triangle& t = surface.triangles[static_cast<size_t>(f)];
+      const auto& p = surface.points;
+      const int side = orientation(p[t.v[0]], p[t.v[1]], p[t.v[2]], p[c->vertex(i)->info()]);
+      return side > 0 ? t.front : side < 0 ? t.back : -1;
+    }
+    return c->neighbor(i)->info().value;
+  };
+  while (!pending.empty()) {
+    std::vector<DT::Cell_handle> left;
+    for (const DT::Cell_handle& c : pending) {
+      int label = -1;
+      for (int i = 0; i < 4 && label < 0; ++i) label = label_from(c, i);
+      if (label >= 0) c->info().value = label;
+      else left.push_back(c);
+    }
+    if (left.size() == pending.size()) return false;
+    pending = std::move(left);
+  }
+  return true;
 }
 
 std::vector<Tetrahedron> DelaunayTetrahedralization::labelled_cells(int* exterior) const {

@@ -107,6 +107,16 @@ class DelaunayTetrahedralization {
   // vertex and lies in its region. Throws std::logic_error for an unlabelled
   // tetrahedron with none.
   void label_new_cells(int first, const std::vector<int>& vertex_region);
+  // Labels the tetrahedra a change of the surface left unlabelled (those
+  // an insertion made) or touched (on either side of a facet in `changed`,
+  // sorted vertex triples of the facets added or removed since the last
+  // labelling, which still is a face): from a facet of `surface` they lie
+  // on (its front or back region, by orientation), else from a labelled
+  // neighbour across a face that is no facet. The others keep their label:
+  // a tetrahedron no insertion removed and no changed facet bounds lies on
+  // the side of the surface it lay on. False when some tetrahedron stays
+  // unlabelled (the caller builds the regions in full).
+  bool relabel_changed_cells(const Mesh& surface, const std::vector<std::array<int, 3>>& changed);
   // The finite tetrahedra with a label above 0, as tetrahedra of that region,
   // in the order number_cells() would give; *exterior, when given, counts
   // those labelled 0. Throws std::logic_error when a tetrahedron is

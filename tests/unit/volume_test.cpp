@@ -507,6 +507,39 @@ TEST(Volume, NewTetrahedraTakeTheRegionOfTheirInteriorVertex) {
   }
 }
 
+// After a change of the surface (the cap fold rounds), only the tetrahedra
+// an insertion made and those beside the changed facets are labelled again
+// (relabel_changed_cells); the result must be the full build's, across an
+// interface and around a nested region.
+TEST(Volume, RelabellingTheChangedTetrahedraGivesTheFullBuildsRegions) {
+  for (const Mesh& in : {test::two_boxes_sharing_a_face(3), test::box_in_box()}) {
+    MeshOptions o;
+    o.size.uniform = 0.2;
+    o.remove_slivers = false;
+    const MeshResult r = mesh_surface(in, o);
+    ASSERT_GT(r.report.interior_vertices, 100);
+    // Without the last 50 vertices every facet is still a face (a face
+    // keeps its empty ball when vertices go).
+    Mesh m = r.mesh;
+    m.tets.clear();
+    const int first = static_cast<int>(m.points.size()) - 50;
+    DelaunayTetrahedralization dt;
+    dt.insert(std::vector<Vec3>(m.points.begin(), m.points.begin() + first));
+    build_region_tetrahedra(m, dt);
+    dt.insert(m.points, first);
+    // Said changed: the cells on both sides of these facets lose their labels too.
+    std::vector<std::array<int, 3>> changed;
+    for (size_t f = 0; f < m.triangles.size(); f += 7) changed.push_back(sorted_triple(m.triangles[f].v));
+    ASSERT_TRUE(dt.relabel_changed_cells(m, changed));
+    std::set<std::pair<std::array<int, 4>, int>> relabelled, built;
+    for (const Tetrahedron& t : dt.labelled_cells()) relabelled.insert({sorted_quad(t.v), t.region});
+    build_region_tetrahedra(m, dt);
+    for (const Tetrahedron& t : m.tets) built.insert({sorted_quad(t.v), t.region});
+    EXPECT_GT(built.size(), 500u);
+    EXPECT_TRUE(relabelled == built) << relabelled.size() << " relabelled against " << built.size() << " built";
+  }
+}
+
 // The long loops tell how far they are (the terminal's progress line): the
 // insertion into the tetrahedralization and the interior lattice.
 TEST(Volume, LongLoopsReportTheirProgress) {
