@@ -374,20 +374,19 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       timer.start(volume_phase);
       const bool surface_kept = report.delaunayzation.flips == before.flips &&
                                 report.delaunayzation.added_vertices == before.added_vertices;
-      if (regions && surface_kept) {
-        dt.label_new_cells(from, *regions);
+      // Labelled in place, not built again: the tetrahedra of new interior
+      // vertices take their vertex's region; after a cap fold round (a few
+      // facets changed: its splits and what their recovery did) those new
+      // or beside a changed facet are labelled again (a full build was 0.23
+      // to 0.37 s of gmsh_simple_plane.brep's run each time, four times).
+      const bool by_new_vertices = regions && surface_kept;
+      if (by_new_vertices) dt.label_new_cells(from, *regions);
+      if (by_new_vertices ||
+          (facets_before && dt.relabel_changed_cells(m, changed_facets(*facets_before, m.triangles)))) {
         // The old list freed first: the two side by side were the run's peak.
         m.tets = std::vector<Tetrahedron>();
         m.tets = dt.labelled_cells(&report.regions.tets_in_exterior);
-        report.regions.labelled_by_new_vertices = true;
-      } else if (facets_before && dt.relabel_changed_cells(m, changed_facets(*facets_before, m.triangles))) {
-        // A few facets changed (cap fold splits and what their recovery
-        // did): the tetrahedra around them labelled again, not all of them
-        // (a full build was 0.23 to 0.37 s of gmsh_simple_plane.brep's run
-        // each time, four times).
-        m.tets = std::vector<Tetrahedron>();
-        m.tets = dt.labelled_cells(&report.regions.tets_in_exterior);
-        report.regions.labelled_by_new_vertices = false;
+        report.regions.labelled_by_new_vertices = by_new_vertices;
       } else {
         report.regions = build_region_tetrahedra(m, dt);
         report.regions.regions_from_tags = from_tags;

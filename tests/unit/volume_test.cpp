@@ -481,17 +481,33 @@ TEST(Volume, PointTriangleDistance) {
   EXPECT_NEAR(point_triangle_distance({1, 1, 0}, a, b, c), std::sqrt(0.5), 1e-15);  // beyond edge bc
 }
 
+// A two-region and a nested input meshed with interior vertices at size
+// 0.2, no sliver pass; and a set of tetrahedra with their regions, to
+// compare labellings whatever their order.
+std::vector<MeshResult> meshed_multi_region_inputs() {
+  std::vector<MeshResult> out;
+  for (const Mesh& in : {test::two_boxes_sharing_a_face(3), test::box_in_box()}) {
+    MeshOptions o;
+    o.size.uniform = 0.2;
+    o.remove_slivers = false;
+    out.push_back(mesh_surface(in, o));
+  }
+  return out;
+}
+
+std::set<std::pair<std::array<int, 4>, int>> with_regions(const std::vector<Tetrahedron>& tets) {
+  std::set<std::pair<std::array<int, 4>, int>> out;
+  for (const Tetrahedron& t : tets) out.insert({sorted_quad(t.v), t.region});
+  return out;
+}
+
 // After the interior vertices, when recovery finds every facet still a face,
 // the regions are not built again: each new tetrahedron takes the region of
 // its new vertex. The result must be what a fresh tetrahedralization of the
 // final vertices, with the regions built from scratch, gives: across an
 // interface and around a nested region.
 TEST(Volume, NewTetrahedraTakeTheRegionOfTheirInteriorVertex) {
-  for (const Mesh& in : {test::two_boxes_sharing_a_face(3), test::box_in_box()}) {
-    MeshOptions o;
-    o.size.uniform = 0.2;
-    o.remove_slivers = false;
-    const MeshResult r = mesh_surface(in, o);
+  for (const MeshResult& r : meshed_multi_region_inputs()) {
     EXPECT_TRUE(r.report.regions.labelled_by_new_vertices);
     EXPECT_GT(r.report.interior_vertices, 100);
     Mesh fresh = r.mesh;
@@ -499,9 +515,7 @@ TEST(Volume, NewTetrahedraTakeTheRegionOfTheirInteriorVertex) {
     DelaunayTetrahedralization dt;
     dt.insert(fresh.points);
     build_region_tetrahedra(fresh, dt);
-    std::set<std::pair<std::array<int, 4>, int>> labelled, built;
-    for (const Tetrahedron& t : r.mesh.tets) labelled.insert({sorted_quad(t.v), t.region});
-    for (const Tetrahedron& t : fresh.tets) built.insert({sorted_quad(t.v), t.region});
+    const auto labelled = with_regions(r.mesh.tets), built = with_regions(fresh.tets);
     EXPECT_EQ(labelled.size(), r.mesh.tets.size());
     EXPECT_TRUE(labelled == built) << labelled.size() << " labelled against " << built.size() << " built";
   }
@@ -512,11 +526,7 @@ TEST(Volume, NewTetrahedraTakeTheRegionOfTheirInteriorVertex) {
 // (relabel_changed_cells); the result must be the full build's, across an
 // interface and around a nested region.
 TEST(Volume, RelabellingTheChangedTetrahedraGivesTheFullBuildsRegions) {
-  for (const Mesh& in : {test::two_boxes_sharing_a_face(3), test::box_in_box()}) {
-    MeshOptions o;
-    o.size.uniform = 0.2;
-    o.remove_slivers = false;
-    const MeshResult r = mesh_surface(in, o);
+  for (const MeshResult& r : meshed_multi_region_inputs()) {
     ASSERT_GT(r.report.interior_vertices, 100);
     // Without the last 50 vertices every facet is still a face (a face
     // keeps its empty ball when vertices go).
@@ -531,10 +541,9 @@ TEST(Volume, RelabellingTheChangedTetrahedraGivesTheFullBuildsRegions) {
     std::vector<std::array<int, 3>> changed;
     for (size_t f = 0; f < m.triangles.size(); f += 7) changed.push_back(sorted_triple(m.triangles[f].v));
     ASSERT_TRUE(dt.relabel_changed_cells(m, changed));
-    std::set<std::pair<std::array<int, 4>, int>> relabelled, built;
-    for (const Tetrahedron& t : dt.labelled_cells()) relabelled.insert({sorted_quad(t.v), t.region});
+    const auto relabelled = with_regions(dt.labelled_cells());
     build_region_tetrahedra(m, dt);
-    for (const Tetrahedron& t : m.tets) built.insert({sorted_quad(t.v), t.region});
+    const auto built = with_regions(m.tets);
     EXPECT_GT(built.size(), 500u);
     EXPECT_TRUE(relabelled == built) << relabelled.size() << " relabelled against " << built.size() << " built";
   }
