@@ -40,6 +40,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "cad/cad_impl.h"
@@ -784,7 +785,7 @@ class FaceRemesher {
   // faces are meshed on several threads; replace() puts them in, in order.
   bool mesh_inside(int fi, const std::vector<int>& facets, const FaceChart& chart, bool piece, FaceBorder& b) const {
     if (!border(fi, facets, chart, b, piece) || too_many(fi, b, facets) || !refine<Mesher>(b, chart) ||
-        !rounder(b.cdt, facets, chart))
+        !rounder(b.cdt, facets, chart) || folds_on_face(b.cdt, chart))
       return false;
     return std::abs(domain_area(b.cdt) - b.area) <= 1e-9 * b.area;
   }
@@ -854,6 +855,43 @@ class FaceRemesher {
       if (norm((1.0 / 3) * (p[0] + p[1] + p[2]) - to_vec(chart.value(middle))) > sag_before) return false;
     }
     return true;
+  }
+
+  // Does a triangle of the new mesh turn over its neighbour on the face
+  // (their normals on the face more than 90 deg apart)? Round in the chart,
+  // a tiny triangle can fold on the face where a border node's place in the
+  // chart (from its curve on the face) and on the face (from the edge's 3D
+  // curve) differ by more than its width: gmsh_t20_component8.step at size
+  // 1.178 had a 0.013 mm triangle of its plane Face3 folded over three
+  // others at a corner where Face2 meets it at 0.26 deg, and the volume mesh
+  // a tetrahedron of 0.003 deg in the fold (no sliver pass can open one
+  // between two facets). The face then keeps its facets. Over 90 deg is
+  // also a crease of the face itself, which the chart does not see: one face
+  // of gmsh_dlr_f6.brep had pairs of new triangles at 90.0 and 90.8 deg;
+  // kept as tessellated, its smallest dihedral angle went 4.87 -> 6.50 deg.
+  bool folds_on_face(const Cdt& cdt, const FaceChart& chart) const {
+    // Each node evaluated on the face once (a new one is a point of the CAD surface).
+    std::unordered_map<const void*, Vec3> at;
+    const auto place = [&](const Cdt::Vertex_handle& v) -> const Vec3& {
+      const auto [it, added] = at.try_emplace(&*v);
+      if (added) it->second = on_face(v, chart);
+      return it->second;
+    };
+    const auto normal = [&](const Cdt::Face_handle& f) {
+      const Vec3 a = place(f->vertex(0));
+      return cross(place(f->vertex(1)) - a, place(f->vertex(2)) - a);
+    };
+    for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+      if (!f->is_in_domain()) continue;
+      const Vec3 n = normal(f);
+      for (int i = 0; i < 3; ++i) {
+        const Cdt::Face_handle g = f->neighbor(i);
+        // Each pair once, from the face with the smaller address.
+        if (cdt.is_infinite(g) || !g->is_in_domain() || &*g < &*f) continue;
+        if (!(dot(n, normal(g)) > 0)) return true;
+      }
+    }
+    return false;
   }
 
   // CGAL's Delaunay refinement of the marked inside; false when it throws.
