@@ -153,6 +153,8 @@ int DelaunayTetrahedralization::number_of_vertices() const {
   return static_cast<int>(impl_->dt.number_of_vertices());
 }
 
+int DelaunayTetrahedralization::dimension() const { return impl_->dt.dimension(); }
+
 std::array<int, 4> DelaunayTetrahedralization::locate(const Vec3& p) const {
   DT::Cell_handle c = impl_->dt.locate(to_cgal(p), impl_->last_located);
   impl_->last_located = c;

@@ -39,6 +39,10 @@ class DelaunayTetrahedralization {
                       std::vector<std::array<int, 3>>* boundary = nullptr) const;
 
   int number_of_vertices() const;
+  // 3 once four vertices are not in one plane; until then the
+  // tetrahedralization has no tetrahedra (a triangulation of a plane, a
+  // line, a point), and nothing that asks about tetrahedra may be called.
+  int dimension() const;
   // Back to no vertices: a step that is undone has the tetrahedralization
   // of the vertices before it built again (one insert), instead of a copy
   // kept of it all along.

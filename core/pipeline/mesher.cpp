@@ -255,6 +255,12 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   if (dt.number_of_vertices() != static_cast<int>(m.points.size()))
     throw InputError("the input has coincident vertices (" +
                      std::to_string(m.points.size() - dt.number_of_vertices()) + " duplicates)");
+  // A surface in one plane encloses nothing, and its tetrahedralization has
+  // no tetrahedra to look facets up in (a square sheet alone crashed there).
+  if (dt.dimension() < 3)
+    throw InputError("the input's " + std::to_string(m.points.size()) + " vertices all lie " +
+                     (dt.dimension() == 2 ? "in one plane" : dt.dimension() == 1 ? "on one line" : "at one point") +
+                     ": its facets enclose no volume");
   oracle->attach(&m.points, &dt);
   DelaunayzationOptions dopt = options.delaunayzation;
   dopt.seed = options.seed;

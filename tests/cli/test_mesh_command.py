@@ -232,6 +232,15 @@ bad("duplicates.off", tet_off.replace("4 4 0", "4 6 0") + "3 3 1 0\n3 2 1 0\n",
     "duplicate facets (same three vertices): 1, 4, 0, 5")
 bad("degenerate.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n2 0 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", "degenerate")
 bad("garbled.off", "OFF\n4 4 0\n0 0 zero\n", "garbled.off")
+# A sheet in one plane encloses nothing, and its tetrahedralization has no
+# tetrahedra: the facets' look-up in it crashed (2026-11-29). Named by what
+# is wrong with it, as a triangle alone is.
+sheet = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n"
+bad("sheet.off", sheet, "4 vertices all lie in one plane")
+bad("triangle.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "3 vertices all lie in one plane")
+# A triangle outside a closed surface: a sheet that bounds no region.
+bad("tet_and_triangle.off", tet_off.replace("4 4 0", "7 5 0").replace("0 0 1\n", "0 0 1\n5 5 5\n6 5 5\n5 6 5\n")
+    + "3 4 5 6\n", "1 facets have the exterior on both sides (they bound no region), e.g. facets 4")
 bad("empty.off", "", "empty.off")
 # Two tetrahedra piercing each other.
 pierce = ("OFF\n8 8 0\n0 0 0\n2 0 0\n0 2 0\n0 0 2\n0.2 0.2 0.2\n3 0.2 0.2\n0.2 3 0.2\n0.2 0.2 3\n"
