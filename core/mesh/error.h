@@ -3,6 +3,7 @@
 // or the facet ids.
 #pragma once
 
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -27,6 +28,23 @@ class SelfIntersectionError : public InputError {
 
  private:
   std::vector<std::pair<int, int>> facet_pairs_;
+};
+
+// Bad input shown by some facets (indices into the surface that was
+// checked). `describe` words the message for a list of them, so that a
+// caller that changed the surface since it was read (refinement to a size,
+// recovery's splits) can name the input's facets instead.
+class FacetsError : public InputError {
+ public:
+  using Describe = std::function<std::string(const std::vector<int>& facets)>;
+  FacetsError(Describe describe, std::vector<int> facets)
+      : InputError(describe(facets)), describe_(std::move(describe)), facets_(std::move(facets)) {}
+  const std::vector<int>& facets() const { return facets_; }
+  std::string describe(const std::vector<int>& facets) const { return describe_(facets); }
+
+ private:
+  Describe describe_;
+  std::vector<int> facets_;
 };
 
 // Some facets could not be made Delaunay within the guards. Exit code 4.

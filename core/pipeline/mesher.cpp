@@ -18,6 +18,7 @@
 #include "mesh/progress.h"
 #include "mesh/size_budget.h"
 #include "mesh/tet_faces.h"
+#include "pipeline/input_facets.h"
 #include "pipeline/missing_facets.h"
 #include "surface/edge_map.h"
 #include "surface/face_patches.h"
@@ -322,7 +323,21 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     crossings.await_result();
   }
   timer.start("volume");
-  report.regions = build_region_tetrahedra(m, dt);
+  try {
+    report.regions = build_region_tetrahedra(m, dt);
+  } catch (const FacetsError& e) {
+    // Found on a surface the user never saw: named by the input's facets
+    // (`vdmesh mesh sheet.off --size 0.2` said "64 facets" of a 2-facet
+    // sheet, by the refined surface's numbers).
+    if (report.size_splits == 0 && report.size_flips == 0 && report.delaunayzation.flips == 0 &&
+        report.delaunayzation.splits == 0)
+      throw;
+    const bool refined = report.size_splits > 0 || report.size_flips > 0;
+    throw InputError(e.describe(input_facets_under(input, m, e.facets())) +
+                     " (numbered as in the input; found on the surface as " + (refined ? "refined" : "recovered") +
+                     ", on " + std::to_string(e.facets().size()) + " of its " + std::to_string(m.triangles.size()) +
+                     " facets)");
+  }
 
   // For the cap vertices and the sliver pass. Case A moves the surface off
   // the input on curved faces; with cases B and C it gains little above a

@@ -117,11 +117,18 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
         if (c < 0) continue;
         if (region_of[c] == kUnknownRegion) region_of[c] = tags[s];
         if (region_of[c] != tags[s]) {
-          std::ostringstream msg;
-          msg << "region tags contradict the surface: facet " << f << " says region " << tags[s] << " on its "
-              << (s == 0 ? "front" : "back") << " side, but that side is "
-              << (c == outside ? "the exterior (region 0)" : "region " + std::to_string(region_of[c]) + " by other facets");
-          throw InputError(msg.str());
+          const std::string side = s == 0 ? "front" : "back";
+          const std::string is =
+              c == outside ? "the exterior (region 0)" : "region " + std::to_string(region_of[c]) + " by other facets";
+          const int tag = tags[s];
+          throw FacetsError(
+              [side, is, tag](const std::vector<int>& facets) {
+                std::ostringstream msg;
+                msg << "region tags contradict the surface: facet " << facets.front() << " says region " << tag
+                    << " on its " << side << " side, but that side is " << is;
+                return msg.str();
+              },
+              {static_cast<int>(f)});
         }
       }
     }
@@ -138,12 +145,16 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   std::vector<int> dangling;
   for (size_t f = 0; f < m.triangles.size(); ++f)
     if (m.triangles[f].front == 0 && m.triangles[f].back == 0) dangling.push_back(static_cast<int>(f));
-  if (!dangling.empty()) {
-    std::ostringstream msg;
-    msg << "open surface: " << dangling.size() << " facets have the exterior on both sides (they bound no region), e.g. facets";
-    for (size_t i = 0; i < dangling.size() && i < 10; ++i) msg << " " << dangling[i];
-    throw InputError(msg.str());
-  }
+  if (!dangling.empty())
+    throw FacetsError(
+        [](const std::vector<int>& facets) {
+          std::ostringstream msg;
+          msg << "open surface: " << facets.size()
+              << " facets have the exterior on both sides (they bound no region), e.g. facets";
+          for (size_t i = 0; i < facets.size() && i < 10; ++i) msg << " " << facets[i];
+          return msg.str();
+        },
+        std::move(dangling));
 
   // Exactly the room the tetrahedra need, in a fresh vector: grown by
   // push_back from the first build's capacity, it held up to twice that to

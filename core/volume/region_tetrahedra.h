@@ -21,9 +21,9 @@ struct RegionStats {
 
 // Pre: every facet of surface.triangles is a face of dt. Fills surface.tets
 // (regions > 0 only). When the facets carry region tags, they are checked
-// against the components (InputError on a contradiction); otherwise regions
+// against the components (FacetsError on a contradiction); otherwise regions
 // are numbered 1.. by their lowest bounding facet and the facets' front/back
-// are set. Facets with the exterior on both sides are refused (InputError:
+// are set. Facets with the exterior on both sides are refused (FacetsError:
 // an open surface that bounds nothing). Leaves each tetrahedron of dt
 // labelled with its region (0 for the exterior; see label_cells).
 RegionStats build_region_tetrahedra(Mesh& surface, DelaunayTetrahedralization& dt);

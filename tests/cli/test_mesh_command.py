@@ -239,8 +239,17 @@ sheet = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n"
 bad("sheet.off", sheet, "4 vertices all lie in one plane")
 bad("triangle.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "3 vertices all lie in one plane")
 # A triangle outside a closed surface: a sheet that bounds no region.
-bad("tet_and_triangle.off", tet_off.replace("4 4 0", "7 5 0").replace("0 0 1\n", "0 0 1\n5 5 5\n6 5 5\n5 6 5\n")
-    + "3 4 5 6\n", "1 facets have the exterior on both sides (they bound no region), e.g. facets 4")
+tet_and_triangle = (tet_off.replace("4 4 0", "7 5 0").replace("0 0 1\n", "0 0 1\n5 5 5\n6 5 5\n5 6 5\n")
+                    + "3 4 5 6\n")
+bad("tet_and_triangle.off", tet_and_triangle, "1 facets have the exterior on both sides (they bound no region), e.g. facets 4")
+# Found on the surface refined to a size, the facets are still named by the
+# input's numbers (they were the refined surface's: "512 facets ... e.g.
+# facets 4 6 7 ...").
+code, _, err = run("mesh", os.path.join(out, "tet_and_triangle.off"), "-o", os.path.join(out, "tet_and_triangle.vtu"),
+                   "--size", "0.05")
+check(code == 3 and "1 facets have the exterior on both sides (they bound no region), e.g. facets 4 (numbered as in "
+      "the input; found on the surface as refined, on " in err,
+      "a sheet refined to size 0.05: the input's facet named (exit %d: %s)" % (code, err.strip()[-300:]))
 bad("empty.off", "", "empty.off")
 # Two tetrahedra piercing each other.
 pierce = ("OFF\n8 8 0\n0 0 0\n2 0 0\n0 2 0\n0 0 2\n0.2 0.2 0.2\n3 0.2 0.2\n0.2 3 0.2\n0.2 0.2 3\n"
