@@ -165,10 +165,18 @@ void load_rajan_lp(glp_prob* lp, const PointGrid& grid, const std::vector<int>& 
 // where it is needed. No glp_scale_prob: the coefficients are already O(1)
 // (centred on X, divided by the facet size), and GLPK's automatic scaling
 // costs ten times the solve itself on problems of this shape.
+//
+// Both are bounded in pivots: on a cube with a 1e-6 cube pushed through its
+// face (a surface the self-intersection test, beside it on another thread,
+// refuses), GLPK's simplex ran for minutes on one problem and the recovery
+// never got to see that test's answer. Four rows take a few pivots a
+// column at most; past the bound the LP counts as failed (ambiguous), as
+// GLPK's own failures do.
 bool run_simplex(glp_prob* lp) {
   glp_smcp parm;
   glp_init_smcp(&parm);
   parm.msg_lev = GLP_MSG_OFF;
+  parm.it_lim = 1000 + 20 * (glp_get_num_rows(lp) + glp_get_num_cols(lp));
   const auto solved = [&](int rc) {
     const int status = glp_get_status(lp);
     return rc == 0 && (status == GLP_OPT || status == GLP_NOFEAS);
