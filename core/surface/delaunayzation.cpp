@@ -31,8 +31,12 @@ class Delaunayzer {
     version_.assign(m_.triangles.size(), 0);
     delaunay_ = oracle_.are_delaunay(m_.triangles);
     if (delaunay_.empty()) {
+      // One query a facet (the lp and sphere oracles): a surface that the
+      // self-intersection test beside it refuses stops the loop (two
+      // overlapping spheres of 164k facets: 2.2 s of LPs before, with the
+      // refusal's answer long in).
       delaunay_.resize(m_.triangles.size());
-      for (size_t f = 0; f < m_.triangles.size(); ++f) {
+      for (size_t f = 0; f < m_.triangles.size() && !abandoned(); ++f) {
         poll_cancel_();
         delaunay_[f] = query(m_.triangles[f]);
       }
