@@ -36,6 +36,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -887,7 +888,7 @@ class FaceRemesher {
       for (int i = 0; i < 3; ++i) {
         const Cdt::Face_handle g = f->neighbor(i);
         // Each pair once, from the face with the smaller address.
-        if (cdt.is_infinite(g) || !g->is_in_domain() || &*g < &*f) continue;
+        if (cdt.is_infinite(g) || !g->is_in_domain() || std::less<const void*>()(&*g, &*f)) continue;
         if (!(dot(n, normal(g)) > 0)) return true;
       }
     }

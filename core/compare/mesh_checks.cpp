@@ -6,7 +6,7 @@
 #include <map>
 #include <sstream>
 
-#include "compare/triangle_index.h"
+#include "geometry/triangle_index.h"
 #include "volume/region_tetrahedra.h"
 
 namespace vd::compare {

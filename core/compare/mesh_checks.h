@@ -28,9 +28,11 @@
 #include "mesh/mesh.h"
 #include "quality/tet_quality.h"
 
-namespace vd::compare {
-
+namespace vd {
 class TriangleIndex;
+}  // namespace vd
+
+namespace vd::compare {
 
 // Distances are compared with this fraction of the longest edge of the
 // facet concerned. vdmesh moves surface vertices by 1e-4 of the local size in

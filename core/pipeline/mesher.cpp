@@ -327,12 +327,10 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     report.regions = build_region_tetrahedra(m, dt);
   } catch (const FacetsError& e) {
     // Found on a surface the user never saw: named by the input's facets
-    // (`vdmesh mesh sheet.off --size 0.2` said "64 facets" of a 2-facet
-    // sheet, by the refined surface's numbers).
-    if (report.size_splits == 0 && report.size_flips == 0 && report.delaunayzation.flips == 0 &&
-        report.delaunayzation.splits == 0)
-      throw;
+    // (`vdmesh mesh cgal_complex_patch-13.off --size 2.26` said "2522
+    // facets" of a 232-facet patch, by the refined surface's numbers).
     const bool refined = report.size_splits > 0 || report.size_flips > 0;
+    if (!refined && report.delaunayzation.flips == 0 && report.delaunayzation.splits == 0) throw;
     throw InputError(e.describe(input_facets_under(input, m, e.facets())) +
                      " (numbered as in the input; found on the surface as " + (refined ? "refined" : "recovered") +
                      ", on " + std::to_string(e.facets().size()) + " of its " + std::to_string(m.triangles.size()) +

@@ -1,6 +1,7 @@
 // Closest-triangle and nearby-triangle queries over a fixed set of triangles
-// (CGAL's AABB tree, inexact double arithmetic: the checks of compare
-// measure distances, they take no combinatorial decisions from them).
+// (CGAL's AABB tree, inexact double arithmetic: its users measure distances
+// or name nearby facets, they take no combinatorial decisions from them:
+// the checks of `vdmesh compare`, the input facets named in error messages).
 #pragma once
 
 #include <array>
@@ -10,7 +11,7 @@
 
 #include "mesh/mesh.h"
 
-namespace vd::compare {
+namespace vd {
 
 class TriangleIndex {
  public:
@@ -36,4 +37,4 @@ class TriangleIndex {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace vd::compare
+}  // namespace vd

@@ -1,4 +1,4 @@
-#include "compare/triangle_index.h"
+#include "geometry/triangle_index.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <iterator>
 
-namespace vd::compare {
+namespace vd {
 namespace {
 
 using K = CGAL::Simple_cartesian<double>;
@@ -75,4 +75,4 @@ double TriangleIndex::distance(int id, const Vec3& p) const {
   return std::sqrt(CGAL::squared_distance(point(p), impl_->triangles[static_cast<size_t>(it - impl_->ids.begin())]));
 }
 
-}  // namespace vd::compare
+}  // namespace vd
