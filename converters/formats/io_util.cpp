@@ -498,6 +498,12 @@ void sort_tets_by_number(TagList& numbers, std::vector<Tetrahedron>& tets, std::
       });
 }
 
+std::array<int, 3> corners_without_sides(const Triangle& t) {
+  const bool known = t.front != kUnknownRegion && t.back != kUnknownRegion;
+  if (known && t.front > t.back) return {t.v[0], t.v[2], t.v[1]};
+  return t.v;
+}
+
 std::vector<int> region_ids(const Mesh& m) {
   std::set<int> s;
   for (const Tetrahedron& t : m.tets) s.insert(t.region);

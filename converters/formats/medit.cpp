@@ -97,8 +97,12 @@ void write_medit(const Mesh& m, const std::string& path, const WriteOptions&) {
   for (const Vec3& p : m.points) out << p.x << ' ' << p.y << ' ' << p.z << " 0\n";
   if (!m.triangles.empty()) {
     out << "\nTriangles\n" << m.triangles.size() << '\n';
-    for (const Triangle& t : m.triangles)
-      out << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.face << '\n';
+    // Without tetrahedra nothing says a triangle's sides (the reader takes
+    // them from the tetrahedra).
+    for (const Triangle& t : m.triangles) {
+      const std::array<int, 3> v = m.tets.empty() ? detail::corners_without_sides(t) : t.v;
+      out << v[0] + 1 << ' ' << v[1] + 1 << ' ' << v[2] + 1 << ' ' << t.face << '\n';
+    }
   }
   if (!m.tets.empty()) {
     out << "\nTetrahedra\n" << m.tets.size() << '\n';

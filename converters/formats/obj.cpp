@@ -100,7 +100,8 @@ void write_obj(const Mesh& m, const std::string& path, const WriteOptions&) {
       current = t.face;
       out << "g " << detail::face_name(m, t.face) << '\n';
     }
-    out << "f " << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << '\n';
+    const std::array<int, 3> v = detail::corners_without_sides(t);
+    out << "f " << v[0] + 1 << ' ' << v[1] + 1 << ' ' << v[2] + 1 << '\n';
   }
   out.finish();
 }

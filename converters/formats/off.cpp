@@ -62,7 +62,10 @@ void write_off(const Mesh& m, const std::string& path, const WriteOptions&) {
   detail::Out out(path);
   out << "OFF\n" << m.points.size() << ' ' << m.triangles.size() << " 0\n";
   for (const Vec3& p : m.points) out << p.x << ' ' << p.y << ' ' << p.z << '\n';
-  for (const Triangle& t : m.triangles) out << "3 " << t.v[0] << ' ' << t.v[1] << ' ' << t.v[2] << '\n';
+  for (const Triangle& t : m.triangles) {
+    const std::array<int, 3> v = detail::corners_without_sides(t);
+    out << "3 " << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+  }
   out.finish();
 }
 

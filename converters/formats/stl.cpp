@@ -122,9 +122,9 @@ Mesh read_stl(const std::string& path) {
   return m;
 }
 
-Vec3 unit_normal(const Mesh& m, const Triangle& t) {
-  const Vec3 a = m.points[static_cast<size_t>(t.v[0])];
-  return normalized(cross(m.points[static_cast<size_t>(t.v[1])] - a, m.points[static_cast<size_t>(t.v[2])] - a));
+Vec3 unit_normal(const Mesh& m, const std::array<int, 3>& v) {
+  const Vec3 a = m.points[static_cast<size_t>(v[0])];
+  return normalized(cross(m.points[static_cast<size_t>(v[1])] - a, m.points[static_cast<size_t>(v[2])] - a));
 }
 
 void write_ascii(const Mesh& m, const std::string& path) {
@@ -137,10 +137,10 @@ void write_ascii(const Mesh& m, const std::string& path) {
     const std::string name = tagged ? detail::face_name(m, face) : "vdmesh";
     out << "solid " << name << '\n';
     for (; i < m.triangles.size() && (!tagged || m.triangles[i].face == face); ++i) {
-      const Triangle& t = m.triangles[i];
-      const Vec3 n = unit_normal(m, t);
+      const std::array<int, 3> corners = detail::corners_without_sides(m.triangles[i]);
+      const Vec3 n = unit_normal(m, corners);
       out << "  facet normal " << n.x << ' ' << n.y << ' ' << n.z << "\n    outer loop\n";
-      for (int v : t.v) {
+      for (int v : corners) {
         const Vec3& p = m.points[static_cast<size_t>(v)];
         out << "      vertex " << p.x << ' ' << p.y << ' ' << p.z << '\n';
       }
@@ -159,9 +159,10 @@ void write_binary(const Mesh& m, const std::string& path) {
   out << header;
   out.raw(static_cast<uint32_t>(m.triangles.size()));
   for (const Triangle& t : m.triangles) {
-    const Vec3 n = unit_normal(m, t);
+    const std::array<int, 3> corners = detail::corners_without_sides(t);
+    const Vec3 n = unit_normal(m, corners);
     for (double c : {n.x, n.y, n.z}) out.raw(static_cast<float>(c));
-    for (int v : t.v) {
+    for (int v : corners) {
       const Vec3& p = m.points[static_cast<size_t>(v)];
       for (double c : {p.x, p.y, p.z}) out.raw(static_cast<float>(c));
     }

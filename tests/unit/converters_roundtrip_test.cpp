@@ -560,6 +560,51 @@ TEST(ConvertersRoundTrip, SurfaceFormats) {
   }
 }
 
+// A surface whose tags say the sides (a CAD tessellation keeps each face's
+// own orientation) written where nothing can say them: each facet turned so
+// that its normal points into the lower-numbered region, out of the solids,
+// and the file reads back as a closed, consistently oriented surface.
+TEST(ConvertersRoundTrip, FormatsWithoutSidesTurnFacetsOutOfTheirRegion) {
+  Mesh outward = tagged_surface();
+  Mesh m = outward;
+  int turned = 0;
+  for (size_t i = 0; i < m.triangles.size(); i += 2) {
+    Triangle& t = m.triangles[i];
+    ASSERT_EQ(t.front, 0);
+    std::swap(t.v[1], t.v[2]);
+    std::swap(t.front, t.back);
+    ++turned;
+  }
+  ASSERT_GT(turned, 20);
+  auto normal = [](const Mesh& mesh, const Triangle& t) {
+    const Vec3 a = mesh.points[t.v[0]];
+    return cross(mesh.points[t.v[1]] - a, mesh.points[t.v[2]] - a);
+  };
+  for (const auto& [file, binary] : std::vector<std::pair<std::string, bool>>{
+           {"t.off", false}, {"t.obj", false}, {"t.stl", false}, {"t.stl", true}, {"t.mesh", false}}) {
+    SCOPED_TRACE(file + (binary ? " binary" : ""));
+    const std::string path = test::temp_path((binary ? "b" : "a") + file);
+    io::WriteOptions options;
+    options.binary = binary;
+    io::write_mesh(m, path, options);
+    const Mesh back = io::read_mesh(path);
+    ASSERT_EQ(back.triangles.size(), outward.triangles.size());
+    for (size_t i = 0; i < back.triangles.size(); ++i)
+      EXPECT_GT(dot(normal(back, back.triangles[i]), normal(outward, outward.triangles[i])), 0) << "triangle " << i;
+  }
+  // An interface facet (regions 1 and 2) points into region 1.
+  Mesh two = cube_tets();
+  two.tets.clear();
+  const auto interface = std::find_if(two.triangles.begin(), two.triangles.end(),
+                                      [](const Triangle& t) { return t.front == 2 && t.back == 1; });
+  ASSERT_NE(interface, two.triangles.end());
+  const std::string path = test::temp_path("interface.off");
+  io::write_mesh(two, path);
+  const Mesh back = io::read_mesh(path);
+  const size_t i = static_cast<size_t>(interface - two.triangles.begin());
+  EXPECT_LT(dot(normal(back, back.triangles[i]), normal(two, *interface)), 0);
+}
+
 // Counts from /work/shared/data/MANIFEST.tsv.
 struct SharedSurface {
   const char* file;
