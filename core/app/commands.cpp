@@ -63,7 +63,8 @@ const char* kMeshHelp =
     "                          faces; at least 1, default 2; 0: off. CAD input: off by default; when\n"
     "                          given, done on the CAD faces (size floor: size / 5)\n"
     "  --sliver-angle DEG      tetrahedra under this dihedral angle are slivers, removed or improved\n"
-    "                          (default 20; CAD input 10, then 20 when every tetrahedron reached 10)\n"
+    "                          (default 20; CAD input 10, then 20 when every tetrahedron reached 10;\n"
+    "                          at most 70.5)\n"
     "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
     "  --cautious              interior vertices that take no surface facet, no cap fold splits (what a\n"
     "                          run falls back to when the recovery with interior vertices stops)\n"
@@ -174,7 +175,8 @@ cad::TessellationOptions tessellation_options(Args& args) {
   t.gradation = args.number("--gradation", t.gradation);
   t.smooth = !args.flag("--no-smoothing");
   t.remesh = !args.flag("--no-face-remesh");
-  if (!(t.deflection >= 0)) throw UsageError("--deflection must not be negative");
+  if (!(t.deflection == 0 || t.deflection >= cad::kSmallestDeflection))
+    throw UsageError("--deflection must be 0 (chosen per face) or at least 1e-7 (OpenCASCADE's precision)");
   if (!(t.angle_deg > 0 && t.angle_deg <= 90)) throw UsageError("--angular-deflection must be in (0, 90]");
   if (!(t.volume_tolerance >= 0)) throw UsageError("--volume-tolerance must not be negative");
   return t;
@@ -200,6 +202,8 @@ int mesh_command(const std::vector<std::string>& raw) {
   // Asked before the option is consumed below: CAD input has its own default.
   const bool sliver_angle_given = args.has("--sliver-angle");
   const bool surface_grading_given = args.has("--surface-grading");
+  // -1 inside: no limit, and the default guard.
+  const bool args_lp_limit_given = args.has("--lp-limit"), max_added_given = args.has("--max-added");
   MeshOptions opt;
   const std::string output = args.value("-o", args.value("--output"));
   opt.oracle = args.value("--oracle", "dt");
@@ -243,6 +247,12 @@ int mesh_command(const std::vector<std::string>& raw) {
   if (opt.shift < 0 || opt.shift > 0.1) throw UsageError("--shift must be in [0, 0.1]");
   if (opt.delaunayzation.flip_angle_deg < 0 || opt.delaunayzation.flip_angle_deg > 180)
     throw UsageError("--flip-angle must be in [0, 180]");
+  if (opt.slivers.sliver_angle_deg < 0 || opt.slivers.sliver_angle_deg > kLargestSliverAngleDeg)
+    throw UsageError("--sliver-angle must be in [0, 70.5]: no tetrahedron has all its dihedral angles over 70.53 deg");
+  if (opt.sharp_angle_deg < 0 || opt.sharp_angle_deg > 180) throw UsageError("--sharp-angle must be in [0, 180]");
+  if (args_lp_limit_given && opt.oracle_options.lp_limit < 1) throw UsageError("--lp-limit must be positive");
+  if (opt.delaunayzation.max_passes < 0) throw UsageError("--max-passes must not be negative");
+  if (max_added_given && opt.delaunayzation.max_added_vertices < 0) throw UsageError("--max-added must not be negative");
   io::format_for(output);  // unknown output format: a usage error before any work
 
   // On a terminal one line per phase, redrawn with its progress and seconds;

@@ -36,6 +36,11 @@ inline bool is_cad_file_name(const std::string& path) {
   return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs" || ext == ".brep" || ext == ".brp";
 }
 
+// OpenCASCADE's mesher refuses a chord height under its precision
+// (Precision::Confusion(), 1e-7 in the model's units) with "invalid parameter
+// value"; the options say so first.
+constexpr double kSmallestDeflection = 1e-7;
+
 struct TessellationOptions {
   double size = 0;              // target edge length; 0: chosen from the part (report says which)
   double deflection = 0;        // chord height of OpenCASCADE's mesher; 0: min(size / 10, min over solids 2V/A / 50)

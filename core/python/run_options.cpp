@@ -200,11 +200,18 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
         "option flip_angle: must be in [0, 180]");
   check(opt.oracle == "dt" || opt.oracle == "lp" || opt.oracle == "sphere",
         "option oracle: unknown oracle '" + opt.oracle + "' (choose dt, lp or sphere)");
-  check(run.cad.tessellation.deflection >= 0, "option deflection: must not be negative");
+  check(run.cad.tessellation.deflection == 0 || run.cad.tessellation.deflection >= cad::kSmallestDeflection,
+        "option deflection: must be 0 (chosen per face) or at least 1e-7 (OpenCASCADE's precision)");
   check(run.cad.tessellation.angle_deg > 0 && run.cad.tessellation.angle_deg <= 90,
         "option angular_deflection: must be in (0, 90]");
   check(run.cad.tessellation.volume_tolerance >= 0, "option volume_tolerance: must not be negative");
   check(opt.delaunayzation.max_passes >= 0, "option max_passes: must not be negative");
+  check(opt.delaunayzation.max_added_vertices >= -1, "option max_added: must not be negative (-1: the default)");
+  check(opt.oracle_options.lp_limit == -1 || opt.oracle_options.lp_limit >= 1,
+        "option lp_limit: must be positive (-1: no limit)");
+  check(opt.slivers.sliver_angle_deg >= 0 && opt.slivers.sliver_angle_deg <= kLargestSliverAngleDeg,
+        "option sliver_angle: must be in [0, 70.5] (no tetrahedron has all its dihedral angles over 70.53 deg)");
+  check(opt.sharp_angle_deg >= 0 && opt.sharp_angle_deg <= 180, "option sharp_angle: must be in [0, 180]");
   return run;
 }
 

@@ -314,6 +314,18 @@ for args in (["mesh"], ["mesh", bracket], ["mesh", bracket, "-o", os.path.join(o
     code, _, err = run(*args)
     check(code == 2, "usage error %s: exit 2 (%d: %s)" % (" ".join(args[:1] + args[3:]), code, err.strip()[:200]))
 
+# Options out of their range: exit 2 naming the option, at once. A sliver
+# angle over 70.53 deg (the regular tetrahedron's) makes every tetrahedron a
+# sliver: --sliver-angle 90 ran gmsh_part.step's pass for 41 s instead of
+# 0.04; a chord height under OpenCASCADE's precision failed inside its
+# mesher ("invalid parameter value"); negative guards ended in exit 4.
+for option, value in (("--sliver-angle", "90"), ("--sliver-angle", "-5"), ("--sharp-angle", "-1"),
+                      ("--max-passes", "-1"), ("--max-added", "-1"), ("--lp-limit", "0"), ("--deflection", "1e-12")):
+    target = os.path.join(out, "range.vtu")
+    code, _, err = run("mesh", bracket, "-o", target, option, value)
+    check(code == 2 and option + " must" in err and not os.path.exists(target),
+          "%s %s: usage error naming it, no output (%d: %s)" % (option, value, code, err.strip()[:200]))
+
 # A guard that stops Delaunayzation: exit 4, the missing facets beside the
 # output, no output. The almost touching pyramids of the paper need Steiner
 # points, so allowing none must fail.

@@ -382,6 +382,9 @@ class Cad(unittest.TestCase):
             vdmesh.mesh_cad(path=self.path, brep=self.brep)
         with self.assertRaises(ValueError):
             vdmesh.mesh_cad(path=os.path.join(self.dir, "part.txt"))
+        # Under OpenCASCADE's precision its mesher fails with "invalid parameter value".
+        with self.assertRaisesRegex(ValueError, "option deflection: must be 0 .* or at least 1e-7"):
+            vdmesh.mesh_cad(path=self.path, deflection=1e-12)
 
 
 class BadInput(unittest.TestCase):
@@ -423,6 +426,10 @@ class BadInput(unittest.TestCase):
             vdmesh.mesh_surface(pts, tris, interior="no")
         with self.assertRaisesRegex(ValueError, "surface_grading: must be 0 or at least 1"):
             vdmesh.mesh_surface(pts, tris, surface_grading=0.5)
+        for name, value in (("sliver_angle", 90), ("sliver_angle", -5), ("sharp_angle", 200), ("lp_limit", 0),
+                            ("max_added", -2)):
+            with self.assertRaisesRegex(ValueError, "option %s: must" % name):
+                vdmesh.mesh_surface(pts, tris, **{name: value})
 
     def test_bad_files(self):
         d = tempfile.mkdtemp(prefix="vdmesh-py-bad-")

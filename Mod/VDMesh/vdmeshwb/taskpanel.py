@@ -58,7 +58,7 @@ class MeshTaskPanel:
         grid.addRow("LP size limit", self.lp)
         self.sliver = QtGui.QDoubleSpinBox()
         self.sliver.setObjectName("sliver")
-        self.sliver.setRange(0.0, 90.0)
+        self.sliver.setRange(0.0, 70.5)  # the mesher refuses more (no tetrahedron has all angles over 70.53 deg)
         self.sliver.setSuffix(" deg")
         self.sliver.setValue(p.sliver_angle)
         grid.addRow("Sliver angle", self.sliver)
