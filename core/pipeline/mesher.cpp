@@ -162,6 +162,42 @@ struct LaterRecoveryStopped {
   double seconds = 0;
 };
 
+// Edges of the input on one facet only, each with its midpoint and facet.
+// Allowed for cracks inside a region; where the regions come out open they
+// are the likely cause, and where they are is what mends the surface: a CAD
+// tessellation at chord height 1000 left 91 of them between gmsh_part.step's
+// faces, and the message named only facets, all of them.
+struct OpenEdge {
+  Vec3 middle;
+  int facet;
+};
+
+// "; the input has N edges on one facet only (...), e.g. near (x, y, z) on
+// face F, ...": up to three places, on different faces where there are.
+std::string open_edges_text(const std::vector<OpenEdge>& open, const Mesh& m) {
+  if (open.empty()) return "";
+  std::vector<const OpenEdge*> shown;
+  std::vector<int> faces;
+  for (const bool any_face : {false, true})
+    for (const OpenEdge& e : open) {
+      if (shown.size() == 3) break;
+      const int face = m.triangles[e.facet].face;
+      if (std::find(shown.begin(), shown.end(), &e) != shown.end()) continue;
+      if (!any_face && std::find(faces.begin(), faces.end(), face) != faces.end()) continue;
+      shown.push_back(&e);
+      faces.push_back(face);
+    }
+  std::string text = "; the input has " + std::to_string(open.size()) +
+                     " edges on one facet only (a gap in the surface, unless a crack inside a region), e.g.";
+  for (size_t i = 0; i < shown.size(); ++i) {
+    const Vec3& p = shown[i]->middle;
+    text += std::string(i ? "," : "") + " near (" + number_text(p.x, "%.4g") + ", " + number_text(p.y, "%.4g") +
+            ", " + number_text(p.z, "%.4g") + ") on facet " + std::to_string(shown[i]->facet);
+    if (faces[i] != kNoFace) text += " of face " + std::to_string(faces[i]);
+  }
+  return text;
+}
+
 // `cautious`: interior vertices that take no surface facet, and no cap fold
 // splits. `can_retry`: a cautious run is left after this one.
 MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, MeshResult* partial, bool cautious,
@@ -194,8 +230,11 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   // answer is awaited before anything is built on the recovered surface,
   // and a recovery it makes moot is abandoned (SelfIntersectionCheck).
   SelfIntersectionCheck crossings;
+  std::vector<OpenEdge> open_edges;
   if (options.validate) {
-    validate_surface(m, &*edges, /*self_intersections=*/false);
+    const SurfaceCheck check = validate_surface(m, &*edges, /*self_intersections=*/false);
+    for (const auto& [a, b] : check.open_edges)
+      open_edges.push_back({0.5 * (m.points[a] + m.points[b]), edges->facets(a, b)[0]});
     crossings.start(m, thread_count() > 1);
   }
   if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
@@ -330,11 +369,12 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     // (`vdmesh mesh cgal_complex_patch-13.off --size 2.26` said "2522
     // facets" of a 232-facet patch, by the refined surface's numbers).
     const bool refined = report.size_splits > 0 || report.size_flips > 0;
-    if (!refined && report.delaunayzation.flips == 0 && report.delaunayzation.splits == 0) throw;
+    if (!refined && report.delaunayzation.flips == 0 && report.delaunayzation.splits == 0)
+      throw InputError(e.what() + open_edges_text(open_edges, m));
     throw InputError(e.describe(input_facets_under(input, m, e.facets())) +
                      " (numbered as in the input; found on the surface as " + (refined ? "refined" : "recovered") +
                      ", on " + std::to_string(e.facets().size()) + " of its " + std::to_string(m.triangles.size()) +
-                     " facets)");
+                     " facets)" + open_edges_text(open_edges, m));
   }
 
   // For the cap vertices and the sliver pass. Case A moves the surface off

@@ -225,6 +225,9 @@ def bad(name, text, needle):
 
 tet_off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n"
 bad("open.off", tet_off.replace("4 4 0", "4 3 0").rsplit("3 0 3 2\n", 1)[0], "open surface")
+# ... and says where the gap is: the edges on one facet only, with places.
+bad("open_where.off", tet_off.replace("4 4 0", "4 3 0").rsplit("3 0 3 2\n", 1)[0],
+    "the input has 3 edges on one facet only (a gap in the surface, unless a crack inside a region), e.g. near (0, ")
 bad("flipped.off", tet_off.replace("3 0 3 2", "3 0 2 3"), "orientation")
 bad("duplicate.off", tet_off.replace("4 4 0", "4 5 0") + "3 1 2 3\n", "duplicate")
 # Each repeat after the first facet of its triple, in the repeats' order.
