@@ -381,48 +381,6 @@ Out& Out::operator<<(double v) {
 // ---------------------------------------------------------------------------
 // Mesh helpers
 
-namespace {
-
-struct PointKey {
-  uint64_t x, y, z;
-  bool operator==(const PointKey& o) const { return x == o.x && y == o.y && z == o.z; }
-};
-struct PointKeyHash {
-  size_t operator()(const PointKey& k) const {
-    uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
-    h ^= (k.y + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2));
-    h ^= (k.z + 0x94D049BB133111EBull + (h << 6) + (h >> 2));
-    return static_cast<size_t>(h ^ (h >> 31));
-  }
-};
-uint64_t bits(double d) {
-  if (d == 0) d = 0;  // -0 and +0 are the same point
-  uint64_t b;
-  std::memcpy(&b, &d, sizeof b);
-  return b;
-}
-
-}  // namespace
-
-void weld_points(Mesh& m) {
-  std::unordered_map<PointKey, int, PointKeyHash> seen;
-  seen.reserve(m.points.size());
-  std::vector<int> map(m.points.size());
-  std::vector<Vec3> kept;
-  kept.reserve(m.points.size());
-  for (size_t i = 0; i < m.points.size(); ++i) {
-    const Vec3& p = m.points[i];
-    const auto [it, fresh] = seen.emplace(PointKey{bits(p.x), bits(p.y), bits(p.z)}, static_cast<int>(kept.size()));
-    if (fresh) kept.push_back(p);
-    map[i] = it->second;
-  }
-  m.points = std::move(kept);
-  for (Triangle& t : m.triangles)
-    for (int& v : t.v) v = map[static_cast<size_t>(v)];
-  for (Tetrahedron& t : m.tets)
-    for (int& v : t.v) v = map[static_cast<size_t>(v)];
-}
-
 double tet_det(const Mesh& m, const std::array<int, 4>& v) {
   const Vec3 a = m.points[static_cast<size_t>(v[0])];
   return dot(cross(m.points[static_cast<size_t>(v[1])] - a, m.points[static_cast<size_t>(v[2])] - a),

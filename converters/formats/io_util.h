@@ -371,8 +371,6 @@ void sort_in_place(size_t n, Key key, Swap swap) {
 // mid-edge nodes move with them when every tetrahedron has them.
 void sort_tets_by_number(TagList& numbers, std::vector<Tetrahedron>& tets, std::vector<TetMidNodes>& mids);
 
-// Merges points with identical coordinates (+0 == -0) and renumbers triangles.
-void weld_points(Mesh& m);
 // Fills each triangle's unknown front/back from the tetrahedra that have it as
 // a face; a side without a tetrahedron is the exterior (0). Triangles that
 // are no tetrahedron's face keep unknown sides.

@@ -118,7 +118,8 @@ Mesh read_ascii(std::string_view data, const std::string& path) {
 Mesh read_stl(const std::string& path) {
   const detail::FileBytes data(path);
   Mesh m = looks_binary(data) ? read_binary(data, path) : read_ascii(data, path);
-  detail::weld_points(m);
+  weld_coincident_points(m);
+  drop_unused_points(m);
   return m;
 }
 

@@ -1,6 +1,9 @@
 #include "mesh/mesh.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
 
 namespace vd {
 
@@ -14,6 +17,60 @@ bool Mesh::has_face_tags() const {
   for (const Triangle& t : triangles)
     if (t.face == kNoFace) return false;
   return !triangles.empty();
+}
+
+namespace {
+
+// A point's coordinates as bits, -0 as +0 (the same point).
+struct PointBits {
+  std::uint64_t x, y, z;
+  bool operator==(const PointBits& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct PointBitsHash {
+  size_t operator()(const PointBits& k) const {
+    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h ^= (k.y + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2));
+    h ^= (k.z + 0x94D049BB133111EBull + (h << 6) + (h >> 2));
+    return static_cast<size_t>(h ^ (h >> 31));
+  }
+};
+std::uint64_t bits(double d) {
+  if (d == 0) d = 0;
+  std::uint64_t b;
+  std::memcpy(&b, &d, sizeof b);
+  return b;
+}
+
+}  // namespace
+
+int weld_coincident_points(Mesh& m) {
+  std::unordered_map<PointBits, int, PointBitsHash> first;
+  first.reserve(m.points.size());
+  std::vector<int> to(m.points.size());
+  int repeats = 0;
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    const Vec3& p = m.points[i];
+    to[i] = static_cast<int>(i);
+    // Non-finite points stay as they are (validation refuses them).
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) continue;
+    const auto [it, fresh] = first.emplace(PointBits{bits(p.x), bits(p.y), bits(p.z)}, static_cast<int>(i));
+    to[i] = it->second;
+    repeats += !fresh;
+  }
+  if (repeats == 0) return 0;
+  // References to points that do not exist stay too (validation names them).
+  const auto weld = [&](int& v) {
+    if (v >= 0 && static_cast<size_t>(v) < to.size()) v = to[static_cast<size_t>(v)];
+  };
+  for (Triangle& t : m.triangles)
+    for (int& v : t.v) weld(v);
+  for (Tetrahedron& t : m.tets)
+    for (int& v : t.v) weld(v);
+  for (auto& mid : m.triangle_mid)
+    for (int& v : mid) weld(v);
+  for (auto& mid : m.tet_mid)
+    for (int& v : mid) weld(v);
+  return repeats;
 }
 
 std::vector<int> drop_unused_points(Mesh& m) {

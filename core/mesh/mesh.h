@@ -117,6 +117,14 @@ struct Mesh {
 // facets beside it from ever becoming Delaunay.
 std::vector<int> drop_unused_points(Mesh& m);
 
+// Points at the very same coordinates made one: every element's reference to
+// a repeat goes to the first of them, and the repeats are left unused (for
+// drop_unused_points). OFF and OBJ files may give a point once per part (two
+// cubes touching at an edge: "coincident vertices", exit 3, until
+// 2026-11-29); two coincident points cannot both be vertices of a Delaunay
+// tetrahedralization. Returns how many points were repeats.
+int weld_coincident_points(Mesh& m);
+
 // 1 for each of the first `points` ids that is a vertex of a triangle, else 0.
 std::vector<char> surface_vertex_flags(size_t points, const std::vector<Triangle>& triangles);
 

@@ -147,27 +147,10 @@ void append(Mesh& a, const Mesh& b) {
 }
 
 void weld_exact(Mesh& m) {
-  std::map<std::tuple<double, double, double>, int> seen;
-  std::vector<int> remap(m.points.size(), -1);
-  std::vector<Vec3> kept;
-  std::vector<bool> used(m.points.size(), false);
-  for (const Triangle& t : m.triangles)
-    for (int v : t.v) used[v] = true;
-  for (const Tetrahedron& t : m.tets)
-    for (int v : t.v) used[v] = true;
-  for (size_t i = 0; i < m.points.size(); ++i) {
-    if (!used[i]) continue;
-    const Vec3 p = m.points[i];
-    auto [it, inserted] = seen.emplace(std::make_tuple(p.x, p.y, p.z), static_cast<int>(kept.size()));
-    if (inserted) kept.push_back(p);
-    remap[i] = it->second;
-  }
-  m.points = std::move(kept);
+  drop_unused_points(m);
+  weld_coincident_points(m);
+  drop_unused_points(m);
   m.point_size.clear();
-  for (Triangle& t : m.triangles)
-    for (int& v : t.v) v = remap[v];
-  for (Tetrahedron& t : m.tets)
-    for (int& v : t.v) v = remap[v];
 }
 
 void merge_coincident_facets(Mesh& m) {

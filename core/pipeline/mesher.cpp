@@ -219,8 +219,12 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   m.triangles = input.triangles;
   m.region_names = input.region_names;
   m.face_names = input.face_names;
+  const std::vector<char> used = surface_vertex_flags(m.points.size(), m.triangles);
+  report.unused_input_vertices = static_cast<int>(std::count(used.begin(), used.end(), 0));
+  weld_coincident_points(m);
   const std::vector<int> kept = drop_unused_points(m);
-  report.unused_input_vertices = static_cast<int>(std::count(kept.begin(), kept.end(), -1));
+  report.welded_input_vertices =
+      static_cast<int>(std::count(kept.begin(), kept.end(), -1)) - report.unused_input_vertices;
   // One edge map while the facets stay as they are (it was built five times,
   // a seventh of a surface-only run).
   std::optional<EdgeMap> edges(m.triangles);

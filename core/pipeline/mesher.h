@@ -108,6 +108,7 @@ struct CadInputReport {
 struct MeshReport {
   int input_vertices = 0, input_facets = 0;
   int unused_input_vertices = 0;  // dropped before meshing: no input facet uses them
+  int welded_input_vertices = 0;  // repeats of another input vertex's coordinates, made one with it
   int output_vertices = 0, output_facets = 0;
   int added_surface_vertices = 0, added_surface_facets = 0;
   int face_patches_assigned = 0;     // > 0 when face ids came from sharp edges

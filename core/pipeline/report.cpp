@@ -37,6 +37,7 @@ std::string report_json(const MeshReport& r) {
   if (!r.allocator.empty()) s << "  \"allocator\": \"" << r.allocator << "\",\n";
   s << "  \"counts\": {\"input_vertices\": " << r.input_vertices << ", \"input_facets\": " << r.input_facets
     << ", \"unused_input_vertices\": " << r.unused_input_vertices
+    << ", \"welded_input_vertices\": " << r.welded_input_vertices
     << ", \"output_vertices\": " << r.output_vertices << ", \"output_facets\": " << r.output_facets
     << ", \"added_surface_vertices\": " << r.added_surface_vertices
     << ", \"added_surface_facets\": " << r.added_surface_facets
@@ -225,6 +226,9 @@ std::string report_table(const MeshReport& r) {
   row("input", std::to_string(r.input_vertices) + " vertices, " + std::to_string(r.input_facets) + " facets" +
                    (r.unused_input_vertices ? " (" + std::to_string(r.unused_input_vertices) +
                                                   " vertices no facet uses dropped)"
+                                            : std::string()) +
+                   (r.welded_input_vertices ? " (" + std::to_string(r.welded_input_vertices) +
+                                                  " vertices at another's coordinates welded to it)"
                                             : std::string()));
   if (r.size_splits > 0)
     row("split to the size", std::to_string(r.size_splits) + " surface edges, " + std::to_string(r.size_flips) + " flips");

@@ -213,6 +213,41 @@ if fandisk:
         check(refused > 0, "fandisk: cap points refused (%d), the case this check is for" % refused)
         check(files[0] == files[1] == files[2], "fandisk: three runs write the same file")
 
+# Points given once per part (OFF and OBJ allow it): two unit cubes, each
+# with its own 8 points, touching along an edge (2 points repeated) or at a
+# corner (1). The repeats are welded: a non-manifold edge or vertex, two
+# regions of volume 1 each. Until 2026-11-29 both were refused ("the input
+# has coincident vertices").
+def cube_points(o):
+    return [(o[0] + (i & 1), o[1] + (i >> 1 & 1), o[2] + (i >> 2 & 1)) for i in range(8)]
+cube_facets = [(0, 2, 1), (1, 2, 3), (4, 5, 6), (5, 7, 6), (0, 1, 4), (1, 5, 4), (2, 6, 3), (3, 6, 7),
+               (0, 4, 2), (2, 4, 6), (1, 3, 5), (3, 7, 5)]
+for name, second, repeats in (("an edge", (1, 1, 0), 2), ("a corner", (1, 1, 1), 1)):
+    path = os.path.join(out, "cubes_%s.off" % name.split()[1])
+    write_off(path, cube_points((0, 0, 0)) + cube_points(second),
+              cube_facets + [tuple(v + 8 for v in f) for f in cube_facets])
+    target, rep_path = (os.path.join(out, "cubes_%s.vtu" % name.split()[1]), os.path.join(out, "cubes_%s.json" % name.split()[1]))
+    code, _, err = run("mesh", path, "-o", target, "--quiet", "--report", rep_path)
+    rep = json.load(open(rep_path)) if code == 0 else {}
+    check(code == 0 and rep["counts"]["welded_input_vertices"] == repeats and rep["counts"]["regions"] == 2,
+          "two cubes touching at %s, points given per cube: %d welded, 2 regions (exit %d: %s)"
+          % (name, repeats, code, rep.get("counts") if rep else err.strip()[-200:]))
+    if code == 0:
+        import meshio
+        import numpy as np
+        m = meshio.read(target)
+        p = m.points
+        volumes = {}
+        for block, regions in zip(m.cells, m.cell_data["region"]):
+            if block.type != "tetra":
+                continue
+            t = p[block.data]
+            v = np.einsum("ij,ij->i", t[:, 1] - t[:, 0], np.cross(t[:, 2] - t[:, 0], t[:, 3] - t[:, 0])) / 6
+            for r in sorted(set(np.asarray(regions).tolist())):
+                volumes[r] = float(v[np.asarray(regions) == r].sum())
+        check(sorted(volumes) == [1, 2] and all(abs(x - 1) < 1e-9 for x in volumes.values()),
+              "two cubes at %s: each region's volume is 1 (meshio: %s)" % (name, volumes))
+
 # Bad input: exit 3 with a message naming the problem, and no output file.
 def bad(name, text, needle):
     path = os.path.join(out, name)
