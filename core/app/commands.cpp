@@ -340,6 +340,10 @@ int info_command(const std::vector<std::string>& raw) {
   const std::string from = args.value("--from");
   const auto pos = args.positionals();
   if (pos.size() != 1) throw UsageError("usage: vdmesh info MESH");
+  // A CAD file is not a mesh: say what reads it rather than list mesh extensions.
+  if (from.empty() && cad::is_cad_file_name(pos[0]))
+    throw UsageError(pos[0] + " is a CAD file; `vdmesh info` reads meshes: `vdmesh convert " + pos[0] +
+                     " OUT.vtu` writes its tessellation, `vdmesh mesh " + pos[0] + " -o OUT.vtu` meshes it");
   const Mesh m = io::read_mesh(pos[0], from);
   std::set<int> regions, faces;
   for (const auto& t : m.tets) regions.insert(t.region);

@@ -352,6 +352,11 @@ for args in (["mesh"], ["mesh", bracket], ["mesh", bracket, "-o", os.path.join(o
     code, _, err = run(*args)
     check(code == 2, "usage error %s: exit 2 (%d: %s)" % (" ".join(args[:1] + args[3:]), code, err.strip()[:200]))
 
+# `vdmesh info` on a CAD file says what reads it (it listed the mesh extensions).
+code, _, err = run("info", os.path.join(out, "part.step"))
+check(code == 2 and "is a CAD file; `vdmesh info` reads meshes: `vdmesh convert" in err,
+      "info on a .step: usage error saying what reads it (%d: %s)" % (code, err.strip()[:200]))
+
 # Options out of their range: exit 2 naming the option, at once. A sliver
 # angle over 70.53 deg (the regular tetrahedron's) makes every tetrahedron a
 # sliver: --sliver-angle 90 ran gmsh_part.step's pass for 41 s instead of
