@@ -34,7 +34,7 @@ const char* kMeshHelp =
     "options:\n"
     "  --size H                target edge length (default: surface input: from its edges, graded;\n"
     "                          CAD input: bounding box diagonal / 25, reported)\n"
-    "  --deflection D          CAD: chord height of the face tessellation\n                          (default: per face, size / 10, at most 2V/A / 50 of the solids\n                          on either side)\n"
+    "  --deflection D          CAD: chord height of the face tessellation\n                          (default: per face, size / 10, at most 2V/A / 50 of the solids\n                          on either side; at most the size)\n"
     "  --angular-deflection DEG  CAD: largest angle between the normals along a facet of a curved face\n"
     "                          (on remeshed cylinders: along the border arcs; default 20; the starting\n"
     "                          value under --volume-tolerance; without it,\n"

@@ -155,7 +155,12 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   }
   std::vector<int> front, back;
   face_sides(*impl_, front, back);
-  std::vector<double> face_deflection(impl_->faces.size(), options.deflection);
+  // A chord height over the size bounds nothing the splits to the size do
+  // not (a chord no longer than the size sags less), and far over the part
+  // OpenCASCADE's mesher leaves gaps between faces: gmsh_part.step (213 mm
+  // across) at --deflection 1000 had 7 edges on one facet only, and the
+  // mesh was refused as an open surface; at 300, or at its size, none.
+  std::vector<double> face_deflection(impl_->faces.size(), std::min(options.deflection, stats.size));
   // The heights are rounded against the finest one; starting from one
   // height everywhere (the chain's last link), against that height, so that
   // the faces whose solids the rounds leave alone keep it. Rounded against

@@ -994,6 +994,17 @@ check(code == 3 and "--size 1e-07 asks for about" in err and "GiB of memory" in 
       "CAD --size 1e-7 on a unit box: exit 3 naming the size and the memory (exit %d after %.1f s: %s)"
       % (code, time.time() - started, err.strip()[:300]))
 
+# A chord height far over the part: OpenCASCADE's mesher left gaps between
+# gmsh_part.step's faces at --deflection 1000 (the part is 213 mm across),
+# and the mesh was refused as an open surface. Over the size it bounds
+# nothing the splits to the size do not, and it is taken as the size.
+path = data("cad-part/gmsh_part.step")
+if path:
+    code, rep, target, err = mesh_as("part_huge_deflection", path, "--deflection", "1000", "--quiet")
+    check(code == 0 and abs(rep["cad"]["deflection"] - rep["cad"]["size"]) < 1e-12,
+          "gmsh_part.step --deflection 1000 meshes at a chord height of its size (exit %d: %s)"
+          % (code, {k: rep["cad"][k] for k in ("deflection", "size")} if rep else err.strip()[-300:]))
+
 # The cautious run, which a run falls back to when its recovery with interior
 # vertices stops, asked for with --cautious: interior candidates that would
 # take a surface facet out of the tetrahedralization are refused
