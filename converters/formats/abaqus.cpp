@@ -99,10 +99,12 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
     for (const auto& [f, tris] : by_face) {
       out << "*ELEMENT, TYPE=" << (quad ? "STRI65" : "S3") << ", ELSET=" << face_set(f) << '\n';
       for (size_t i : tris) {
+        // Shells alone: nothing says a triangle's sides.
         const Triangle& t = m.triangles[i];
-        out << i + 1 << ", " << t.v[0] + 1 << ", " << t.v[1] + 1 << ", " << t.v[2] + 1;
+        const std::array<int, 3> v = detail::corners_without_sides(t);
+        out << i + 1 << ", " << v[0] + 1 << ", " << v[1] + 1 << ", " << v[2] + 1;
         if (quad)
-          for (int v : m.triangle_mid[i]) out << ", " << v + 1;
+          for (int x : detail::mid_nodes_without_sides(t, m.triangle_mid[i])) out << ", " << x + 1;
         out << '\n';
       }
     }

@@ -69,13 +69,19 @@ int tri_type(const Mesh& m) { return m.triangle_mid.empty() ? detail::kMshTriang
 int tet_type(const Mesh& m) { return m.tet_mid.empty() ? detail::kMshTet : detail::kMshTet10; }
 
 // Node indices (0-based) of triangle / tetrahedron i in Gmsh order.
-int tri_nodes(const Mesh& m, size_t i, int* n) {
+// `without_sides`: the file cannot say the triangle's sides (MSH 2.2 without
+// tetrahedra), and it is turned out of its solid (corners_without_sides).
+int tri_nodes_written(const Mesh& m, size_t i, int* n, bool without_sides) {
   const Triangle& t = m.triangles[i];
-  n[0] = t.v[0], n[1] = t.v[1], n[2] = t.v[2];
+  const std::array<int, 3> v = without_sides ? detail::corners_without_sides(t) : t.v;
+  n[0] = v[0], n[1] = v[1], n[2] = v[2];
   if (m.triangle_mid.empty()) return 3;
-  for (int k = 0; k < 3; ++k) n[3 + k] = m.triangle_mid[i][k];
+  const TriMidNodes mid =
+      without_sides ? detail::mid_nodes_without_sides(t, m.triangle_mid[i]) : m.triangle_mid[i];
+  for (int k = 0; k < 3; ++k) n[3 + k] = mid[k];
   return 6;
 }
+int tri_nodes(const Mesh& m, size_t i, int* n) { return tri_nodes_written(m, i, n, false); }
 
 int tet_nodes(const Mesh& m, size_t i, int* n) {
   const Tetrahedron& t = m.tets[i];
@@ -124,7 +130,7 @@ void write22(const Mesh& m, Out& out, bool binary) {
   };
   block_header(tri_type(m), m.triangles.size());
   for (size_t i = 0; i < m.triangles.size(); ++i) {
-    const int k = tri_nodes(m, i, n);
+    const int k = tri_nodes_written(m, i, n, m.tets.empty());
     const int entity = t.tri_tag[i];
     element(tri_type(m), t.faces.count(entity) ? entity : 0, entity, k);
   }

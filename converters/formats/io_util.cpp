@@ -456,10 +456,20 @@ void sort_tets_by_number(TagList& numbers, std::vector<Tetrahedron>& tets, std::
       });
 }
 
+namespace {
+bool turned_without_sides(const Triangle& t) {
+  return t.front != kUnknownRegion && t.back != kUnknownRegion && t.front > t.back;
+}
+}  // namespace
+
 std::array<int, 3> corners_without_sides(const Triangle& t) {
-  const bool known = t.front != kUnknownRegion && t.back != kUnknownRegion;
-  if (known && t.front > t.back) return {t.v[0], t.v[2], t.v[1]};
+  if (turned_without_sides(t)) return {t.v[0], t.v[2], t.v[1]};
   return t.v;
+}
+
+TriMidNodes mid_nodes_without_sides(const Triangle& t, const TriMidNodes& mid) {
+  if (turned_without_sides(t)) return {mid[2], mid[1], mid[0]};
+  return mid;
 }
 
 std::vector<int> region_ids(const Mesh& m) {

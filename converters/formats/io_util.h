@@ -376,13 +376,16 @@ void sort_tets_by_number(TagList& numbers, std::vector<Tetrahedron>& tets, std::
 // are no tetrahedron's face keep unknown sides.
 void sides_from_tets(Mesh& m);
 // A triangle's corners for a format that cannot say which region lies on
-// which side (OFF, STL, OBJ): turned, when both sides are known, so that the
+// which side (OFF, STL, OBJ; Medit, Gmsh 2.2, TetGen and Abaqus files without
+// tetrahedra): turned, when both sides are known, so that the
 // normal points into the lower-numbered region (out of a solid, into the
 // exterior). A CAD tessellation keeps each face's own orientation and says
 // the sides in the tags; written as they were, gmsh_part.step's surface had
 // 2,364 of its 5,560 facets turned in, and no program, vdmesh included,
 // could read it back as a closed surface.
 std::array<int, 3> corners_without_sides(const Triangle& t);
+// Its mid-edge nodes (edges v0v1, v1v2, v2v0) in the order of those corners.
+TriMidNodes mid_nodes_without_sides(const Triangle& t, const TriMidNodes& mid);
 // The region ids used by the tetrahedra, and the face ids of the triangles.
 std::vector<int> region_ids(const Mesh& m);
 std::vector<int> face_ids(const Mesh& m);

@@ -218,11 +218,15 @@ void write_tetgen(const Mesh& m, const std::string& path, const WriteOptions&) {
     detail::Out out(base + ".face" + suffix);
     const bool quad = !m.triangle_mid.empty();
     out << m.triangles.size() << " 1\n";
+    // Without an .ele file nothing says a triangle's sides.
+    const bool without_sides = m.tets.empty();
     for (size_t i = 0; i < m.triangles.size(); ++i) {
       const Triangle& t = m.triangles[i];
-      out << i + 1 << ' ' << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ';
+      const std::array<int, 3> v = without_sides ? detail::corners_without_sides(t) : t.v;
+      out << i + 1 << ' ' << v[0] + 1 << ' ' << v[1] + 1 << ' ' << v[2] + 1 << ' ';
       if (quad)
-        for (int v : m.triangle_mid[i]) out << v + 1 << ' ';
+        for (int x : without_sides ? detail::mid_nodes_without_sides(t, m.triangle_mid[i]) : m.triangle_mid[i])
+          out << x + 1 << ' ';
       out << t.face << '\n';
     }
     out.finish();

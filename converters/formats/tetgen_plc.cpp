@@ -117,7 +117,8 @@ void write_plc(const Mesh& m, const std::string& path, const WriteOptions&) {
   out << m.triangles.size() << " 1\n";
   for (const Triangle& t : m.triangles) {
     if (poly) out << "1 0 " << t.face << "\n";
-    out << "3 " << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1;
+    const std::array<int, 3> v = detail::corners_without_sides(t);
+    out << "3 " << v[0] + 1 << ' ' << v[1] + 1 << ' ' << v[2] + 1;
     if (!poly) out << ' ' << t.face;
     out << '\n';
   }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <set>
 
@@ -218,11 +219,17 @@ int mesh_command(const std::vector<std::string>& raw) {
   const std::string volume = args.value("--volume", "delaunay");
   if (volume == "advancing-front") opt.volume = VolumeMethod::advancing_front;
   else if (volume != "delaunay") throw UsageError("--volume must be delaunay or advancing-front");
-  opt.oracle_options.lp_limit = static_cast<int>(args.integer("--lp-limit", -1));
+  // Checked as read, before the cast to int (4294967297 became 1).
+  const auto guard = [&](const char* name, long fallback) {
+    const long v = args.integer(name, fallback);
+    if (v > std::numeric_limits<int>::max()) throw UsageError(std::string(name) + " must be at most 2147483647");
+    return static_cast<int>(v);
+  };
+  opt.oracle_options.lp_limit = guard("--lp-limit", -1);
   opt.delaunayzation.flips = !args.flag("--no-flips");
   opt.delaunayzation.flip_angle_deg = args.number("--flip-angle", opt.delaunayzation.flip_angle_deg);
-  opt.delaunayzation.max_passes = static_cast<int>(args.integer("--max-passes", opt.delaunayzation.max_passes));
-  opt.delaunayzation.max_added_vertices = static_cast<int>(args.integer("--max-added", -1));
+  opt.delaunayzation.max_passes = guard("--max-passes", opt.delaunayzation.max_passes);
+  opt.delaunayzation.max_added_vertices = guard("--max-added", -1);
   opt.sharp_angle_deg = args.number("--sharp-angle", opt.sharp_angle_deg);
   opt.seed = static_cast<std::uint64_t>(args.integer("--seed", 1));
   const long threads = args.integer("--threads", 0);

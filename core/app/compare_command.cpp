@@ -97,6 +97,7 @@ int compare_worker(const std::vector<std::string>& raw) {
   opt.size.uniform = args.number("--size", 0.0);
   opt.seed = static_cast<std::uint64_t>(args.number("--seed", 1));
   const double sharp = args.number("--sharp-angle", kDefaultSharpAngleDeg);
+  if (sharp < 0 || sharp > 180) throw UsageError("--sharp-angle must be in [0, 180]");
   opt.sharp_angle_deg = sharp;
   cad::TessellationOptions tessellation;
   tessellation.angle_deg = args.number("--angular-deflection", tessellation.angle_deg);
@@ -240,6 +241,7 @@ int compare_command(const std::vector<std::string>& raw) {
   if (pos.size() != 1) throw UsageError("expected one INPUT (see vdmesh compare --help)");
   if (size_given && !(size > 0)) throw UsageError("--size must be positive");
   if (s.timeout <= 0) throw UsageError("--timeout must be positive");
+  if (s.sharp < 0 || s.sharp > 180) throw UsageError("--sharp-angle must be in [0, 180]");
   if (s.seed < 0 || s.seed != std::floor(s.seed)) throw UsageError("--seed must be a non-negative integer");
   const bool do_boundary = runs.find("boundary") != std::string::npos;
   const bool do_quality = runs.find("quality") != std::string::npos;

@@ -75,14 +75,17 @@ int weld_coincident_points(Mesh& m) {
 
 std::vector<int> drop_unused_points(Mesh& m) {
   std::vector<int> id(m.points.size(), -1);
+  const auto use = [&](int v) {
+    if (v >= 0 && static_cast<size_t>(v) < id.size()) id[static_cast<size_t>(v)] = 0;
+  };
   for (const Triangle& t : m.triangles)
-    for (int v : t.v) id[v] = 0;
+    for (int v : t.v) use(v);
   for (const Tetrahedron& t : m.tets)
-    for (int v : t.v) id[v] = 0;
+    for (int v : t.v) use(v);
   for (const auto& mid : m.triangle_mid)
-    for (int v : mid) id[v] = 0;
+    for (int v : mid) use(v);
   for (const auto& mid : m.tet_mid)
-    for (int v : mid) id[v] = 0;
+    for (int v : mid) use(v);
   int next = 0;
   for (size_t v = 0; v < m.points.size(); ++v) {
     if (id[v] < 0) continue;
@@ -94,21 +97,26 @@ std::vector<int> drop_unused_points(Mesh& m) {
   if (next == static_cast<int>(m.points.size())) return {};
   m.points.resize(next);
   if (!m.point_size.empty()) m.point_size.resize(next);
+  // A reference to a point that does not exist stays one (validation names it).
+  const auto renumber = [&](int& v) {
+    if (v >= 0 && static_cast<size_t>(v) < id.size()) v = id[static_cast<size_t>(v)];
+  };
   for (Triangle& t : m.triangles)
-    for (int& v : t.v) v = id[v];
+    for (int& v : t.v) renumber(v);
   for (Tetrahedron& t : m.tets)
-    for (int& v : t.v) v = id[v];
+    for (int& v : t.v) renumber(v);
   for (auto& mid : m.triangle_mid)
-    for (int& v : mid) v = id[v];
+    for (int& v : mid) renumber(v);
   for (auto& mid : m.tet_mid)
-    for (int& v : mid) v = id[v];
+    for (int& v : mid) renumber(v);
   return id;
 }
 
 std::vector<char> surface_vertex_flags(size_t points, const std::vector<Triangle>& triangles) {
   std::vector<char> on_surface(points, 0);
   for (const Triangle& t : triangles)
-    for (int v : t.v) on_surface[static_cast<size_t>(v)] = 1;
+    for (int v : t.v)
+      if (v >= 0 && static_cast<size_t>(v) < points) on_surface[static_cast<size_t>(v)] = 1;
   return on_surface;
 }
 

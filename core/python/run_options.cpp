@@ -4,6 +4,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -37,6 +38,14 @@ long long integer(py::handle v, const std::string& name) {
   } catch (const py::cast_error&) {
     throw py::type_error("option " + name + ": expected an integer, got " + type_name(v));
   }
+}
+
+// An integer option kept in an int: checked before the cast (4294967297 became 1).
+int int_option(py::handle v, const std::string& name) {
+  const long long x = integer(v, name);
+  if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max())
+    throw py::value_error("option " + name + ": out of range");
+  return static_cast<int>(x);
 }
 
 bool boolean(py::handle v, const std::string& name) {
@@ -141,7 +150,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
     } else if (name == "oracle") {
       if (!PyUnicode_Check(value.ptr())) throw py::type_error("option oracle: expected a str, got " + type_name(value));
       opt.oracle = value.cast<std::string>();
-    } else if (name == "lp_limit") opt.oracle_options.lp_limit = static_cast<int>(integer(value, name));
+    } else if (name == "lp_limit") opt.oracle_options.lp_limit = int_option(value, name);
     else if (name == "flips") opt.delaunayzation.flips = boolean(value, name);
     else if (name == "flip_angle") opt.delaunayzation.flip_angle_deg = number(value, name);
     else if (name == "sharp_angle") opt.sharp_angle_deg = number(value, name);
@@ -155,10 +164,10 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       opt.threads = static_cast<int>(t);
     } else if (name == "shift") opt.shift = number(value, name);
     else if (name == "max_passes") {
-      opt.delaunayzation.max_passes = static_cast<int>(integer(value, name));
+      opt.delaunayzation.max_passes = int_option(value, name);
       run.cad.retry_angles_deg.clear();  // a guard given by hand decides
     } else if (name == "max_added") {
-      opt.delaunayzation.max_added_vertices = static_cast<int>(integer(value, name));
+      opt.delaunayzation.max_added_vertices = int_option(value, name);
       run.cad.retry_angles_deg.clear();
     }
     else if (name == "order") {

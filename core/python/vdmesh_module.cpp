@@ -180,7 +180,9 @@ py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs
 
 Mesh tessellate_cad_py(py::object path, py::object brep, double size, double deflection) {
   const CadSource source = cad_source(path, brep, "tessellate_cad");
-  if (!(size >= 0) || !(deflection >= 0)) throw py::value_error("size and deflection must not be negative");
+  if (!(size >= 0)) throw py::value_error("option size: must not be negative");
+  if (!(deflection == 0 || deflection >= cad::kSmallestDeflection))
+    throw py::value_error("option deflection: must be 0 (chosen per face) or at least 1e-7 (OpenCASCADE's precision)");
   py::gil_scoped_release release;
   cad::TessellationOptions topt;
   topt.size = size;

@@ -363,7 +363,9 @@ check(code == 2 and "is a CAD file; `vdmesh info` reads meshes: `vdmesh convert"
 # 0.04; a chord height under OpenCASCADE's precision failed inside its
 # mesher ("invalid parameter value"); negative guards ended in exit 4.
 for option, value in (("--sliver-angle", "90"), ("--sliver-angle", "-5"), ("--sharp-angle", "-1"),
-                      ("--max-passes", "-1"), ("--max-added", "-1"), ("--lp-limit", "0"), ("--deflection", "1e-12")):
+                      ("--max-passes", "-1"), ("--max-added", "-1"), ("--lp-limit", "0"), ("--deflection", "1e-12"),
+                      # Past an int: 4294967297 became 1 in the cast.
+                      ("--lp-limit", "4294967297"), ("--max-passes", "4294967296")):
     target = os.path.join(out, "range.vtu")
     code, _, err = run("mesh", bracket, "-o", target, option, value)
     check(code == 2 and option + " must" in err and not os.path.exists(target),

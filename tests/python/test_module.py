@@ -385,6 +385,8 @@ class Cad(unittest.TestCase):
         # Under OpenCASCADE's precision its mesher fails with "invalid parameter value".
         with self.assertRaisesRegex(ValueError, "option deflection: must be 0 .* or at least 1e-7"):
             vdmesh.mesh_cad(path=self.path, deflection=1e-12)
+        with self.assertRaisesRegex(ValueError, "option deflection: must be 0 .* or at least 1e-7"):
+            vdmesh.tessellate_cad(path=self.path, deflection=1e-12)
 
 
 class BadInput(unittest.TestCase):
@@ -430,6 +432,9 @@ class BadInput(unittest.TestCase):
                             ("max_added", -2)):
             with self.assertRaisesRegex(ValueError, "option %s: must" % name):
                 vdmesh.mesh_surface(pts, tris, **{name: value})
+        # Past an int: 4294967297 became 1 in the cast.
+        with self.assertRaisesRegex(ValueError, "option lp_limit: out of range"):
+            vdmesh.mesh_surface(pts, tris, lp_limit=2 ** 32 + 1)
 
     def test_bad_files(self):
         d = tempfile.mkdtemp(prefix="vdmesh-py-bad-")

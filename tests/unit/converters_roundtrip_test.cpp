@@ -580,12 +580,15 @@ TEST(ConvertersRoundTrip, FormatsWithoutSidesTurnFacetsOutOfTheirRegion) {
     const Vec3 a = mesh.points[t.v[0]];
     return cross(mesh.points[t.v[1]] - a, mesh.points[t.v[2]] - a);
   };
-  for (const auto& [file, binary] : std::vector<std::pair<std::string, bool>>{
-           {"t.off", false}, {"t.obj", false}, {"t.stl", false}, {"t.stl", true}, {"t.mesh", false}}) {
-    SCOPED_TRACE(file + (binary ? " binary" : ""));
+  for (const auto& [file, binary, msh_version] : std::vector<std::tuple<std::string, bool, int>>{
+           {"t.off", false, 41}, {"t.obj", false, 41}, {"t.stl", false, 41}, {"t.stl", true, 41}, {"t.mesh", false, 41},
+           {"t.msh", false, 22}, {"t.msh", true, 22}, {"t.face", false, 41}, {"t.smesh", false, 41},
+           {"t.inp", false, 41}}) {
+    SCOPED_TRACE(file + (binary ? " binary" : "") + " msh " + std::to_string(msh_version));
     const std::string path = test::temp_path((binary ? "b" : "a") + file);
     io::WriteOptions options;
     options.binary = binary;
+    options.msh_version = msh_version;
     io::write_mesh(m, path, options);
     const Mesh back = io::read_mesh(path);
     ASSERT_EQ(back.triangles.size(), outward.triangles.size());

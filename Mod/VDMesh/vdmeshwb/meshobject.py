@@ -31,7 +31,8 @@ def params_of(obj):
                              interior=obj.Interior, flips=obj.Flips,
                              ridge_angle=float(getattr(obj.RidgeAngle, "Value", obj.RidgeAngle)),
                              oracle=obj.Oracle, lp_limit=obj.LPLimit,
-                             sliver_angle=float(getattr(obj.SliverAngle, "Value", obj.SliverAngle)),
+                             # Documents saved when the panel went to 90: the mesher takes at most 70.5.
+                             sliver_angle=min(70.5, float(getattr(obj.SliverAngle, "Value", obj.SliverAngle))),
                              seed=obj.Seed, order=ELEMENT_ORDERS.index(obj.ElementOrder) + 1)
 
 
