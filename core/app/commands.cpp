@@ -204,7 +204,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   const bool sliver_angle_given = args.has("--sliver-angle");
   const bool surface_grading_given = args.has("--surface-grading");
   // -1 inside: no limit, and the default guard.
-  const bool args_lp_limit_given = args.has("--lp-limit"), max_added_given = args.has("--max-added");
+  const bool lp_limit_given = args.has("--lp-limit"), max_added_given = args.has("--max-added");
   MeshOptions opt;
   const std::string output = args.value("-o", args.value("--output"));
   opt.oracle = args.value("--oracle", "dt");
@@ -257,7 +257,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   if (opt.slivers.sliver_angle_deg < 0 || opt.slivers.sliver_angle_deg > kLargestSliverAngleDeg)
     throw UsageError("--sliver-angle must be in [0, 70.5]: no tetrahedron has all its dihedral angles over 70.53 deg");
   if (opt.sharp_angle_deg < 0 || opt.sharp_angle_deg > 180) throw UsageError("--sharp-angle must be in [0, 180]");
-  if (args_lp_limit_given && opt.oracle_options.lp_limit < 1) throw UsageError("--lp-limit must be positive");
+  if (lp_limit_given && opt.oracle_options.lp_limit < 1) throw UsageError("--lp-limit must be positive");
   if (opt.delaunayzation.max_passes < 0) throw UsageError("--max-passes must not be negative");
   if (max_added_given && opt.delaunayzation.max_added_vertices < 0) throw UsageError("--max-added must not be negative");
   io::format_for(output);  // unknown output format: a usage error before any work

@@ -41,6 +41,27 @@ std::uint64_t bits(double d) {
   return b;
 }
 
+// Every point id an element holds (corners and mid-edge nodes), in place.
+template <class Visit>
+void for_each_point_reference(Mesh& m, const Visit& visit) {
+  for (Triangle& t : m.triangles)
+    for (int& v : t.v) visit(v);
+  for (Tetrahedron& t : m.tets)
+    for (int& v : t.v) visit(v);
+  for (auto& mid : m.triangle_mid)
+    for (int& v : mid) visit(v);
+  for (auto& mid : m.tet_mid)
+    for (int& v : mid) visit(v);
+}
+
+// Each point id v becomes to[v]. An id of a point that does not exist stays
+// (validation names it).
+void renumber_point_references(Mesh& m, const std::vector<int>& to) {
+  for_each_point_reference(m, [&](int& v) {
+    if (v >= 0 && static_cast<size_t>(v) < to.size()) v = to[static_cast<size_t>(v)];
+  });
+}
+
 }  // namespace
 
 int weld_coincident_points(Mesh& m) {
@@ -57,35 +78,15 @@ int weld_coincident_points(Mesh& m) {
     to[i] = it->second;
     repeats += !fresh;
   }
-  if (repeats == 0) return 0;
-  // References to points that do not exist stay too (validation names them).
-  const auto weld = [&](int& v) {
-    if (v >= 0 && static_cast<size_t>(v) < to.size()) v = to[static_cast<size_t>(v)];
-  };
-  for (Triangle& t : m.triangles)
-    for (int& v : t.v) weld(v);
-  for (Tetrahedron& t : m.tets)
-    for (int& v : t.v) weld(v);
-  for (auto& mid : m.triangle_mid)
-    for (int& v : mid) weld(v);
-  for (auto& mid : m.tet_mid)
-    for (int& v : mid) weld(v);
+  if (repeats > 0) renumber_point_references(m, to);
   return repeats;
 }
 
 std::vector<int> drop_unused_points(Mesh& m) {
   std::vector<int> id(m.points.size(), -1);
-  const auto use = [&](int v) {
+  for_each_point_reference(m, [&](int& v) {
     if (v >= 0 && static_cast<size_t>(v) < id.size()) id[static_cast<size_t>(v)] = 0;
-  };
-  for (const Triangle& t : m.triangles)
-    for (int v : t.v) use(v);
-  for (const Tetrahedron& t : m.tets)
-    for (int v : t.v) use(v);
-  for (const auto& mid : m.triangle_mid)
-    for (int v : mid) use(v);
-  for (const auto& mid : m.tet_mid)
-    for (int v : mid) use(v);
+  });
   int next = 0;
   for (size_t v = 0; v < m.points.size(); ++v) {
     if (id[v] < 0) continue;
@@ -97,26 +98,14 @@ std::vector<int> drop_unused_points(Mesh& m) {
   if (next == static_cast<int>(m.points.size())) return {};
   m.points.resize(next);
   if (!m.point_size.empty()) m.point_size.resize(next);
-  // A reference to a point that does not exist stays one (validation names it).
-  const auto renumber = [&](int& v) {
-    if (v >= 0 && static_cast<size_t>(v) < id.size()) v = id[static_cast<size_t>(v)];
-  };
-  for (Triangle& t : m.triangles)
-    for (int& v : t.v) renumber(v);
-  for (Tetrahedron& t : m.tets)
-    for (int& v : t.v) renumber(v);
-  for (auto& mid : m.triangle_mid)
-    for (int& v : mid) renumber(v);
-  for (auto& mid : m.tet_mid)
-    for (int& v : mid) renumber(v);
+  renumber_point_references(m, id);
   return id;
 }
 
 std::vector<char> surface_vertex_flags(size_t points, const std::vector<Triangle>& triangles) {
   std::vector<char> on_surface(points, 0);
   for (const Triangle& t : triangles)
-    for (int v : t.v)
-      if (v >= 0 && static_cast<size_t>(v) < points) on_surface[static_cast<size_t>(v)] = 1;
+    for (int v : t.v) on_surface[static_cast<size_t>(v)] = 1;
   return on_surface;
 }
 
