@@ -302,6 +302,9 @@ int convert_command(const std::vector<std::string>& raw) {
   Args args(raw);
   io::WriteOptions wopt;
   wopt.binary = args.flag("--binary");
+  // convert prints nothing but errors; --quiet is taken so that scripts may
+  // pass `mesh`'s flags to both.
+  args.flag("--quiet");
   wopt.msh_version = static_cast<int>(args.integer("--msh-version", 41));
   if (wopt.msh_version != 22 && wopt.msh_version != 41) throw UsageError("--msh-version must be 22 or 41");
   const std::string from = args.value("--from"), to = args.value("--to");
@@ -310,7 +313,7 @@ int convert_command(const std::vector<std::string>& raw) {
   const auto pos = args.positionals();
   if (pos.size() != 2)
     throw UsageError(
-        "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--size H] [--deflection D] "
+        "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--quiet] [--size H] [--deflection D] "
         "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G] [--no-smoothing] [--no-face-remesh]");
   io::format_for(pos[1], to);
   if (from.empty() && cad::is_cad_file_name(pos[0])) {

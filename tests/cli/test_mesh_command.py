@@ -357,6 +357,13 @@ code, _, err = run("info", os.path.join(out, "part.step"))
 check(code == 2 and "is a CAD file; `vdmesh info` reads meshes: `vdmesh convert" in err,
       "info on a .step: usage error saying what reads it (%d: %s)" % (code, err.strip()[:200]))
 
+# `convert` takes `mesh`'s --quiet (it prints nothing but errors anyway):
+# scripts pass the same flags to both, and it was an unknown option.
+quiet_out = os.path.join(out, "quiet.vtu")
+code, sout, err = run("convert", bracket, quiet_out, "--quiet")
+check(code == 0 and os.path.getsize(quiet_out) > 0 and not sout and not err,
+      "convert --quiet: exit 0, file written, nothing printed (%d: %s)" % (code, err.strip()[:200]))
+
 # Options out of their range: exit 2 naming the option, at once. A sliver
 # angle over 70.53 deg (the regular tetrahedron's) makes every tetrahedron a
 # sliver: --sliver-angle 90 ran gmsh_part.step's pass for 41 s instead of
