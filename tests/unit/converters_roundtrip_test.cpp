@@ -14,7 +14,9 @@
 #include <set>
 #include <tuple>
 
+#include "converters/formats/polygon_triangulation.h"
 #include "converters/registry.h"
+#include "geometry/predicates.h"
 #include "mesh/error.h"
 #include "mesh/parallel.h"
 #include "mesh/shapes.h"
@@ -653,6 +655,46 @@ TEST(ConvertersRoundTrip, ReadsSharedGzippedObj) {
 // with k vertices k-2 (no holes); the area of each facet is kept.
 double area(const Mesh& m, const Triangle& t) {
   return 0.5 * norm(cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]));
+}
+
+// A PLC facet is triangulated Delaunay in its plane (its polygons' edges
+// kept): ear clipping alone left a fan of needles here, whose coplanar pairs
+// recovery without flips could never make Delaunay.
+TEST(ConvertersRoundTrip, PlcPolygonIsTriangulatedDelaunayInItsPlane) {
+  // A 10 x 1 rectangle in the plane z = 2 with 9 more points on its bottom side.
+  std::vector<Vec3> points;
+  std::vector<int> polygon;
+  for (int i = 0; i <= 10; ++i) {
+    polygon.push_back(static_cast<int>(points.size()));
+    points.push_back({static_cast<double>(i), 0, 2});
+  }
+  for (const Vec3& p : {Vec3{10, 1, 2}, Vec3{0, 1, 2}}) {
+    polygon.push_back(static_cast<int>(points.size()));
+    points.push_back(p);
+  }
+  const auto tris = io::detail::triangulate_facet(points, {polygon}, {});
+  ASSERT_EQ(tris.size(), points.size() - 2);
+  double total = 0;
+  std::map<std::pair<int, int>, int> apex;  // directed edge -> the corner off it
+  for (const auto& t : tris) {
+    const Vec3 n = cross(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]]);
+    EXPECT_GT(n.z, 0);  // turned like the polygon, counter-clockwise seen from +z
+    total += 0.5 * norm(n);
+    for (int k = 0; k < 3; ++k) apex[{t[k], t[(k + 1) % 3]}] = t[(k + 2) % 3];
+  }
+  EXPECT_NEAR(total, 10.0, 1e-12);
+  // No corner across an inner edge lies inside the other triangle's circle.
+  int inner = 0;
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) {
+      const auto across = apex.find({t[(k + 1) % 3], t[k]});
+      if (across == apex.end()) continue;
+      ++inner;
+      const Vec3 &a = points[t[0]], &b = points[t[1]], &c = points[t[2]], &d = points[across->second];
+      EXPECT_LE(side_of_circle_2d(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y), 0)
+          << "edge " << t[k] << "-" << t[(k + 1) % 3];
+    }
+  EXPECT_EQ(inner, 2 * (static_cast<int>(tris.size()) - 1));
 }
 
 TEST(ConvertersRoundTrip, ReadsSharedSmesh) {

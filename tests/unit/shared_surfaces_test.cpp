@@ -90,6 +90,25 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"plc-sharp/testingdrafts_spike-1-10.smesh", true, true}),
     case_name);
 
+// Without flips nothing inside a face changes, so a PLC's polygons must be
+// triangulated Delaunay in their plane: two coplanar facets whose circle
+// holds the other's apex are never faces of the Delaunay tetrahedralization,
+// and on ear-clipped polygons recovery ended in exit 4 (tetgen_example.poly:
+// 1,776 facets missing after 12 passes; the spike: 83 after 31).
+TEST(SharedSurfaceNoFlips, PlcPolygonsRecoverWithoutFlips) {
+  for (const char* file : {"surface-multiregion/tetgen_example.poly", "plc-sharp/testingdrafts_spike-1-10.smesh"}) {
+    SCOPED_TRACE(file);
+    VD_REQUIRE_DATA(path, file);
+    const Mesh in = io::read_mesh(path);
+    MeshOptions o;
+    o.delaunayzation.flips = false;
+    const MeshResult r = mesh_surface(in, o);
+    ASSERT_TRUE(r.report.complete);
+    expect_delaunay_and_conforming(r.mesh);
+    EXPECT_LT(r.report.added_surface_vertices, 100);
+  }
+}
+
 // The horizons' caps (flat tetrahedra over 45-45-90 facet pairs folding by
 // 0.3 to 7 deg, the same region on both sides) that no point opens without
 // taking a facet from the other side: their folds are split on the surface.
