@@ -58,6 +58,7 @@ class LegacyReader {
   // A cell data array: its values go to the tetrahedra or triangles.
   void cell_array(const std::string& name, uint64_t n, std::string_view type);
   void attributes(uint64_t n, bool cell_data);
+  void skip_metadata();
   void expect_word(std::string_view w);
 
   Cursor in_;
@@ -291,6 +292,13 @@ void LegacyReader::cell_array(const std::string& name, uint64_t n, std::string_v
   pending_.emplace_back(roles, std::move(data));
 }
 
+// After the METADATA keyword: lines of information up to an empty line.
+void LegacyReader::skip_metadata() {
+  in_.skip_line();
+  while (in_.pos() < in_.data().size() && !in_.rest_of_line().empty()) {
+  }
+}
+
 void LegacyReader::attributes(uint64_t n, bool cell_data) {
   // Runs until the next CELL_DATA / POINT_DATA or the end of the file.
   for (;;) {
@@ -314,7 +322,13 @@ void LegacyReader::attributes(uint64_t n, bool cell_data) {
       in_.token("a field name");
       const uint64_t arrays = in_.count("the number of arrays", 1 << 20);
       for (uint64_t a = 0; a < arrays; ++a) {
-        const std::string name(in_.token("an array name"));
+        std::string name(in_.token("an array name"));
+        // VTK 8 and later follow an array with its METADATA (field arrays
+        // of vtkUnstructuredGridWriter's files included).
+        if (detail::iequals(name, "METADATA")) {
+          skip_metadata();
+          name = in_.token("an array name");
+        }
         const uint64_t ncomp = in_.count("the number of components", 1 << 20);
         const uint64_t tuples = in_.count("the number of tuples");
         const std::string type(in_.token("an array type"));
@@ -349,10 +363,7 @@ void LegacyReader::attributes(uint64_t n, bool cell_data) {
       continue;
     }
     if (keyword == "metadata") {
-      // Lines of information up to an empty line.
-      in_.skip_line();
-      while (in_.pos() < in_.data().size() && !in_.rest_of_line().empty()) {
-      }
+      skip_metadata();
       continue;
     }
     // Not an attribute: let the caller read it.

@@ -4,7 +4,8 @@ A 3x3x3 block of cubes, each split into 6 positive tetrahedra (162 in all),
 two regions (x < 1.5 is region 1), the 6 block sides as faces 1..6 and the
 region interface as face 7, is written as a Medit .mesh, converted by the
 CLI to every volume format, and read back with meshio (counts, volume, tag
-sets), Gmsh (the .msh and the legacy .vtk) and VTK (the .vtk and .vtu).
+sets), Gmsh (the .msh and the legacy .vtk) and VTK (the .vtk and .vtu);
+and the other way: files VTK's writers make of it, read by vdmesh.
 Exits non-zero on the first failed check; prints every check it made.
 Needs VDMESH_BIN (the CLI); without it the test says so and passes.
 """
@@ -209,6 +210,62 @@ def check_calculix(inp, tmp):
           % (min(uz) if uz else None))
 
 
+def vdmesh_info(binary, path):
+    """(exit code, tetrahedra, {region: volume}, message) of `vdmesh info`."""
+    run = subprocess.run([binary, "info", path], capture_output=True, text=True)
+    tets, volumes = None, {}
+    for line in run.stdout.splitlines():
+        words = line.replace(",", " ").split()
+        if "tetrahedra" in words:
+            tets = int(words[words.index("tetrahedra") + 1])
+        if len(words) == 4 and words[0] == "region" and words[2] == "volume":
+            volumes[int(words[1].rstrip(":"))] = float(words[3])
+    return run.returncode, tets, volumes, run.stderr.strip()[:200]
+
+
+def check_reads_vtk_writers(binary, vtu, tmp, n_tets, expected):
+    """What VTK's own writers make of our file, read back by vdmesh: the
+    XML writer's default (appended, zlib, 32768-byte blocks declared for
+    arrays far smaller), inline binary, ASCII (an <InformationKey> inside
+    the points' array), and the legacy writer (METADATA after each FIELD
+    array), ASCII and binary."""
+    import vtk
+
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(vtu)
+    reader.Update()
+    grid = reader.GetOutput()
+    variants = []
+    for mode in ("default", "binary", "ascii", "raw"):
+        w = vtk.vtkXMLUnstructuredGridWriter()
+        w.SetInputData(grid)
+        path = os.path.join(tmp, "vtkw_%s.vtu" % mode)
+        w.SetFileName(path)
+        if mode == "binary":
+            w.SetDataModeToBinary()
+        elif mode == "ascii":
+            w.SetDataModeToAscii()
+        elif mode == "raw":
+            w.SetCompressorTypeToNone()
+        w.Write()
+        variants.append(path)
+    for legacy_binary in (False, True):
+        w = vtk.vtkUnstructuredGridWriter()
+        w.SetInputData(grid)
+        path = os.path.join(tmp, "vtkw_legacy_%s.vtk" % ("binary" if legacy_binary else "ascii"))
+        w.SetFileName(path)
+        if legacy_binary:
+            w.SetFileTypeToBinary()
+        w.Write()
+        variants.append(path)
+    for path in variants:
+        code, tets, volumes, err = vdmesh_info(binary, path)
+        ok = code == 0 and tets == n_tets and set(volumes) == set(expected) and all(
+            abs(volumes[r] - v) < 1e-9 for r, v in expected.items())
+        check(ok, "vdmesh info %s (written by VTK): exit %d, %s tetrahedra, volumes %s %s" %
+              (os.path.basename(path), code, tets, volumes, err))
+
+
 def main():
     binary = os.environ.get("VDMESH_BIN", "")
     if not binary or not os.access(binary, os.X_OK):
@@ -260,6 +317,10 @@ def main():
         for ext in ("vtk", "vtu"):
             if ext in outputs:
                 check_vtk(outputs[ext], len(tets), volume)
+        if "vtu" in outputs:
+            vols = signed_volumes(pts, tets)
+            expected = {r: float(vols[np.array(regions) == r].sum()) for r in (1, 2)}
+            check_reads_vtk_writers(binary, outputs["vtu"], tmp, len(tets), expected)
         if "inp" in outputs:
             check_calculix(outputs["inp"], tmp)
         if "msh" in outputs:

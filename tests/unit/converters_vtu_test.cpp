@@ -1,6 +1,7 @@
 // VTU layouts other programs write and vdmesh does not: zlib-compressed
 // inline arrays with UInt32 headers (meshio's default) and raw appended data
-// (ParaView's default). Built here byte by byte.
+// (ParaView's default), and what VTK's own writers add to ASCII and legacy
+// files. Built here byte by byte.
 #include <zlib.h>
 
 #include <algorithm>
@@ -37,14 +38,16 @@ std::string base64(const std::string& in) {
 }
 
 // One zlib block with a UInt32 header, header and data encoded separately.
-std::string compressed_inline(const std::string& raw) {
+// `block_size`: the header's, 0 for the array's size.
+std::string compressed_inline(const std::string& raw, uint32_t block_size = 0) {
   uLongf size = compressBound(raw.size());
   std::string comp(size, '\0');
   EXPECT_EQ(compress2(reinterpret_cast<Bytef*>(comp.data()), &size, reinterpret_cast<const Bytef*>(raw.data()),
                       raw.size(), 6),
             Z_OK);
   comp.resize(size);
-  const uint32_t header[4] = {1, uint32_t(raw.size()), uint32_t(raw.size()), uint32_t(comp.size())};
+  const uint32_t header[4] = {1, block_size ? block_size : uint32_t(raw.size()), uint32_t(raw.size()),
+                              uint32_t(comp.size())};
   return base64(bytes_of(header, sizeof header)) + base64(comp);
 }
 
@@ -82,10 +85,11 @@ std::string array_tag(const char* type, const char* name, int comps, const std::
          std::to_string(comps) + "\" " + rest;
 }
 
-TEST(ConvertersVtu, ReadsZlibCompressedInlineArrays) {
+void read_zlib_compressed(uint32_t block_size) {
   const Arrays a = arrays();
   auto arr = [&](const char* type, const char* name, int comps, const std::string& raw) {
-    return array_tag(type, name, comps, "format=\"binary\">\n   " + compressed_inline(raw) + "\n</DataArray>\n");
+    return array_tag(type, name, comps,
+                     "format=\"binary\">\n   " + compressed_inline(raw, block_size) + "\n</DataArray>\n");
   };
   const std::string xml =
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" "
@@ -96,6 +100,49 @@ TEST(ConvertersVtu, ReadsZlibCompressedInlineArrays) {
       arr("Int32", "medit:ref", 1, a.region) + "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
   const std::string path = test::temp_path("zlib.vtu");
   std::ofstream(path, std::ios::binary) << xml;
+  expect_tet(io::read_mesh(path));
+}
+
+TEST(ConvertersVtu, ReadsZlibCompressedInlineArrays) { read_zlib_compressed(0); }
+
+// VTK and meshio declare their block size (32768) in the header whatever
+// the array's size; the last block's size says what the one block holds.
+// Every such file of under 32 KiB an array was refused ("compressed block
+// sizes do not match the array") until 2026-11-29.
+TEST(ConvertersVtu, ReadsOneBlockDeclaredLargerThanItsArray) { read_zlib_compressed(32768); }
+
+// vtkXMLUnstructuredGridWriter's ASCII files put an <InformationKey> (the
+// points' norm range) after the numbers, inside the DataArray.
+TEST(ConvertersVtu, AsciiArraysEndAtTheirFirstChildElement) {
+  const std::string xml =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "<UnstructuredGrid>\n<Piece NumberOfPoints=\"4\" NumberOfCells=\"2\">\n<CellData>\n"
+      "<DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n 5 3\n</DataArray>\n</CellData>\n"
+      "<Points>\n<DataArray type=\"Float32\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n"
+      "  0 0 0 1 0 0\n  0 1 0 0.25 0.5 1.5\n"
+      "  <InformationKey name=\"L2_NORM_RANGE\" location=\"vtkDataArray\" length=\"2\">\n"
+      "    <Value index=\"0\">\n      0\n    </Value>\n    <Value index=\"1\">\n      1.6\n    </Value>\n"
+      "  </InformationKey>\n</DataArray>\n</Points>\n<Cells>\n"
+      "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n 0 1 2 3 0 2 1\n</DataArray>\n"
+      "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n 4 7\n</DataArray>\n"
+      "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n 10 5\n</DataArray>\n"
+      "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  const std::string path = test::temp_path("infokey.vtu");
+  std::ofstream(path, std::ios::binary) << xml;
+  expect_tet(io::read_mesh(path));
+}
+
+// Legacy files of VTK 8 and later follow each FIELD array with METADATA;
+// after the first array the reader wanted the second's name and found
+// "INFORMATION".
+TEST(ConvertersVtu, LegacyFieldArraysWithMetadata) {
+  const std::string vtk =
+      "# vtk DataFile Version 4.2\nvtk output\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 double\n"
+      "0 0 0 1 0 0 0 1 0\n0.25 0.5 1.5\nMETADATA\nINFORMATION 0\n\n"
+      "CELLS 2 9\n4 0 1 2 3\n3 0 2 1\nCELL_TYPES 2\n10\n5\nCELL_DATA 2\nFIELD FieldData 2\n"
+      "other 1 2 int\n7 7\nMETADATA\nINFORMATION 0\n\nregion 1 2 int\n5 3\nMETADATA\nINFORMATION 0\n\n";
+  const std::string path = test::temp_path("metadata.vtk");
+  std::ofstream(path, std::ios::binary) << vtk;
   expect_tet(io::read_mesh(path));
 }
 
