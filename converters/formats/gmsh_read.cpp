@@ -12,6 +12,7 @@
 
 #include "gmsh.h"
 #include "io_util.h"
+#include "surface/orient_surface.h"
 
 namespace vd::io::detail {
 
@@ -27,6 +28,21 @@ struct Entity {
   std::vector<int> physicals;
   std::vector<int> bounding;  // signed surface tags of a volume
 };
+
+// A 2.2 tetrahedron's region field, until finish(), when it has no
+// physical group: kEntityCode - its entity.
+constexpr int kEntityCode = -2;
+
+// The number of an element in a physical group, or in an entity only. Where
+// some elements of a kind have physical groups, those without are numbered
+// after the largest group: a box shell (entity 3) around a sphere in
+// physical group 3 became one region with it. Tag 0 (meshio writes no
+// other without cell data) is no tag: region 0 is the exterior.
+int group_number(int physical, int entity, int largest_physical) {
+  if (physical > 0) return physical;
+  if (entity <= 0) return -1;  // kUnknownRegion, kNoFace
+  return largest_physical + entity;
+}
 
 struct Element {
   uint64_t tag;
@@ -241,8 +257,10 @@ void MshReader::add_element(int type, uint64_t tag, const uint64_t* nodes, int e
   } else {
     Tetrahedron t;
     t.v = {idx[0], idx[1], idx[2], idx[3]};
-    // 2.2 knows the tag now; 4.1's physical group comes from the entity.
-    t.region = version_ < 4 && physical != 0 ? physical : entity;
+    // 2.2 knows the tag now, a physical group as it is and an entity as
+    // kEntityCode - entity (numbered in finish()); 4.1's physical group
+    // comes from the entity.
+    t.region = version_ >= 4 ? entity : physical > 0 ? physical : kEntityCode - std::max(entity, 0);
     TetMidNodes mid{};
     if (type == kMshTet10) {
       mid = {idx[4], idx[5], idx[6], idx[7], idx[8], idx[9]};
@@ -439,43 +457,73 @@ void MshReader::finish() {
       });
   if (!place_by_tag_) sort_tets_by_number(tet_tags_, m_.tets, m_.tet_mid);
   tet_tags_ = {};
-  // An element's tag: its physical group, else its geometrical entity.
+  // An element's number: its physical group, else its geometrical entity
+  // (group_number).
   auto physical_of = [&](int entity, const std::map<int, Entity>& entities) {
     auto it = entities.find(entity);
-    if (it != entities.end() && !it->second.physicals.empty()) return it->second.physicals.front();
-    return entity;
+    return it != entities.end() && !it->second.physicals.empty() ? it->second.physicals.front() : 0;
   };
-  if (version_ >= 4) {
+  {
     // Blocks share entities: look each one up once per run.
-    int last_entity = 0, last_physical = 0;
+    auto physical_and_entity = [&](const Tetrahedron& t) {
+      if (version_ < 4) return t.region > 0 ? std::pair{t.region, 0} : std::pair{0, kEntityCode - t.region};
+      return std::pair{physical_of(t.region, volumes_), t.region};
+    };
+    int largest = 0;
+    int last_region = 0, last_number = 0;
     bool have_last = false;
+    for (const Tetrahedron& t : m_.tets) {
+      if (have_last && t.region == last_region) continue;
+      largest = std::max(largest, physical_and_entity(t).first);
+      last_region = t.region;
+      have_last = true;
+    }
+    have_last = false;
     for (Tetrahedron& t : m_.tets) {
-      if (!have_last || t.region != last_entity) {
-        last_entity = t.region;
-        last_physical = physical_of(t.region, volumes_);
+      if (!have_last || t.region != last_region) {
+        last_region = t.region;
+        const auto [physical, entity] = physical_and_entity(t);
+        last_number = group_number(physical, entity, largest);
         have_last = true;
       }
-      t.region = last_physical;
+      t.region = last_number;
     }
   }
-  for (size_t i = 0; i < m_.triangles.size(); ++i) {
-    const Element& e = tri_info_[i];
-    m_.triangles[i].face = version_ < 4 ? (e.physical != 0 ? e.physical : e.entity) : physical_of(e.entity, surfaces_);
+  {
+    auto physical = [&](const Element& e) { return version_ < 4 ? e.physical : physical_of(e.entity, surfaces_); };
+    int largest = 0;
+    for (const Element& e : tri_info_) largest = std::max(largest, physical(e));
+    for (size_t i = 0; i < m_.triangles.size(); ++i)
+      m_.triangles[i].face = group_number(physical(tri_info_[i]), tri_info_[i].entity, largest);
   }
   if (!m_.tets.empty()) {
     require_valid(m_, in_.name());
     sides_from_tets(m_);
     return;
   }
-  if (!have_entities_) return;
-  // A surface mesh: the volumes that list a surface as their boundary give
-  // its sides; +s means the surface's normal points out of the volume.
+  // A surface mesh. Gmsh turns each surface's triangles like the surface's
+  // own parametrization, not out of a solid: where the sides are not
+  // known, the facets are turned to agree with their neighbours and to
+  // enclose positive volumes (orient_surface.h), as for TetGen's PLCs (a box
+  // of Gmsh's built-in kernel was refused: "inconsistent orientation").
+  if (!have_entities_) {
+    orient_consistently(m_);
+    return;
+  }
+  // The volumes that list a surface as their boundary give its sides; +s
+  // means the surface's normal points out of the volume.
+  int largest = 0;
+  for (const auto& [vtag, v] : volumes_)
+    if (!v.physicals.empty()) largest = std::max(largest, v.physicals.front());
   std::map<int, std::pair<int, int>> sides;  // surface -> (front, back)
+  bool contradicted = false;                  // two volumes on one side of a surface
   for (const auto& [vtag, v] : volumes_) {
-    const int region = v.physicals.empty() ? vtag : v.physicals.front();
+    const int region = group_number(v.physicals.empty() ? 0 : v.physicals.front(), vtag, largest);
     for (int s : v.bounding) {
       auto& fb = sides.emplace(std::abs(s), std::make_pair(0, 0)).first->second;
-      (s > 0 ? fb.second : fb.first) = region;
+      int& side = s > 0 ? fb.second : fb.first;
+      contradicted |= side != 0 && side != region;
+      side = region;
     }
   }
   for (size_t i = 0; i < m_.triangles.size(); ++i) {
@@ -483,6 +531,16 @@ void MshReader::finish() {
     if (it == sides.end()) continue;
     m_.triangles[i].front = it->second.first;
     m_.triangles[i].back = it->second.second;
+  }
+  // Gmsh's signs are not to be trusted: its OpenCASCADE kernel writes every
+  // one as +, a wall between two boxes or a sphere in a box in both, and
+  // its own kernel's
+  // disagree with the triangles' turn on some surfaces. Sides that do not
+  // close each region are dropped, and the regions are found from the
+  // surface as for 2.2 ("region tags contradict the surface" before).
+  if (contradicted || !sides_close_regions(m_)) {
+    for (Triangle& t : m_.triangles) t.front = t.back = kUnknownRegion;
+    orient_consistently(m_);
   }
 }
 

@@ -387,6 +387,32 @@ double tet_det(const Mesh& m, const std::array<int, 4>& v) {
              m.points[static_cast<size_t>(v[3])] - a);
 }
 
+bool sides_close_regions(const Mesh& m) {
+  std::vector<std::array<int, 3>> edges, twins;  // (region, from, to), and the reverse
+  std::map<int, double> volume;                    // by region, x 6
+  for (const Triangle& t : m.triangles) {
+    if (t.front == t.back) continue;  // a crack's edges run both ways
+    for (const int r : {t.front, t.back}) {
+      if (r <= 0) continue;
+      // Out of r: the normal points from back to front.
+      const std::array<int, 3> v = r == t.back ? t.v : std::array<int, 3>{t.v[0], t.v[2], t.v[1]};
+      for (int k = 0; k < 3; ++k) {
+        edges.push_back({r, v[k], v[(k + 1) % 3]});
+        twins.push_back({r, v[(k + 1) % 3], v[k]});
+      }
+      const Vec3 &a = m.points[static_cast<size_t>(v[0])], &b = m.points[static_cast<size_t>(v[1])],
+                 &c = m.points[static_cast<size_t>(v[2])];
+      volume[r] += dot(a, cross(b, c));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::sort(twins.begin(), twins.end());
+  if (edges != twins) return false;
+  for (const auto& [r, v] : volume)
+    if (!(v > 0)) return false;
+  return true;
+}
+
 void sides_from_tets(Mesh& m) {
   if (m.tets.empty() || m.triangles.empty()) return;
   // Triangles sorted by their vertex set; tetrahedron faces are looked up.

@@ -375,6 +375,11 @@ void sort_tets_by_number(TagList& numbers, std::vector<Tetrahedron>& tets, std::
 // a face; a side without a tetrahedron is the exterior (0). Triangles that
 // are no tetrahedron's face keep unknown sides.
 void sides_from_tets(Mesh& m);
+// True when the triangles' sides, where known, enclose each region they
+// name: its facets, turned out of it, run every edge once each way, and
+// enclose a positive volume. A reader whose file states the sides apart
+// from the triangles (Gmsh 4.1's $Entities) checks them with this.
+bool sides_close_regions(const Mesh& m);
 // A triangle's corners for a format that cannot say which region lies on
 // which side (OFF, STL, OBJ; Medit, Gmsh 2.2, TetGen and Abaqus files without
 // tetrahedra): turned, when both sides are known, so that the

@@ -5,7 +5,8 @@ two regions (x < 1.5 is region 1), the 6 block sides as faces 1..6 and the
 region interface as face 7, is written as a Medit .mesh, converted by the
 CLI to every volume format, and read back with meshio (counts, volume, tag
 sets), Gmsh (the .msh and the legacy .vtk) and VTK (the .vtk and .vtu);
-and the other way: files VTK's writers make of it, read by vdmesh.
+and the other way: files VTK's writers make of it, and files Gmsh and
+meshio write, read by vdmesh.
 Exits non-zero on the first failed check; prints every check it made.
 Needs VDMESH_BIN (the CLI); without it the test says so and passes.
 """
@@ -266,6 +267,113 @@ def check_reads_vtk_writers(binary, vtu, tmp, n_tets, expected):
               (os.path.basename(path), code, tets, volumes, err))
 
 
+def check_reads_gmsh_and_meshio_files(binary, tmp):
+    """Files Gmsh and meshio write, read by vdmesh.
+    - Gmsh 4.1 of a box with a sphere in it whose physical group is on the
+      sphere only: the box shell (entity 3) was numbered as the sphere's
+      group 3, one region (2.2 with Mesh.SaveAll writes no groups at all).
+    - meshio's MSH 2.2 without cell data: every tag 0, read as region 0 (the
+      exterior), and `vdmesh mesh` said "open surface".
+    - Gmsh's surface meshes, whose sides $Entities gives wrong (its
+      OpenCASCADE kernel writes every sign as +) and whose triangles turn
+      like each surface's parametrization (its built-in kernel): two boxes
+      sharing a wall, a sphere in a box, a built-in box; refused before."""
+    import gmsh
+    import meshio
+
+    def box_sphere(model, physical):
+        gmsh.model.add(model)
+        box = gmsh.model.occ.addBox(-1, -1, -1, 2, 2, 2)
+        ball = gmsh.model.occ.addSphere(0, 0, 0, 0.5)
+        gmsh.model.occ.fragment([(3, box)], [(3, ball)])
+        gmsh.model.occ.synchronize()
+        vols = sorted(t for _, t in gmsh.model.getEntities(3))
+        masses = {t: gmsh.model.occ.getMass(3, t) for t in vols}
+        if physical:
+            sphere = min(vols, key=lambda t: masses[t])
+            gmsh.model.addPhysicalGroup(3, [sphere], 3)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.3)
+        return masses
+
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("Mesh.SaveAll", 1)
+        box_sphere("partial", True)
+        gmsh.model.mesh.generate(3)
+        for version in (4.1, 2.2):
+            path = os.path.join(tmp, "partial_%s.msh" % version)
+            gmsh.option.setNumber("Mesh.MshFileVersion", version)
+            gmsh.write(path)
+            code, tets, volumes, err = vdmesh_info(binary, path)
+            small = [v for v in volumes.values() if v < 1]
+            # info prints 9 digits
+            check(code == 0 and len(volumes) == 2 and 3 in volumes and len(small) == 1 and
+                  abs(sum(volumes.values()) - 8) < 1e-7,
+                  "vdmesh info %s (Gmsh, physical group on the sphere only): 2 regions, %s %s" %
+                  (os.path.basename(path), volumes, err))
+        gmsh.option.setNumber("Mesh.SaveAll", 0)
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        surfaces = []
+        gmsh.model.add("two")
+        a = gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
+        b = gmsh.model.occ.addBox(1, 0, 0, 1, 1, 1)
+        gmsh.model.occ.fragment([(3, a)], [(3, b)])
+        gmsh.model.occ.synchronize()
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.25)
+        gmsh.model.mesh.generate(2)
+        surfaces.append(("two_boxes", [1.0, 1.0]))
+        for version in (4.1, 2.2):
+            gmsh.option.setNumber("Mesh.MshFileVersion", version)
+            gmsh.write(os.path.join(tmp, "two_boxes_%s.msh" % version))
+        masses = box_sphere("box_sphere", False)
+        gmsh.model.mesh.generate(2)
+        surfaces.append(("box_sphere", None))
+        for version in (4.1, 2.2):
+            gmsh.option.setNumber("Mesh.MshFileVersion", version)
+            gmsh.write(os.path.join(tmp, "box_sphere_%s.msh" % version))
+        gmsh.model.add("geo")
+        gmsh.model.geo.addPoint(0, 0, 0, 0.3, 1)
+        e1 = gmsh.model.geo.extrude([(0, 1)], 1, 0, 0)
+        e2 = gmsh.model.geo.extrude([(1, e1[1][1])], 0, 1, 0)
+        gmsh.model.geo.extrude([(2, e2[1][1])], 0, 0, 1)
+        gmsh.model.geo.synchronize()
+        gmsh.model.mesh.generate(2)
+        surfaces.append(("builtin_box", [1.0]))
+        for version in (4.1, 2.2):
+            gmsh.option.setNumber("Mesh.MshFileVersion", version)
+            gmsh.write(os.path.join(tmp, "builtin_box_%s.msh" % version))
+    finally:
+        gmsh.finalize()
+    for name, expected in surfaces:
+        for version in (4.1, 2.2):
+            path = os.path.join(tmp, "%s_%s.msh" % (name, version))
+            out = os.path.join(tmp, "%s_%s.vtu" % (name, version))
+            run = subprocess.run([binary, "mesh", path, "-o", out, "--quiet", "--no-interior"],
+                                 capture_output=True, text=True)
+            code, tets, volumes, err = vdmesh_info(binary, out) if run.returncode == 0 else (
+                run.returncode, None, {}, run.stderr.strip()[:200])
+            got = sorted(volumes.values())
+            if expected is None:  # the sphere's chords cut into it: sum 8, one region under its CAD volume
+                ok = len(got) == 2 and abs(sum(got) - 8) < 1e-7 and got[0] < min(masses.values())
+            else:
+                ok = len(got) == len(expected) and all(abs(g - e) < 1e-7 for g, e in zip(got, expected))
+            check(code == 0 and ok, "vdmesh mesh %s (Gmsh surface mesh): exit %d, volumes %s %s" %
+                  (os.path.basename(path), code, got, err))
+    # meshio without cell data: every tag 0.
+    mesh = meshio.read(os.path.join(tmp, "partial_2.2.msh"))
+    plain = meshio.Mesh(mesh.points, [("triangle", mesh.cells_dict["triangle"]), ("tetra", mesh.cells_dict["tetra"])])
+    path = os.path.join(tmp, "plain.msh")
+    meshio.write(path, plain, file_format="gmsh22", binary=False)
+    code, tets, volumes, err = vdmesh_info(binary, path)
+    check(code == 0 and 0 not in volumes and tets == len(mesh.cells_dict["tetra"]),
+          "vdmesh info plain.msh (meshio, no cell data): no region 0: %s %s" % (volumes, err))
+    run = subprocess.run([binary, "mesh", path, "-o", os.path.join(tmp, "plain.vtu"), "--quiet", "--no-interior"],
+                         capture_output=True, text=True)
+    check(run.returncode == 0, "vdmesh mesh plain.msh (meshio, no cell data): exit %d %s" %
+          (run.returncode, run.stderr.strip()[:200]))
+
+
 def main():
     binary = os.environ.get("VDMESH_BIN", "")
     if not binary or not os.access(binary, os.X_OK):
@@ -323,6 +431,7 @@ def main():
             check_reads_vtk_writers(binary, outputs["vtu"], tmp, len(tets), expected)
         if "inp" in outputs:
             check_calculix(outputs["inp"], tmp)
+        check_reads_gmsh_and_meshio_files(binary, tmp)
         if "msh" in outputs:
             gmsh_check = subprocess.run(["gmsh", outputs["msh"], "-check"], capture_output=True, text=True, cwd=tmp)
             check(gmsh_check.returncode == 0, "gmsh -check out.msh (exit %d)" % gmsh_check.returncode)
