@@ -32,6 +32,19 @@ std::string list_facets(const std::vector<int>& ids, size_t max_shown = 10) {
 
 constexpr double kSmallestExtent = 1e-100, kLargestCoordinate = 1e100;
 
+}  // namespace
+
+void check_region_ids(const Mesh& m) {
+  for (size_t f = 0; f < m.triangles.size(); ++f)
+    for (const auto& [side, r] : {std::pair{"front", m.triangles[f].front}, std::pair{"back", m.triangles[f].back}})
+      if (r < kUnknownRegion || r > kLargestRegionId)
+        throw InputError("facet " + std::to_string(f) + " names region " + std::to_string(r) + " on its " + side +
+                         " side; a region is 0 (the exterior), 1 to " + std::to_string(kLargestRegionId) +
+                         ", or -1 (not known)");
+}
+
+namespace {
+
 void check_indices_and_coordinates(const Mesh& m) {
   if (m.triangles.empty()) throw InputError("the surface has no facets");
   for (size_t i = 0; i < m.points.size(); ++i) {

@@ -19,6 +19,16 @@ struct SurfaceCheck {
   int non_manifold_edges = 0;
 };
 
+// The largest region id a facet may name: regions are numbered into arrays,
+// and an id of 1e9 asked for tens of GB (1e7: 2.9 s and a report of 10
+// million regions).
+constexpr int kLargestRegionId = 1000000;
+
+// Refuses (throws InputError) a facet naming a region under -1 (unknown) or
+// over kLargestRegionId: -2 crashed the mesher (2026-11-29). Checked before
+// anything else, validation or not.
+void check_region_ids(const Mesh& surface);
+
 // Refuses (throws InputError): no facets, vertex ids out of range, non-finite
 // coordinates, degenerate facets (repeated vertex or collinear vertices),
 // duplicate facets, inconsistent orientation across a manifold edge (or tags

@@ -397,6 +397,16 @@ class BadInput(unittest.TestCase):
         self.assertIsInstance(e.exception, ValueError)
         self.assertIn("open", str(e.exception))
 
+    def test_region_ids_out_of_range(self):
+        # -2 crashed the mesher (SIGSEGV); 1e9 ran for minutes toward tens of GB.
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        for bad in (-2, 10**9):
+            regions = np.tile([0, bad], (len(tris), 1))
+            with self.assertRaisesRegex(vdmesh.InputError, "facet 0 names region %d on its back side" % bad):
+                vdmesh.mesh_surface(pts, tris, ids, regions)
+        mesh, _ = vdmesh.mesh_surface(pts, tris, ids, np.tile([0, 10**6], (len(tris), 1)), interior=False)
+        self.assertEqual(set(mesh.tet_regions.tolist()), {10**6})
+
     def test_bad_arrays(self):
         pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
         with self.assertRaisesRegex(ValueError, r"triangles\[3\] refers to vertex 8"):
