@@ -195,7 +195,16 @@ class InpReader {
     std::string set;
   };
   std::vector<Shell> shells_;
-  std::map<std::string, std::vector<int64_t>> elsets_;
+  // *ELSET lists by upper-case name: element numbers, and the names of sets
+  // they include (FreeCAD's decks list their element blocks' sets by name).
+  struct ElementSet {
+    std::vector<int64_t> ids;
+    std::vector<std::string> sets;
+  };
+  std::map<std::string, ElementSet> elsets_;
+  std::vector<std::string> elset_order_;       // upper-case names, as first written
+  std::vector<std::string> section_sets_;      // *SOLID SECTION ELSETs, upper-case, in order
+  void regions_from_sets();
   bool quad_shells_ = false;
   std::vector<std::pair<std::string, std::vector<std::pair<int64_t, int>>>> surfaces_;
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> surface_sets_;
@@ -273,7 +282,9 @@ int InpReader::node(std::string_view field) {
 
 int InpReader::set_of(const std::string& name) {
   if (name.empty()) return -1;
-  const auto [it, added] = set_index_.emplace(name, static_cast<int>(set_names_.size()));
+  // Abaqus set names are not case-sensitive: Steel and STEEL are one set,
+  // named as first written.
+  const auto [it, added] = set_index_.emplace(upper(name), static_cast<int>(set_names_.size()));
   if (added) set_names_.push_back(name);
   return it->second;
 }
@@ -351,13 +362,18 @@ void InpReader::elset(const Keyword& k) {
   const auto it = k.options.find("ELSET");
   if (it == k.options.end()) fail("*ELSET without ELSET=");
   const bool generate = k.options.count("GENERATE") > 0;
-  std::vector<int64_t>& ids = elsets_[it->second];
+  const std::string key = upper(it->second);
+  if (!elsets_.count(key)) elset_order_.push_back(key);
+  if (!set_index_.count(key)) set_names_.push_back(it->second), set_index_[key] = static_cast<int>(set_names_.size()) - 1;
+  ElementSet& set = elsets_[key];
+  std::vector<int64_t>& ids = set.ids;
   while (at_data_line()) {
     const auto f = fields(0);
     std::vector<int64_t> nums;
     for (std::string_view t : f) {
       int64_t v;
       if (Cursor::parse_int(t, v)) nums.push_back(v);
+      else if (!generate && !t.empty()) set.sets.push_back(upper(t));
     }
     if (generate) {
       if (nums.size() < 2) fail("GENERATE needs first, last[, step]");
@@ -390,6 +406,65 @@ void InpReader::surface(const Keyword& k) {
   surface_sets_.push_back({name == k.options.end() ? "" : name->second, std::move(entries)});
 }
 
+// Each tetrahedron's region, as an index into set_names_ in its region
+// field: the first *SOLID SECTION whose set holds it (a deck's materials:
+// CalculiX's, FreeCAD's and Abaqus/CAE's list their regions' elements in
+// *ELSETs apart from the element blocks, and two materials were read as
+// one region until 2026-11-29); without sections, the *ELSETs of
+// tetrahedra only, when each tetrahedron is in one of them (Gmsh's physical
+// groups); else its element block's ELSET. A set Region<k> listing a
+// tetrahedron wins over all (vdmesh's own numbering).
+void InpReader::regions_from_sets() {
+  std::map<std::string, std::vector<int>> block;  // element block set -> tetrahedra (positions)
+  for (size_t i = 0; i < m_.tets.size(); ++i)
+    if (m_.tets[i].region >= 0) block[upper(set_names_[static_cast<size_t>(m_.tets[i].region)])].push_back(static_cast<int>(i));
+  // A set's tetrahedra; `others` counts its elements that are not.
+  const auto members = [&](const std::string& name, size_t* others) {
+    std::vector<int> out;
+    std::set<std::string> seen;
+    std::vector<std::string> todo{name};
+    while (!todo.empty()) {
+      const std::string set = todo.back();
+      todo.pop_back();
+      if (!seen.insert(set).second) continue;
+      if (const auto b = block.find(set); b != block.end()) out.insert(out.end(), b->second.begin(), b->second.end());
+      const auto e = elsets_.find(set);
+      if (e == elsets_.end()) continue;
+      for (const int64_t id : e->second.ids) {
+        const int t = tet_index_.find(id);
+        if (t >= 0) out.push_back(t);
+        else if (others) ++*others;
+      }
+      todo.insert(todo.end(), e->second.sets.begin(), e->second.sets.end());
+    }
+    return out;
+  };
+  std::vector<std::string> region_sets = section_sets_;
+  if (region_sets.empty()) {
+    std::vector<int> times(m_.tets.size(), 0);
+    for (const std::string& name : elset_order_) {
+      if (block.count(name)) continue;
+      size_t others = 0;
+      const std::vector<int> tets = members(name, &others);
+      if (others > 0 || tets.empty()) continue;
+      region_sets.push_back(name);
+      for (const int t : tets) ++times[static_cast<size_t>(t)];
+    }
+    if (!std::all_of(times.begin(), times.end(), [](int n) { return n == 1; })) region_sets.clear();
+  }
+  std::vector<int> region(m_.tets.size(), -2);  // -2: no region set holds it
+  for (const std::string& name : region_sets) {
+    const int index = set_index_.at(name);
+    for (const int t : members(name, nullptr))
+      if (region[static_cast<size_t>(t)] == -2) region[static_cast<size_t>(t)] = index;
+  }
+  for (size_t i = 0; i < m_.tets.size(); ++i)
+    if (region[i] != -2) m_.tets[i].region = region[i];
+  for (const std::string& name : elset_order_)
+    if (detail::id_from_name(name, "REGION") >= 0)
+      for (const int t : members(name, nullptr)) m_.tets[static_cast<size_t>(t)].region = set_index_.at(name);
+}
+
 Mesh InpReader::read() {
   while (!in_.at_end()) {
     const size_t line = in_.line();
@@ -402,20 +477,15 @@ Mesh InpReader::read() {
     else if (k.name == "ELEMENT") elements(k);
     else if (k.name == "ELSET") elset(k);
     else if (k.name == "SURFACE") surface(k);
+    else if (k.name == "SOLID SECTION" && k.options.count("ELSET")) {
+      section_sets_.push_back(upper(k.options.at("ELSET")));
+      skip_data();
+    }
     else if (k.name == "INCLUDE")
       throw InputError(in_.name() + ":" + std::to_string(line) + ": *INCLUDE is not supported");
     else skip_data();
   }
-  // Tetrahedra in element-number order, regions from set names: a set
-  // Region<k> listing a tetrahedron wins over its block's ELSET.
-  for (const auto& [set, ids] : elsets_)
-    if (detail::id_from_name(set, "Region") >= 0) {
-      const int index = set_of(set);
-      for (int64_t id : ids) {
-        const int t = tet_index_.find(id);
-        if (t >= 0) m_.tets[static_cast<size_t>(t)].region = index;
-      }
-    }
+  regions_from_sets();
   const bool mids = !m_.tet_mid.empty();
   detail::sort_tets_by_number(tet_ids_, m_.tets, m_.tet_mid);
   for (size_t i = 0; i < m_.tets.size(); ++i) tet_index_.set(static_cast<int64_t>(tet_ids_[i]), static_cast<int>(i));
@@ -484,13 +554,16 @@ Mesh InpReader::read() {
         if (!add(eid, f)) throw InputError(in_.name() + ": surface " + name + " names element " + std::to_string(eid) +
                                            ", which is not a tetrahedron");
       } else {
-        auto it = elsets_.find(target);
+        auto it = elsets_.find(upper(target));
         if (it != elsets_.end())
-          for (int64_t id : it->second) add(id, f);
+          for (int64_t id : it->second.ids) add(id, f);
       }
     }
   }
-  if (m_.tets.empty()) {
+  // Shell elements are the boundary of a mesh without tetrahedra, and beside
+  // tetrahedra when no *SURFACE gives it (Gmsh writes its physical surfaces
+  // as CPS3 blocks; they were dropped until 2026-11-29), of the same order.
+  if (m_.tets.empty() || (surface_sets_.empty() && quad_shells_ == mids)) {
     std::stable_sort(shells_.begin(), shells_.end(), [](const Shell& a, const Shell& b) { return a.id < b.id; });
     for (const Shell& s : shells_) {
       Triangle t = s.t;

@@ -394,6 +394,72 @@ TEST(ConvertersRoundTrip, AbaqusRegionNamesAndSets) {
   EXPECT_EQ(regions.size(), 2u);
 }
 
+// Regions of decks other programs write: a material's elements are listed
+// in an *ELSET apart from the element block and named by *SOLID SECTION
+// (CalculiX, Abaqus/CAE), or include the block's set by name (FreeCAD);
+// without sections, *ELSETs of tetrahedra only that cover each once (Gmsh's
+// physical groups). Two materials were read as one region until 2026-11-29.
+namespace abaqus_decks {
+const char* const kNodes = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n5, 1, 1, 1\n";
+// Volumes 1/6 (element 1) and 1/3 (element 2).
+std::map<std::string, double> volumes_by_name(const std::string& deck, const std::string& name) {
+  const std::string path = test::temp_path(name);
+  std::ofstream(path) << kNodes << deck;
+  const Mesh m = io::read_mesh(path);
+  std::map<std::string, double> out;
+  for (const Tetrahedron& t : m.tets) {
+    const auto it = m.region_names.find(t.region);
+    out[it == m.region_names.end() ? "#" + std::to_string(t.region) : it->second] +=
+        std::abs(dot(cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]),
+                     m.points[t.v[3]] - m.points[t.v[0]])) / 6;
+  }
+  return out;
+}
+}  // namespace abaqus_decks
+
+TEST(ConvertersRoundTrip, AbaqusRegionsFromSolidSectionsAndElementSets) {
+  using abaqus_decks::volumes_by_name;
+  const auto calculix = volumes_by_name(
+      "*ELEMENT, TYPE=C3D4, ELSET=EALL\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n*ELSET, ELSET=STEEL\n1\n"
+      "*ELSET, ELSET=ALU, GENERATE\n2, 2, 1\n*MATERIAL, NAME=STEEL\n*SOLID SECTION, ELSET=STEEL, MATERIAL=STEEL\n"
+      "*Solid Section, elset=alu, material=ALU\n",
+      "calculix.inp");
+  EXPECT_EQ(calculix.size(), 2u);
+  EXPECT_NEAR(calculix.at("STEEL"), 1.0 / 6, 1e-15);
+  EXPECT_NEAR(calculix.at("ALU"), 1.0 / 3, 1e-15);
+  const auto freecad = volumes_by_name(
+      "*ELEMENT, TYPE=C3D4, ELSET=Evolumes\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n*ELSET,ELSET=MaterialSolidSolid\nEvolumes\n"
+      "*SOLID SECTION, ELSET=MaterialSolidSolid, MATERIAL=Steel\n",
+      "freecad.inp");
+  EXPECT_EQ(freecad.size(), 1u);
+  EXPECT_NEAR(freecad.at("MaterialSolidSolid"), 0.5, 1e-15);
+  // Set names are not case-sensitive.
+  const auto cases = volumes_by_name(
+      "*Element, type=C3D4, elset=Steel\n1, 1, 2, 3, 4\n*Element, type=C3D4, elset=STEEL\n2, 2, 3, 4, 5\n", "case.inp");
+  EXPECT_EQ(cases.size(), 1u);
+  EXPECT_NEAR(cases.at("Steel"), 0.5, 1e-15);
+  // Gmsh: the blocks are its entities, the *ELSETs its physical groups; its
+  // physical surfaces come as CPS3 blocks and are the boundary's faces.
+  const std::string gmsh =
+      "*ELEMENT, type=CPS3, ELSET=Surface1\n10, 1, 3, 2\n*ELEMENT, type=C3D4, ELSET=Volume1\n1, 1, 2, 3, 4\n"
+      "2, 2, 3, 4, 5\n*ELSET,ELSET=bottom\n10,\n*ELSET,ELSET=inner\n1,\n*ELSET,ELSET=outer\n2,\n";
+  const auto by_group = volumes_by_name(gmsh, "gmsh.inp");
+  EXPECT_EQ(by_group.size(), 2u);
+  EXPECT_NEAR(by_group.at("inner"), 1.0 / 6, 1e-15);
+  EXPECT_NEAR(by_group.at("outer"), 1.0 / 3, 1e-15);
+  const Mesh m = io::read_mesh(test::temp_path("gmsh.inp"));
+  ASSERT_EQ(m.triangles.size(), 1u);
+  EXPECT_EQ(m.face_names.at(m.triangles[0].face), "Surface1");
+  // Sets that do not cover each tetrahedron once are no regions: the blocks stand.
+  const auto partial = volumes_by_name(
+      "*ELEMENT, TYPE=C3D4, ELSET=Region1\n1, 1, 2, 3, 4\n*ELEMENT, TYPE=C3D4, ELSET=Region2\n2, 2, 3, 4, 5\n"
+      "*ELSET, ELSET=PRINTED\n1\n",
+      "partial.inp");
+  EXPECT_EQ(partial.size(), 2u);
+  EXPECT_NEAR(partial.at("#1"), 1.0 / 6, 1e-15);
+  EXPECT_NEAR(partial.at("#2"), 1.0 / 3, 1e-15);
+}
+
 // The real TetGen: `tetgen -pq1.4o2` on a unit box, read back. Every mid node
 // must sit on the mid-point of the edge vdmesh's order names (01, 12, 20, 03,
 // 13, 23 for tetrahedra, 01, 12, 20 for faces), and writing the mesh again
