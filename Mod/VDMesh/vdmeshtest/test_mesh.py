@@ -135,6 +135,21 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         proc = engine._run([engine.find_binary(), "info", os.path.join(out, "m.msh")])
         self.assertEqual(proc.returncode, 0, proc.stderr)
         figure("  export: .vtu .msh .inp through vdmesh convert, and .vtu from the FemMesh alone")
+        # The deck changed since the run (every document named alike shared
+        # one folder, and Export wrote another document's mesh): Export goes
+        # by the FemMesh, and each run keeps its deck in a folder of its own.
+        with open(obj.OutputFile, "w") as f:
+            f.write("*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n"
+                    "*ELEMENT, TYPE=C3D4, ELSET=Other\n1, 1, 2, 3, 4\n")
+        path = meshobject.export_mesh(obj, os.path.join(out, "changed.inp"))
+        proc = engine._run([engine.find_binary(), "info", path])
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertIn("tetrahedra %d" % obj.FemMesh.VolumeCount, proc.stdout)
+        first = os.path.dirname(obj.OutputFile)
+        obj.touch()
+        self.doc.recompute()
+        self.assertNotEqual(os.path.dirname(obj.OutputFile), first)
+        self.assertFalse(os.path.exists(first))
 
     def test_2_boolean_fragments(self):
         import BOPTools.SplitFeatures

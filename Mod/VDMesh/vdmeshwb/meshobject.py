@@ -4,6 +4,7 @@ Meshing happens before anything is added to the document: when vdmesh fails (bad
 unrecoverable facets: exit 4, ...) `create_mesh` raises VDMeshError and the document is unchanged.
 Recompute re-runs vdmesh with the current properties.
 """
+import hashlib
 import json
 import os
 import shutil
@@ -89,7 +90,9 @@ class VDMeshObject:
             obj.ElementOrder = ELEMENT_ORDERS[int(p.order) - 1]
         _add(obj, "App::PropertyFile", "OutputFile", "VDMesh", "vdmesh's Abaqus deck of the last run (used by Export)")
         _add(obj, "App::PropertyString", "Report", "VDMesh", "Report of the last run (JSON)")
+        _add(obj, "App::PropertyString", "OutputDigest", "VDMesh", "SHA-256 of OutputFile as the last run wrote it")
         obj.setEditorMode("Report", 1)
+        obj.setEditorMode("OutputDigest", 2)
 
     def execute(self, obj):
         # Recompute: on failure the previous mesh stays and the error goes to the report view.
@@ -121,17 +124,41 @@ class VDMeshObject:
         self.__setstate__(state)
 
 
+def file_digest(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
 def apply_result(obj, fm, inp, report):
     obj.FemMesh = fm
-    keep = _keep_dir(obj)
+    # A folder of its own for each run: one named after the document and the
+    # object was shared by every document of the same name (all new ones are
+    # "Unnamed"), and Export wrote another document's mesh.
+    previous = os.path.dirname(getattr(obj, "OutputFile", "") or "")
+    keep = tempfile.mkdtemp(prefix="vdmesh-keep-")
     kept = os.path.join(keep, "mesh.inp")
     try:
         shutil.copyfile(inp, kept)
         shutil.rmtree(os.path.dirname(inp), ignore_errors=True)
     except OSError:
         kept = inp
+    if os.path.basename(previous).startswith("vdmesh-keep-") and previous != keep:
+        shutil.rmtree(previous, ignore_errors=True)
     obj.OutputFile = kept
+    obj.OutputDigest = file_digest(kept)
     obj.Report = json.dumps(report or {})
+
+
+def kept_deck(obj):
+    """The deck of the object's last run when it is still the one that run wrote, else None."""
+    src = getattr(obj, "OutputFile", "")
+    digest = getattr(obj, "OutputDigest", "")
+    if not src or not digest or not os.path.isfile(src):
+        return None
+    return src if file_digest(src) == digest else None
 
 
 def analyses_of(obj):
@@ -171,12 +198,6 @@ def add_material_groups(obj, analysis):
     if changed:
         obj.FemMesh = fm
     return [m.Name for m in materials]
-
-
-def _keep_dir(obj):
-    d = os.path.join(tempfile.gettempdir(), "vdmesh-%s-%s" % (obj.Document.Name, obj.Name))
-    os.makedirs(d, exist_ok=True)
-    return d
 
 
 def find_analysis(doc):
@@ -292,9 +313,9 @@ def write_inp_from_femmesh(fm, path):
 
 def export_mesh(obj, path, extra=()):
     """Writes the mesh object's mesh to path (format by extension) through `vdmesh convert`."""
-    src = getattr(obj, "OutputFile", "")
+    src = kept_deck(obj)
     tmpdir = None
-    if not src or not os.path.isfile(src):
+    if src is None:
         tmpdir = tempfile.mkdtemp(prefix="vdmesh-export-")
         src = write_inp_from_femmesh(obj.FemMesh, os.path.join(tmpdir, "mesh.inp"))
     try:
