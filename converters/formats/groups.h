@@ -8,9 +8,10 @@
 
 namespace vd::io::detail {
 
-// Face ids for groups named `names` (in order of first appearance): the k of
-// names that are all "Face<k>" and distinct (so our own files read back with
-// their ids), else 1, 2, ... Names go into m.face_names.
+// Face ids for groups named `names` (in file order; groups of one name are
+// one face, unnamed ones each their own): the k of names that are all
+// "Face<k>" (so our own files read back with their ids), else 1, 2, ... in
+// order of first appearance. Names go into m.face_names.
 std::vector<int> face_ids_for_groups(const std::vector<std::string>& names, Mesh& m);
 
 }  // namespace vd::io::detail

@@ -632,6 +632,35 @@ TEST(ConvertersRoundTrip, SurfaceFormats) {
 // own orientation) written where nothing can say them: each facet turned so
 // that its normal points into the lower-numbered region, out of the solids,
 // and the file reads back as a closed, consistently oriented surface.
+// An ASCII STL starts a solid each time the face changes in facet order; a
+// name seen again is the same face (11 faces came back as 195).
+TEST(ConvertersRoundTrip, AsciiStlSolidsOfOneNameAreOneFace) {
+  Mesh m = cube_tets();
+  m.tets.clear();
+  m.tet_mid.clear();
+  ASSERT_GE(m.triangles.size(), 6u);
+  std::vector<int> faces;
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    m.triangles[i].face = i % 2 == 0 ? 3 : 7;  // alternating: a solid per facet
+    faces.push_back(m.triangles[i].face);
+  }
+  for (const bool named : {false, true}) {
+    m.face_names.clear();
+    if (named) m.face_names = {{3, "top"}, {7, "rest"}};
+    const std::string path = test::temp_path(named ? "named.stl" : "faces.stl");
+    io::write_mesh(m, path);
+    const Mesh back = io::read_mesh(path);
+    ASSERT_EQ(back.triangles.size(), m.triangles.size());
+    std::set<int> ids;
+    for (size_t i = 0; i < back.triangles.size(); ++i) {
+      ids.insert(back.triangles[i].face);
+      if (!named) EXPECT_EQ(back.triangles[i].face, faces[i]);
+      else EXPECT_EQ(back.face_names.at(back.triangles[i].face), faces[i] == 3 ? "top" : "rest");
+    }
+    EXPECT_EQ(ids.size(), 2u);
+  }
+}
+
 TEST(ConvertersRoundTrip, FormatsWithoutSidesTurnFacetsOutOfTheirRegion) {
   Mesh outward = tagged_surface();
   Mesh m = outward;
