@@ -5,6 +5,7 @@
 
 #include "formats.h"
 #include "io_util.h"
+#include "mesh/error.h"
 
 namespace vd::io {
 namespace {
@@ -92,6 +93,11 @@ Mesh read_medit(const std::string& path) {
 }
 
 void write_medit(const Mesh& m, const std::string& path, const WriteOptions&) {
+  // The mid-edge nodes went out as loose vertices beside first-order
+  // elements, with no word: a second-order mesh is refused before a byte.
+  if (m.second_order())
+    throw UsageError(path + ": the Medit .mesh writer writes first-order elements only; give --order 1 to write " +
+                     "the corners, or write second order to .msh, .vtu, .vtk, .inp or .node");
   detail::Out out(path);
   out << "MeshVersionFormatted 2\nDimension 3\n\nVertices\n" << m.points.size() << '\n';
   for (const Vec3& p : m.points) out << p.x << ' ' << p.y << ' ' << p.z << " 0\n";

@@ -290,6 +290,15 @@ TEST(ConvertersRoundTrip, SecondOrderVolumeFormats) {
   }
 }
 
+// A writer of first-order elements only refuses a second-order mesh before
+// writing anything: Medit's wrote the mid-edge nodes as loose vertices.
+TEST(ConvertersRoundTrip, SecondOrderToFirstOrderFormatIsRefused) {
+  const Mesh m = second_order(cube_tets());
+  const std::string path = test::temp_path("p2.mesh");
+  EXPECT_THROW(io::write_mesh(m, path), UsageError);
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
 TEST(ConvertersRoundTrip, GmshKeepsNamesAndSparseTags) {
   Mesh m = cube_tets();
   for (Tetrahedron& t : m.tets) t.region = t.region == 1 ? 10 : 20;
