@@ -183,6 +183,20 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
             self.assertTrue(fn <= set(obj.FemMesh.getGroupElements(groups["Solid%d_Nodes" % i])))
         figure("  interface Face%d: %d nodes, in both Solid1_Nodes and Solid2_Nodes" % (shared[0], len(fn)))
 
+    def test_2b_solid_inside_another_is_said(self):
+        # A compound of a box and a box inside it: the overlap goes to Solid1, so Solid2 is not
+        # in the mesh, and the workbench said nothing of it.
+        doc = self.doc
+        part = doc.addObject("Part::Feature", "Inclusion")
+        inner = Part.makeBox(2, 2, 2, Vector(4, 4, 4))
+        part.Shape = Part.makeCompound([Part.makeBox(10, 10, 10), inner])
+        doc.recompute()
+        obj, info, report, text = meshobject.create_mesh(part, engine.Parameters(size=2.0))
+        summary = meshobject.mesh_summary(info, report)
+        self.assertIn("warning: overlapping solids: Solid1 and Solid2 share a volume of 8", summary)
+        self.assertIn("Solid2 is not in the mesh", summary)
+        figure("  a box inside a box: %s" % summary.splitlines()[0])
+
     def test_4_module_and_program_give_the_same_mesh(self):
         # ctest says which engine this build must use: the module (Release) or the program.
         core = engine.core_module()

@@ -104,6 +104,7 @@ class VDMeshObject:
             FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
             raise
         apply_result(obj, fm, inp, report)
+        print_warnings(obj, report)
         for analysis in analyses_of(obj):
             add_material_groups(obj, analysis)
 
@@ -229,6 +230,7 @@ def create_mesh(part, params=None, analysis=None, name="VDMesh", cancel=None, id
             viewprovider.ViewProviderVDMesh(obj.ViewObject)
         obj.Part = part
         apply_result(obj, fm, inp, report)
+        print_warnings(obj, report)
         analysis = analysis or find_analysis(doc)
         if analysis is not None:
             analysis.addObject(obj)
@@ -241,11 +243,31 @@ def create_mesh(part, params=None, analysis=None, name="VDMesh", cancel=None, id
     return obj, info, report, text
 
 
+def warnings_of(report):
+    """Lines a user must see: solids that overlap (the lower number meshes the common volume, so a
+    solid inside another is not in the mesh at all: nothing said so in FreeCAD until 2026-11-29)."""
+    cad = (report or {}).get("cad", {})
+    meshed = {v.get("name") for v in cad.get("volumes", [])}
+    out = []
+    for o in cad.get("overlaps", []):
+        a, b = ("Solid%d" % n for n in o["solids"][:2])
+        gone = " (%s is not in the mesh)" % b if b not in meshed else ""
+        out.append("overlapping solids: %s and %s share a volume of %.6g, meshed as %s%s; make them touch "
+                   "(Part BooleanFragments) to mesh both" % (a, b, o.get("volume", 0), a, gone))
+    return out
+
+
+def print_warnings(obj, report):
+    for w in warnings_of(report):
+        FreeCAD.Console.PrintWarning("VDMesh %s: %s\n" % (obj.Label, w))
+
+
 def mesh_summary(info, report):
-    lines = ["%d nodes, %d %d-node tetrahedra, groups: %s; %s" % (info.get("nodes", 0), info.get("tetrahedra", 0),
-                                                           info.get("nodes_per_tetrahedron", 4),
-                                                           ", ".join(info.get("solids", [])),
-                                                           ", ".join(info.get("faces", [])))]
+    lines = ["warning: " + w for w in warnings_of(report)]
+    lines.append("%d nodes, %d %d-node tetrahedra, groups: %s; %s" % (info.get("nodes", 0), info.get("tetrahedra", 0),
+                                                                   info.get("nodes_per_tetrahedron", 4),
+                                                                   ", ".join(info.get("solids", [])),
+                                                                   ", ".join(info.get("faces", []))))
     if report:
         q = report.get("quality", {})
         cad = report.get("cad", {})
