@@ -146,7 +146,7 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         self.assertEqual(proc.returncode, 0, proc.stderr)
         self.assertIn("tetrahedra %d" % obj.FemMesh.VolumeCount, proc.stdout)
         first = os.path.dirname(obj.OutputFile)
-        obj.touch()
+        obj.Seed = obj.Seed + 1
         self.doc.recompute()
         self.assertNotEqual(os.path.dirname(obj.OutputFile), first)
         self.assertFalse(os.path.exists(first))
@@ -196,6 +196,44 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         self.assertIn("warning: overlapping solids: Solid1 and Solid2 share a volume of 8", summary)
         self.assertIn("Solid2 is not in the mesh", summary)
         figure("  a box inside a box: %s" % summary.splitlines()[0])
+
+    def test_2c_material_groups_follow_their_references(self):
+        # A material's References changed after meshing: recompute renews <Material>_Volumes
+        # without meshing again (they kept the solids named before, and CalculiX would have
+        # given each solid the other's material).
+        import BOPTools.SplitFeatures
+        import ObjectsFem
+        doc = self.doc
+        a = doc.addObject("Part::Box", "LeftBox")
+        b = doc.addObject("Part::Box", "RightBox")
+        b.Placement.Base = Vector(10, 0, 0)
+        doc.recompute()
+        bf = BOPTools.SplitFeatures.makeBooleanFragments(name="TwoMaterials")
+        bf.Objects = [a, b]
+        bf.Mode = "Standard"
+        doc.recompute()
+        analysis = ObjectsFem.makeAnalysis(doc, "MaterialAnalysis")
+        steel, alu = (ObjectsFem.makeMaterialSolid(doc, n) for n in ("Steel", "Alu"))
+        steel.References = [(bf, "Solid1")]
+        alu.References = [(bf, "Solid2")]
+        analysis.addObject(steel)
+        analysis.addObject(alu)
+        obj, info, report, text = meshobject.create_mesh(bf, engine.Parameters(size=3.0), analysis=analysis)
+
+        def volumes(group):
+            return set(obj.FemMesh.getGroupElements(femmesh.group_ids(obj.FemMesh)[group]))
+
+        solid1, solid2 = volumes("Solid1_Volumes"), volumes("Solid2_Volumes")
+        self.assertEqual(volumes(steel.Name + "_Volumes"), solid1)
+        self.assertEqual(volumes(alu.Name + "_Volumes"), solid2)
+        deck = obj.OutputFile
+        steel.References = [(bf, "Solid2")]
+        alu.References = [(bf, "Solid1")]
+        doc.recompute()
+        self.assertEqual(volumes(steel.Name + "_Volumes"), solid2)
+        self.assertEqual(volumes(alu.Name + "_Volumes"), solid1)
+        self.assertEqual(obj.OutputFile, deck)  # not meshed again
+        figure("  materials swapped: groups renewed on recompute, mesh kept (%d tetrahedra)" % obj.FemMesh.VolumeCount)
 
     def test_4_module_and_program_give_the_same_mesh(self):
         # ctest says which engine this build must use: the module (Release) or the program.

@@ -91,22 +91,34 @@ class VDMeshObject:
         _add(obj, "App::PropertyFile", "OutputFile", "VDMesh", "vdmesh's Abaqus deck of the last run (used by Export)")
         _add(obj, "App::PropertyString", "Report", "VDMesh", "Report of the last run (JSON)")
         _add(obj, "App::PropertyString", "OutputDigest", "VDMesh", "SHA-256 of OutputFile as the last run wrote it")
+        _add(obj, "App::PropertyLinkList", "Materials", "VDMesh",
+             "The analysis's solid materials: a change of theirs renews the <Material>_Volumes groups")
+        _add(obj, "App::PropertyString", "MeshInputs", "VDMesh", "What the last mesh was made from (shape, options)")
         obj.setEditorMode("Report", 1)
-        obj.setEditorMode("OutputDigest", 2)
+        for hidden in ("OutputDigest", "Materials", "MeshInputs"):
+            obj.setEditorMode(hidden, 2)
 
     def execute(self, obj):
         # Recompute: on failure the previous mesh stays and the error goes to the report view.
         if obj.Part is None:
             return
+        key = mesh_inputs(obj.Part, params_of(obj))
+        if key != obj.MeshInputs or obj.FemMesh.VolumeCount == 0:
+            try:
+                fm, info, inp, report, text = run_mesh(obj.Part, params_of(obj))
+            except engine.VDMeshError as e:
+                FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
+                raise
+            apply_result(obj, fm, inp, report)
+            obj.MeshInputs = key
+            print_warnings(obj, report)
+        # Else only a material changed (the mesh links them): its groups are renewed, the mesh kept.
         try:
-            fm, info, inp, report, text = run_mesh(obj.Part, params_of(obj))
+            for analysis in analyses_of(obj):
+                add_material_groups(obj, analysis)
         except engine.VDMeshError as e:
             FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
             raise
-        apply_result(obj, fm, inp, report)
-        print_warnings(obj, report)
-        for analysis in analyses_of(obj):
-            add_material_groups(obj, analysis)
 
     def onDocumentRestored(self, obj):
         self.add_properties(obj, engine.Parameters())
@@ -131,6 +143,12 @@ def file_digest(path):
         for block in iter(lambda: f.read(1 << 20), b""):
             h.update(block)
     return h.hexdigest()
+
+
+def mesh_inputs(part, params):
+    """What a mesh is made from: the part's shape (its BREP text) and the options."""
+    brep = shape_of(part).exportBrepToString()
+    return hashlib.sha256(brep.encode()).hexdigest() + " " + json.dumps(sorted(vars(params).items()))
 
 
 def apply_result(obj, fm, inp, report):
@@ -198,6 +216,11 @@ def add_material_groups(obj, analysis):
         changed = True
     if changed:
         obj.FemMesh = fm
+    # A material's References are its, not the mesh's: linked, a change of theirs makes recompute
+    # renew the groups (until 2026-11-29 Steel_Volumes kept the solid it named before, and CalculiX
+    # would have given each solid the other's material).
+    if list(obj.Materials) != materials:
+        obj.Materials = materials
     return [m.Name for m in materials]
 
 
@@ -230,6 +253,7 @@ def create_mesh(part, params=None, analysis=None, name="VDMesh", cancel=None, id
             viewprovider.ViewProviderVDMesh(obj.ViewObject)
         obj.Part = part
         apply_result(obj, fm, inp, report)
+        obj.MeshInputs = mesh_inputs(part, params)
         print_warnings(obj, report)
         analysis = analysis or find_analysis(doc)
         if analysis is not None:
