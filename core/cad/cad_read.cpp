@@ -5,11 +5,13 @@
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepGProp.hxx>
 #include <BRepLib.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Message.hxx>
@@ -26,6 +28,7 @@
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Iterator.hxx>
 #include <TopoDS_Shell.hxx>
 
 #include <algorithm>
@@ -248,6 +251,25 @@ void number_subshapes(const TopoDS_Shape& input, const TopoDS_Shape& result, Top
   if (origins) origins->swap(o2);
 }
 
+// `shape` with each solid of negative volume reversed; compounds rebuilt
+// around them child by child (TopoDS_Iterator composes the orientations and
+// locations), so that the sub-shapes come in the same order.
+TopoDS_Shape with_solids_turned_out(const TopoDS_Shape& shape, bool& turned) {
+  if (shape.ShapeType() == TopAbs_SOLID) {
+    GProp_GProps props;
+    BRepGProp::VolumeProperties(shape, props);
+    if (!(props.Mass() < 0)) return shape;
+    turned = true;
+    return shape.Reversed();
+  }
+  if (shape.ShapeType() != TopAbs_COMPOUND && shape.ShapeType() != TopAbs_COMPSOLID) return shape;
+  BRep_Builder builder;
+  TopoDS_Compound compound;
+  builder.MakeCompound(compound);
+  for (TopoDS_Iterator it(shape); it.More(); it.Next()) builder.Add(compound, with_solids_turned_out(it.Value(), turned));
+  return compound;
+}
+
 // `glue`: fuse the solids as touching only (see CadModel::glued).
 std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::string& name, std::string units,
                                             double& seconds_fuse, OccCancel& cancel, bool glue) {
@@ -268,6 +290,18 @@ std::unique_ptr<CadModel::Impl> build_model(TopoDS_Shape input, const std::strin
     if (open > 0)
       throw InputError(name + ": Solid" + std::to_string(i) + " is not closed (" + std::to_string(open) +
                        " edges bound only one face)");
+  }
+  // A solid turned inside out (FreeCAD's Shape.reversed(), some exporters)
+  // encloses a negative volume: its faces point in, and its facets came out
+  // with their sides swapped ("region tags contradict the surface: facet 0
+  // says region 1 on its back side"). Turned back, in a copy of the
+  // compound's structure, so that the numbering stays as it was.
+  bool turned = false;
+  const TopoDS_Shape out = with_solids_turned_out(input, turned);
+  if (turned) {
+    input = out;
+    solids.Clear();
+    TopExp::MapShapes(input, TopAbs_SOLID, solids);
   }
 
   const auto t0 = Clock::now();

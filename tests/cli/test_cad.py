@@ -8,7 +8,7 @@ import subprocess
 
 import numpy as np
 
-from cad_support import mesh_as, out, tet_volumes
+from cad_support import mesh_as, out, tet_volumes, tets_in_solids
 from cli_support import BIN, check, data, finish, run
 
 
@@ -326,6 +326,27 @@ if code == 0:
               "two boxes: the interface is one face between regions 1 and 2 (faces %s, sides %s)" % (set(face[inner].tolist()), pairs))
     check(rep["cad"]["fuse"] == "glued" and rep["cad"]["overlaps"] == [],
           "two touching boxes: glued, no overlap (fuse %r, overlaps %s)" % (rep["cad"]["fuse"], rep["cad"]["overlaps"]))
+
+# Solids turned inside out (FreeCAD's Shape.reversed(): the root's
+# orientation in the BREP text is -): their faces point in, and meshing
+# stopped at "region tags contradict the surface: facet 0 says region 1 on
+# its back side". Now turned back: the box with a hole alone, and the two
+# boxes' compound (each box reversed within it).
+def reversed_brep(path, name):
+    lines = open(path).read().rstrip("\n").split("\n")
+    root = lines[-1].split()
+    lines[-1] = " ".join(["-" + root[0][1:] if root[0].startswith("+") else "+" + root[0][1:]] + root[1:])
+    target = os.path.join(out, name + ".brep")
+    open(target, "w").write("\n".join(lines) + "\n")
+    return target
+
+
+for source, name, solids, volume in ((boxhole, "boxhole_reversed", 1, 400 - np.pi * 16), (two, "twoboxes_reversed", 2, 2.0)):
+    code, rep, target, err = mesh(reversed_brep(source, name), "--size", "1", "--quiet")
+    check(code == 0, "%s meshes (exit %s: %s)" % (name, code, err.strip()[-200:]))
+    if code == 0:
+        vol, region = tets_in_solids(target, solids, name)
+        check(abs(vol.sum() - volume) < 0.01 * volume, "%s: volume %.4g, the part's %.4g" % (name, vol.sum(), volume))
 
 # Solids that cross: the glued fuse leaves their faces whole, the glued
 # surface crosses itself, and the solids are fused again in full. The box
