@@ -213,7 +213,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   auto oracle = make_oracle(options.oracle, options.oracle_options);
 
   timer.start("validate");
-  check_region_ids(input);
+  check_tags_and_sizes(input);
   set_thread_count(options.threads);
   m.points = input.points;
   m.point_size = input.point_size;

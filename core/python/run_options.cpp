@@ -36,6 +36,8 @@ long long integer(py::handle v, const std::string& name) {
   try {
     return v.cast<long long>();
   } catch (const py::cast_error&) {
+    PyErr_Clear();
+    if (PyLong_Check(v.ptr())) throw py::value_error("option " + name + ": " + py::str(v).cast<std::string>() + " is out of range");
     throw py::type_error("option " + name + ": expected an integer, got " + type_name(v));
   }
 }
@@ -129,7 +131,8 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
     if (!kCommon.count(name) && !(cad_input && kCad.count(name))) {
       const bool cad_only = kCad.count(name) > 0;
       throw py::type_error("unexpected keyword argument '" + name + "'" +
-                           (cad_only ? " (an option of mesh_cad only)" : " (see help(vdmesh.mesh_surface))"));
+                           (cad_only ? " (an option of mesh_cad only)"
+                                     : cad_input ? " (see help(vdmesh.mesh_cad))" : " (see help(vdmesh.mesh_surface))"));
     }
     if (name == "size") opt.size.uniform = number(value, name);
     else if (name == "gradation") opt.size.gradation = number(value, name);

@@ -34,13 +34,23 @@ constexpr double kSmallestExtent = 1e-100, kLargestCoordinate = 1e100;
 
 }  // namespace
 
-void check_region_ids(const Mesh& m) {
-  for (size_t f = 0; f < m.triangles.size(); ++f)
+void check_tags_and_sizes(const Mesh& m) {
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
     for (const auto& [side, r] : {std::pair{"front", m.triangles[f].front}, std::pair{"back", m.triangles[f].back}})
       if (r < kUnknownRegion || r > kLargestRegionId)
         throw InputError("facet " + std::to_string(f) + " names region " + std::to_string(r) + " on its " + side +
                          " side; a region is 0 (the exterior), 1 to " + std::to_string(kLargestRegionId) +
                          ", or -1 (not known)");
+    if (m.triangles[f].face < kNoFace)
+      throw InputError("facet " + std::to_string(f) + " has face id " + std::to_string(m.triangles[f].face) +
+                       "; a face id is 0 or more, or -1 (none)");
+  }
+  for (size_t v = 0; v < m.point_size.size(); ++v)
+    if (!(m.point_size[v] >= 0) || !std::isfinite(m.point_size[v])) {
+      std::ostringstream s;
+      s << "vertex " << v << " has size " << m.point_size[v] << "; a vertex's size is positive, or 0 (none)";
+      throw InputError(s.str());
+    }
 }
 
 namespace {

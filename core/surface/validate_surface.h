@@ -25,9 +25,11 @@ struct SurfaceCheck {
 constexpr int kLargestRegionId = 1000000;
 
 // Refuses (throws InputError) a facet naming a region under -1 (unknown) or
-// over kLargestRegionId: -2 crashed the mesher (2026-11-29). Checked before
-// anything else, validation or not.
-void check_region_ids(const Mesh& surface);
+// over kLargestRegionId (-2 crashed the mesher, 2026-11-29) or a face under
+// -1 (none; -3 was taken as none, and the facets got face ids of their
+// own), and a vertex size that is negative or not finite (taken as none).
+// Checked before anything else, validation or not.
+void check_tags_and_sizes(const Mesh& surface);
 
 // Refuses (throws InputError): no facets, vertex ids out of range, non-finite
 // coordinates, degenerate facets (repeated vertex or collinear vertices),

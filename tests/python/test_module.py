@@ -387,6 +387,9 @@ class Cad(unittest.TestCase):
             vdmesh.mesh_cad(path=self.path, deflection=1e-12)
         with self.assertRaisesRegex(ValueError, "option deflection: must be 0 .* or at least 1e-7"):
             vdmesh.tessellate_cad(path=self.path, deflection=1e-12)
+        # It sent CAD users to mesh_surface's help.
+        with self.assertRaisesRegex(TypeError, r"unexpected keyword argument 'sise' \(see help\(vdmesh.mesh_cad\)\)"):
+            vdmesh.mesh_cad(path=self.path, sise=2)
 
 
 class BadInput(unittest.TestCase):
@@ -406,6 +409,17 @@ class BadInput(unittest.TestCase):
                 vdmesh.mesh_surface(pts, tris, ids, regions)
         mesh, _ = vdmesh.mesh_surface(pts, tris, ids, np.tile([0, 10**6], (len(tris), 1)), interior=False)
         self.assertEqual(set(mesh.tet_regions.tolist()), {10**6})
+
+    def test_sizes_faces_and_messages(self):
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        # A negative vertex size was taken as none, a face id under -1 as no face.
+        with self.assertRaisesRegex(vdmesh.InputError, "vertex 0 has size -0.2; a vertex's size is positive"):
+            vdmesh.mesh_surface(pts, tris, ids, point_size=np.full(len(pts), -0.2))
+        with self.assertRaisesRegex(vdmesh.InputError, "facet 0 has face id -3"):
+            vdmesh.mesh_surface(pts, tris, -2 - ids)
+        # An int too large for the option said "expected an integer, got int".
+        with self.assertRaisesRegex(ValueError, "option seed: 9223372036854775808 is out of range"):
+            vdmesh.mesh_surface(pts, tris, ids, seed=2 ** 63)
 
     def test_bad_arrays(self):
         pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
