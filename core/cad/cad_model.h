@@ -40,6 +40,9 @@ inline bool is_cad_file_name(const std::string& path) {
 // (Precision::Confusion(), 1e-7 in the model's units) with "invalid parameter
 // value"; the options say so first.
 constexpr double kSmallestDeflection = 1e-7;
+// A chord height given by hand is at least this fraction of the part's
+// bounding-box diagonal (CadModel::tessellate).
+constexpr double kSmallestRelativeDeflection = 1e-7;
 
 struct TessellationOptions {
   double size = 0;              // target edge length; 0: chosen from the part (report says which)
