@@ -23,6 +23,23 @@ from vdmeshwb import engine, femmesh, inpreader, meshobject
 from .support import add_box_with_hole, figure, print_figures
 
 
+def boolean_fragments(doc, name, *boxes):
+    """A BooleanFragments (Standard) of cubes given as (name, edge, corner): touching solids."""
+    import BOPTools.SplitFeatures
+    parts = []
+    for label, edge, corner in boxes:
+        box = doc.addObject("Part::Box", label)
+        box.Length = box.Width = box.Height = edge
+        box.Placement.Base = corner
+        parts.append(box)
+    doc.recompute()
+    bf = BOPTools.SplitFeatures.makeBooleanFragments(name=name)
+    bf.Objects = parts
+    bf.Mode = "Standard"
+    doc.recompute()
+    return bf
+
+
 class MeshChecks:
     def check_mesh(self, name, obj, part_shape, info, report):
         fm = obj.FemMesh
@@ -152,18 +169,7 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         self.assertFalse(os.path.exists(first))
 
     def test_2_boolean_fragments(self):
-        import BOPTools.SplitFeatures
-        doc = self.doc
-        a = doc.addObject("Part::Box", "BigBox")
-        a.Length = a.Width = a.Height = 10
-        b = doc.addObject("Part::Box", "SmallBox")
-        b.Length = b.Width = b.Height = 5
-        b.Placement.Base = Vector(10, 2, 3)
-        doc.recompute()
-        bf = BOPTools.SplitFeatures.makeBooleanFragments(name="Fragments")
-        bf.Objects = [a, b]
-        bf.Mode = "Standard"
-        doc.recompute()
+        bf = boolean_fragments(self.doc, "Fragments", ("BigBox", 10, Vector(0, 0, 0)), ("SmallBox", 5, Vector(10, 2, 3)))
         shape = bf.Shape
         self.assertEqual(len(shape.Solids), 2)
         t = time.time()
@@ -201,17 +207,9 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         # A material's References changed after meshing: recompute renews <Material>_Volumes
         # without meshing again (they kept the solids named before, and CalculiX would have
         # given each solid the other's material).
-        import BOPTools.SplitFeatures
         import ObjectsFem
         doc = self.doc
-        a = doc.addObject("Part::Box", "LeftBox")
-        b = doc.addObject("Part::Box", "RightBox")
-        b.Placement.Base = Vector(10, 0, 0)
-        doc.recompute()
-        bf = BOPTools.SplitFeatures.makeBooleanFragments(name="TwoMaterials")
-        bf.Objects = [a, b]
-        bf.Mode = "Standard"
-        doc.recompute()
+        bf = boolean_fragments(doc, "TwoMaterials", ("LeftBox", 10, Vector(0, 0, 0)), ("RightBox", 10, Vector(10, 0, 0)))
         analysis = ObjectsFem.makeAnalysis(doc, "MaterialAnalysis")
         steel, alu = (ObjectsFem.makeMaterialSolid(doc, n) for n in ("Steel", "Alu"))
         steel.References = [(bf, "Solid1")]
