@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <functional>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -413,56 +414,78 @@ void InpReader::surface(const Keyword& k) {
 // one region until 2026-11-29); without sections, the *ELSETs of
 // tetrahedra only, when each tetrahedron is in one of them (Gmsh's physical
 // groups); else its element block's ELSET. A set Region<k> listing a
-// tetrahedron wins over all (vdmesh's own numbering).
+// tetrahedron wins over all (vdmesh's own numbering). Sections naming no
+// set vdmesh knows (a shell block's, a set defined nowhere) are passed over:
+// they ended in "internal error: map::at".
 void InpReader::regions_from_sets() {
   std::map<std::string, std::vector<int>> block;  // element block set -> tetrahedra (positions)
   for (size_t i = 0; i < m_.tets.size(); ++i)
     if (m_.tets[i].region >= 0) block[upper(set_names_[static_cast<size_t>(m_.tets[i].region)])].push_back(static_cast<int>(i));
-  // A set's tetrahedra; `others` counts its elements that are not.
-  const auto members = [&](const std::string& name, size_t* others) {
-    std::vector<int> out;
-    std::set<std::string> seen;
-    std::vector<std::string> todo{name};
-    while (!todo.empty()) {
-      const std::string set = todo.back();
-      todo.pop_back();
-      if (!seen.insert(set).second) continue;
-      if (const auto b = block.find(set); b != block.end()) out.insert(out.end(), b->second.begin(), b->second.end());
-      const auto e = elsets_.find(set);
-      if (e == elsets_.end()) continue;
+  // A set's tetrahedra (sorted, once each) and how many of its elements are
+  // not tetrahedra, each set resolved once: a chain of 4,000 sets naming
+  // the next took 2.4 s resolved anew for each. A set met again while it is
+  // being resolved (a cycle) adds nothing.
+  struct Members {
+    std::vector<int> tets;
+    size_t others = 0;
+  };
+  std::map<std::string, Members> resolved;
+  std::set<std::string> open;
+  std::function<const Members&(const std::string&)> members = [&](const std::string& name) -> const Members& {
+    static const Members kNone;
+    if (const auto done = resolved.find(name); done != resolved.end()) return done->second;
+    if (!open.insert(name).second) return kNone;
+    if (open.size() > 10000) throw InputError(in_.name() + ": *ELSET definitions nested more than 10,000 deep");
+    Members out;
+    if (const auto b = block.find(name); b != block.end()) out.tets = b->second;
+    if (const auto e = elsets_.find(name); e != elsets_.end()) {
       for (const int64_t id : e->second.ids) {
         const int t = tet_index_.find(id);
-        if (t >= 0) out.push_back(t);
-        else if (others) ++*others;
+        if (t >= 0) out.tets.push_back(t);
+        else ++out.others;
       }
-      todo.insert(todo.end(), e->second.sets.begin(), e->second.sets.end());
+      for (const std::string& inner : e->second.sets) {
+        const Members& m = members(inner);
+        out.tets.insert(out.tets.end(), m.tets.begin(), m.tets.end());
+        out.others += m.others;
+      }
     }
-    return out;
+    std::sort(out.tets.begin(), out.tets.end());
+    out.tets.erase(std::unique(out.tets.begin(), out.tets.end()), out.tets.end());
+    open.erase(name);
+    return resolved[name] = std::move(out);
   };
-  std::vector<std::string> region_sets = section_sets_;
+  // A set that holds every tetrahedron says nothing of regions (the usual
+  // EALL of a deck, or one material for all): the blocks stand.
+  const auto telling = [&](const std::string& name) {
+    const auto it = set_index_.find(name);
+    if (it == set_index_.end()) return false;  // named by a section, defined nowhere
+    const Members& m = members(name);
+    return !m.tets.empty() && m.tets.size() < m_.tets.size();
+  };
+  std::vector<std::string> region_sets;
+  for (const std::string& name : section_sets_)
+    if (telling(name)) region_sets.push_back(name);
   if (region_sets.empty()) {
     std::vector<int> times(m_.tets.size(), 0);
     for (const std::string& name : elset_order_) {
-      if (block.count(name)) continue;
-      size_t others = 0;
-      const std::vector<int> tets = members(name, &others);
-      if (others > 0 || tets.empty()) continue;
+      if (block.count(name) || !telling(name) || members(name).others > 0) continue;
       region_sets.push_back(name);
-      for (const int t : tets) ++times[static_cast<size_t>(t)];
+      for (const int t : members(name).tets) ++times[static_cast<size_t>(t)];
     }
     if (!std::all_of(times.begin(), times.end(), [](int n) { return n == 1; })) region_sets.clear();
   }
   std::vector<int> region(m_.tets.size(), -2);  // -2: no region set holds it
   for (const std::string& name : region_sets) {
     const int index = set_index_.at(name);
-    for (const int t : members(name, nullptr))
+    for (const int t : members(name).tets)
       if (region[static_cast<size_t>(t)] == -2) region[static_cast<size_t>(t)] = index;
   }
   for (size_t i = 0; i < m_.tets.size(); ++i)
     if (region[i] != -2) m_.tets[i].region = region[i];
   for (const std::string& name : elset_order_)
     if (detail::id_from_name(name, "REGION") >= 0)
-      for (const int t : members(name, nullptr)) m_.tets[static_cast<size_t>(t)].region = set_index_.at(name);
+      for (const int t : members(name).tets) m_.tets[static_cast<size_t>(t)].region = set_index_.at(name);
 }
 
 Mesh InpReader::read() {

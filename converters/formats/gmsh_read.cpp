@@ -38,10 +38,10 @@ constexpr int kEntityCode = -2;
 // after the largest group: a box shell (entity 3) around a sphere in
 // physical group 3 became one region with it. Tag 0 (meshio writes no
 // other without cell data) is no tag: region 0 is the exterior.
-int group_number(int physical, int entity, int largest_physical) {
+long long group_number(int physical, int entity, int largest_physical) {
   if (physical > 0) return physical;
   if (entity <= 0) return -1;  // kUnknownRegion, kNoFace
-  return largest_physical + entity;
+  return static_cast<long long>(largest_physical) + entity;
 }
 
 struct Element {
@@ -260,6 +260,8 @@ void MshReader::add_element(int type, uint64_t tag, const uint64_t* nodes, int e
     // 2.2 knows the tag now, a physical group as it is and an entity as
     // kEntityCode - entity (numbered in finish()); 4.1's physical group
     // comes from the entity.
+    if (version_ < 4 && physical <= 0 && entity > INT_MAX + kEntityCode)
+      in_.fail("element " + std::to_string(tag) + " has entity tag " + std::to_string(entity) + ", too large");
     t.region = version_ >= 4 ? entity : physical > 0 ? physical : kEntityCode - std::max(entity, 0);
     TetMidNodes mid{};
     if (type == kMshTet10) {
@@ -458,7 +460,11 @@ void MshReader::finish() {
   if (!place_by_tag_) sort_tets_by_number(tet_tags_, m_.tets, m_.tet_mid);
   tet_tags_ = {};
   // An element's number: its physical group, else its geometrical entity
-  // (group_number).
+  // (group_number), which must fit an int.
+  const auto numbered = [&](long long n) {
+    if (n > INT_MAX) in_.fail("an entity numbered after physical group tags gets " + std::to_string(n) + ", too large");
+    return static_cast<int>(n);
+  };
   auto physical_of = [&](int entity, const std::map<int, Entity>& entities) {
     auto it = entities.find(entity);
     return it != entities.end() && !it->second.physicals.empty() ? it->second.physicals.front() : 0;
@@ -483,7 +489,7 @@ void MshReader::finish() {
       if (!have_last || t.region != last_region) {
         last_region = t.region;
         const auto [physical, entity] = physical_and_entity(t);
-        last_number = group_number(physical, entity, largest);
+        last_number = numbered(group_number(physical, entity, largest));
         have_last = true;
       }
       t.region = last_number;
@@ -494,7 +500,7 @@ void MshReader::finish() {
     int largest = 0;
     for (const Element& e : tri_info_) largest = std::max(largest, physical(e));
     for (size_t i = 0; i < m_.triangles.size(); ++i)
-      m_.triangles[i].face = group_number(physical(tri_info_[i]), tri_info_[i].entity, largest);
+      m_.triangles[i].face = numbered(group_number(physical(tri_info_[i]), tri_info_[i].entity, largest));
   }
   if (!m_.tets.empty()) {
     require_valid(m_, in_.name());
@@ -518,7 +524,7 @@ void MshReader::finish() {
   std::map<int, std::pair<int, int>> sides;  // surface -> (front, back)
   bool contradicted = false;                  // two volumes on one side of a surface
   for (const auto& [vtag, v] : volumes_) {
-    const int region = group_number(v.physicals.empty() ? 0 : v.physicals.front(), vtag, largest);
+    const int region = numbered(group_number(v.physicals.empty() ? 0 : v.physicals.front(), vtag, largest));
     for (int s : v.bounding) {
       auto& fb = sides.emplace(std::abs(s), std::make_pair(0, 0)).first->second;
       int& side = s > 0 ? fb.second : fb.first;
@@ -538,7 +544,12 @@ void MshReader::finish() {
   // disagree with the triangles' turn on some surfaces. Sides that do not
   // close each region are dropped, and the regions are found from the
   // surface as for 2.2 ("region tags contradict the surface" before).
-  if (contradicted || !sides_close_regions(m_)) {
+  // A triangle no volume lists (a surface-only model: Gmsh writes
+  // $Entities in 4.1 all the same) leaves the sides unknown too.
+  const bool all_known = std::all_of(m_.triangles.begin(), m_.triangles.end(), [](const Triangle& t) {
+    return t.front != kUnknownRegion && t.back != kUnknownRegion;
+  });
+  if (contradicted || !all_known || !sides_close_regions(m_)) {
     for (Triangle& t : m_.triangles) t.front = t.back = kUnknownRegion;
     orient_consistently(m_);
   }

@@ -78,16 +78,16 @@ void clip_ears(std::vector<int> loop, const std::vector<P2>& at, std::vector<std
 }
 
 // Lawson's flips of the edges that are not the polygons' own, until every
-// one is locally Delaunay: the constrained Delaunay triangulation of the
-// facet. Ear clipping leaves fans of needles (a polygon with many points on
+// one is locally Delaunay in the facet's plane: the constrained Delaunay
+// triangulation of the facet. Ear clipping leaves fans of needles (a polygon with many points on
 // a long side), and a pair of coplanar facets whose circle holds the other's
 // apex is never a face of the Delaunay tetrahedralization: with --no-flips
 // nothing inside a face changes, and `tetgen_example.poly` ended in exit 4
 // (1,776 facets missing after 12 passes) on its clipped facets. The
 // triangles are counter-clockwise in `at`; a triangulation that is not
 // (the fan of a polygon clipping could not finish) is left as it is.
-void flip_to_delaunay(std::vector<std::array<int, 3>>& tris, const std::vector<P2>& at,
-                      const std::vector<const std::vector<int>*>& polys) {
+void flip_to_delaunay(std::vector<std::array<int, 3>>& tris, const std::vector<Vec3>& points,
+                      const std::vector<P2>& at, const std::vector<const std::vector<int>*>& polys) {
   const auto key = [](int a, int b) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
   };
@@ -126,7 +126,11 @@ void flip_to_delaunay(std::vector<std::array<int, 3>>& tris, const std::vector<P
     if (ab == owner.end() || ba == owner.end()) continue;  // flipped away meanwhile
     const int t1 = ab->second, t2 = ba->second;
     const int c = apex(t1, a, b), d = apex(t2, b, a);
-    if (side_of_circle_2d(p(a).x, p(a).y, p(b).x, p(b).y, p(c).x, p(c).y, p(d).x, p(d).y) <= 0) continue;
+    // In the facet's plane, not in the projection, which is no similarity
+    // (a tilted facet's circles are ellipses there): the circle of (a, b, c)
+    // is the equator of their smallest sphere.
+    const auto P = [&](int i) { return points[static_cast<size_t>(i)]; };
+    if (side_of_equatorial_sphere(P(a), P(b), P(c), P(d)) != SphereSide::inside) continue;
     if (turn(a, d, c) <= 0 || turn(d, b, c) <= 0) continue;
     owner.erase(ab);
     owner.erase(key(b, a));
@@ -263,7 +267,7 @@ std::vector<std::array<int, 3>> triangulate_local(const std::vector<Vec3>& point
     }
     clip_ears(loop, at, out);
   }
-  flip_to_delaunay(out, at, polys);
+  flip_to_delaunay(out, points, at, polys);
   // Turn every triangle like the facet's normal.
   for (auto& t : out) {
     const Vec3 a = points[static_cast<size_t>(t[0])];

@@ -30,11 +30,6 @@ int orientation_2d(double ax, double ay, double bx, double by, double cx, double
   return static_cast<int>(CGAL::orientation(K::Point_2(ax, ay), K::Point_2(bx, by), K::Point_2(cx, cy)));
 }
 
-int side_of_circle_2d(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
-  return static_cast<int>(CGAL::side_of_oriented_circle(K::Point_2(ax, ay), K::Point_2(bx, by),
-                                                        K::Point_2(cx, cy), K::Point_2(dx, dy)));
-}
-
 bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
   return CGAL::collinear(to_cgal(a), to_cgal(b), to_cgal(c));
 }

@@ -23,10 +23,6 @@ int orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 // clockwise, -1 clockwise, 0 collinear. Exact, as the 3D one.
 int orientation_2d(double ax, double ay, double bx, double by, double cx, double cy);
 
-// Side of d against the circle through a, b, c, which turn counter-
-// clockwise: +1 inside, 0 on it, -1 outside. Exact.
-int side_of_circle_2d(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy);
-
 // True when a, b, c lie on one line (or coincide).
 bool collinear(const Vec3& a, const Vec3& b, const Vec3& c);
 

@@ -436,12 +436,32 @@ TEST(ConvertersRoundTrip, AbaqusRegionsFromSolidSectionsAndElementSets) {
   EXPECT_EQ(calculix.size(), 2u);
   EXPECT_NEAR(calculix.at("STEEL"), 1.0 / 6, 1e-15);
   EXPECT_NEAR(calculix.at("ALU"), 1.0 / 3, 1e-15);
-  const auto freecad = volumes_by_name(
-      "*ELEMENT, TYPE=C3D4, ELSET=Evolumes\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n*ELSET,ELSET=MaterialSolidSolid\nEvolumes\n"
-      "*SOLID SECTION, ELSET=MaterialSolidSolid, MATERIAL=Steel\n",
-      "freecad.inp");
-  EXPECT_EQ(freecad.size(), 1u);
-  EXPECT_NEAR(freecad.at("MaterialSolidSolid"), 0.5, 1e-15);
+  // Sets naming other sets, as FreeCAD's decks do.
+  const auto nested = volumes_by_name(
+      "*ELEMENT, TYPE=C3D4, ELSET=E1\n1, 1, 2, 3, 4\n*ELEMENT, TYPE=C3D4, ELSET=E2\n2, 2, 3, 4, 5\n"
+      "*ELSET,ELSET=MaterialSteel\nE1\n*ELSET,ELSET=MaterialAlu\nE2,\n"
+      "*SOLID SECTION, ELSET=MaterialSteel, MATERIAL=Steel\n*SOLID SECTION, ELSET=MaterialAlu, MATERIAL=Alu\n",
+      "nested.inp");
+  EXPECT_EQ(nested.size(), 2u);
+  EXPECT_NEAR(nested.at("MaterialSteel"), 1.0 / 6, 1e-15);
+  EXPECT_NEAR(nested.at("MaterialAlu"), 1.0 / 3, 1e-15);
+  // A set holding every tetrahedron (a deck's EALL, one material for all)
+  // says nothing of regions: vdmesh's own blocks stand. Sections naming a
+  // set defined nowhere, or a shell block, are passed over (they ended in
+  // "internal error: map::at").
+  const auto eall = volumes_by_name(
+      "*ELEMENT, TYPE=C3D4, ELSET=Region1\n1, 1, 2, 3, 4\n*ELEMENT, TYPE=C3D4, ELSET=Region2\n2, 2, 3, 4, 5\n"
+      "*ELEMENT, TYPE=CPS3, ELSET=Plate\n10, 1, 3, 2\n*ELSET, ELSET=EALL, GENERATE\n1, 2\n"
+      "*SOLID SECTION, ELSET=EALL, MATERIAL=Steel\n*SOLID SECTION, ELSET=Plate, MATERIAL=Steel\n"
+      "*SOLID SECTION, ELSET=Nowhere, MATERIAL=Steel\n",
+      "eall.inp");
+  EXPECT_EQ(eall.size(), 2u);
+  EXPECT_NEAR(eall.at("#1"), 1.0 / 6, 1e-15);
+  EXPECT_NEAR(eall.at("#2"), 1.0 / 3, 1e-15);
+  // A chain of sets each naming the next resolves each set once.
+  std::string chain = "*ELEMENT, TYPE=C3D4, ELSET=Region1\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n";
+  for (int k = 0; k < 4000; ++k) chain += "*ELSET, ELSET=S" + std::to_string(k) + "\nS" + std::to_string(k + 1) + "\n";
+  EXPECT_EQ(volumes_by_name(chain, "chain.inp").size(), 1u);
   // Set names are not case-sensitive.
   const auto cases = volumes_by_name(
       "*Element, type=C3D4, elset=Steel\n1, 1, 2, 3, 4\n*Element, type=C3D4, elset=STEEL\n2, 2, 3, 4, 5\n", "case.inp");
@@ -765,40 +785,49 @@ double area(const Mesh& m, const Triangle& t) {
 // kept): ear clipping alone left a fan of needles here, whose coplanar pairs
 // recovery without flips could never make Delaunay.
 TEST(ConvertersRoundTrip, PlcPolygonIsTriangulatedDelaunayInItsPlane) {
-  // A 10 x 1 rectangle in the plane z = 2 with 9 more points on its bottom side.
-  std::vector<Vec3> points;
-  std::vector<int> polygon;
-  for (int i = 0; i <= 10; ++i) {
-    polygon.push_back(static_cast<int>(points.size()));
-    points.push_back({static_cast<double>(i), 0, 2});
-  }
-  for (const Vec3& p : {Vec3{10, 1, 2}, Vec3{0, 1, 2}}) {
-    polygon.push_back(static_cast<int>(points.size()));
-    points.push_back(p);
-  }
-  const auto tris = io::detail::triangulate_facet(points, {polygon}, {});
-  ASSERT_EQ(tris.size(), points.size() - 2);
-  double total = 0;
-  std::map<std::pair<int, int>, int> apex;  // directed edge -> the corner off it
-  for (const auto& t : tris) {
-    const Vec3 n = cross(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]]);
-    EXPECT_GT(n.z, 0);  // turned like the polygon, counter-clockwise seen from +z
-    total += 0.5 * norm(n);
-    for (int k = 0; k < 3; ++k) apex[{t[k], t[(k + 1) % 3]}] = t[(k + 2) % 3];
-  }
-  EXPECT_NEAR(total, 10.0, 1e-12);
-  // No corner across an inner edge lies inside the other triangle's circle.
-  int inner = 0;
-  for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k) {
-      const auto across = apex.find({t[(k + 1) % 3], t[k]});
-      if (across == apex.end()) continue;
-      ++inner;
-      const Vec3 &a = points[t[0]], &b = points[t[1]], &c = points[t[2]], &d = points[across->second];
-      EXPECT_LE(side_of_circle_2d(a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y), 0)
-          << "edge " << t[k] << "-" << t[(k + 1) % 3];
+  // A 10 x 1 rectangle with 9 more points on its bottom side, in the plane
+  // z = 2 and tilted by 44 deg about the x axis: projected by dropping z, a
+  // tilted facet's circles are ellipses, and flips by the projection's
+  // circles left pairs that are not Delaunay in the facet's plane.
+  for (const double tilt : {0.0, 44.0}) {
+    SCOPED_TRACE(tilt);
+    const double c = std::cos(tilt * M_PI / 180), s = std::sin(tilt * M_PI / 180);
+    const Vec3 normal{0, -s, c};
+    auto place = [&](double x, double y) { return Vec3{x, y * c, 2 + y * s}; };
+    std::vector<Vec3> points;
+    std::vector<int> polygon;
+    for (int i = 0; i <= 10; ++i) {
+      polygon.push_back(static_cast<int>(points.size()));
+      points.push_back(place(i, 0));
     }
-  EXPECT_EQ(inner, 2 * (static_cast<int>(tris.size()) - 1));
+    for (const Vec3& p : {place(10, 1), place(0, 1)}) {
+      polygon.push_back(static_cast<int>(points.size()));
+      points.push_back(p);
+    }
+    const auto tris = io::detail::triangulate_facet(points, {polygon}, {});
+    ASSERT_EQ(tris.size(), points.size() - 2);
+    double total = 0;
+    std::map<std::pair<int, int>, int> apex;  // directed edge -> the corner off it
+    for (const auto& t : tris) {
+      const Vec3 n = cross(points[t[1]] - points[t[0]], points[t[2]] - points[t[0]]);
+      EXPECT_GT(dot(n, normal), 0);  // turned like the polygon
+      total += 0.5 * norm(n);
+      for (int k = 0; k < 3; ++k) apex[{t[k], t[(k + 1) % 3]}] = t[(k + 2) % 3];
+    }
+    EXPECT_NEAR(total, 10.0, 1e-12);
+    // No corner across an inner edge lies inside the other triangle's circle.
+    int inner = 0;
+    for (const auto& t : tris)
+      for (int k = 0; k < 3; ++k) {
+        const auto across = apex.find({t[(k + 1) % 3], t[k]});
+        if (across == apex.end()) continue;
+        ++inner;
+        EXPECT_NE(side_of_equatorial_sphere(points[t[0]], points[t[1]], points[t[2]], points[across->second]),
+                  SphereSide::inside)
+            << "edge " << t[k] << "-" << t[(k + 1) % 3];
+      }
+    EXPECT_EQ(inner, 2 * (static_cast<int>(tris.size()) - 1));
+  }
 }
 
 TEST(ConvertersRoundTrip, ReadsSharedSmesh) {

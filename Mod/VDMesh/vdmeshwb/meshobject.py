@@ -102,7 +102,11 @@ class VDMeshObject:
         # Recompute: on failure the previous mesh stays and the error goes to the report view.
         if obj.Part is None:
             return
-        key = mesh_inputs(obj.Part, params_of(obj))
+        try:
+            key = mesh_inputs(obj.Part, params_of(obj))
+        except engine.VDMeshError as e:
+            FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
+            raise
         if key != obj.MeshInputs or obj.FemMesh.VolumeCount == 0:
             try:
                 fm, info, inp, report, text = run_mesh(obj.Part, params_of(obj))
@@ -114,8 +118,7 @@ class VDMeshObject:
             print_warnings(obj, report)
         # Else only a material changed (the mesh links them): its groups are renewed, the mesh kept.
         try:
-            for analysis in analyses_of(obj):
-                add_material_groups(obj, analysis)
+            renew_material_groups(obj)
         except engine.VDMeshError as e:
             FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
             raise
@@ -216,12 +219,29 @@ def add_material_groups(obj, analysis):
         changed = True
     if changed:
         obj.FemMesh = fm
-    # A material's References are its, not the mesh's: linked, a change of theirs makes recompute
-    # renew the groups (until 2026-11-29 Steel_Volumes kept the solid it named before, and CalculiX
-    # would have given each solid the other's material).
+    return materials
+
+
+def renew_material_groups(obj):
+    """add_material_groups for every analysis holding the mesh, and the mesh linked to their materials.
+
+    A material's References are its, not the mesh's: linked, a change of theirs makes recompute
+    renew the groups (until 2026-11-29 Steel_Volumes kept the solid it named before, and CalculiX
+    would have given each solid the other's material)."""
+    materials = []
+    for analysis in analyses_of(obj):
+        materials += [m for m in add_material_groups(obj, analysis) if m not in materials]
     if list(obj.Materials) != materials:
         obj.Materials = materials
     return [m.Name for m in materials]
+
+
+def adopt_result(obj, fm, inp, report):
+    """The mesh of a run made from the object's part and properties, with what goes with it."""
+    apply_result(obj, fm, inp, report)
+    obj.MeshInputs = mesh_inputs(obj.Part, params_of(obj))
+    print_warnings(obj, report)
+    renew_material_groups(obj)
 
 
 def find_analysis(doc):
@@ -252,13 +272,10 @@ def create_mesh(part, params=None, analysis=None, name="VDMesh", cancel=None, id
             from . import viewprovider
             viewprovider.ViewProviderVDMesh(obj.ViewObject)
         obj.Part = part
-        apply_result(obj, fm, inp, report)
-        obj.MeshInputs = mesh_inputs(part, params)
-        print_warnings(obj, report)
         analysis = analysis or find_analysis(doc)
         if analysis is not None:
             analysis.addObject(obj)
-            add_material_groups(obj, analysis)
+        adopt_result(obj, fm, inp, report)
         obj.purgeTouched()
     except Exception:
         doc.abortTransaction()

@@ -146,7 +146,7 @@ class MeshTaskPanel:
                 o.Size, o.Interior, o.Flips, o.RidgeAngle = p.size, p.interior, p.flips, p.ridge_angle
                 o.Oracle, o.LPLimit, o.SliverAngle, o.Seed = p.oracle, p.lp_limit, p.sliver_angle, p.seed
                 o.ElementOrder = meshobject.ELEMENT_ORDERS[p.order - 1]
-                meshobject.apply_result(o, fm, inp, report)
+                meshobject.adopt_result(o, fm, inp, report)
                 o.purgeTouched()
         except engine.VDMeshError as e:
             self.show_error(e)
