@@ -455,13 +455,15 @@ void InpReader::regions_from_sets() {
     open.erase(name);
     return resolved[name] = std::move(out);
   };
-  // A set that holds every tetrahedron says nothing of regions (the usual
-  // EALL of a deck, or one material for all): the blocks stand.
+  // A set that holds every tetrahedron says nothing of regions the element
+  // blocks give (the usual EALL of a deck, or one material for all): they
+  // stand. Where a block has no set (Abaqus/CAE's parts), it does name them.
+  const bool blocks_named = std::all_of(m_.tets.begin(), m_.tets.end(), [](const Tetrahedron& t) { return t.region >= 0; });
   const auto telling = [&](const std::string& name) {
     const auto it = set_index_.find(name);
     if (it == set_index_.end()) return false;  // named by a section, defined nowhere
     const Members& m = members(name);
-    return !m.tets.empty() && m.tets.size() < m_.tets.size();
+    return !m.tets.empty() && (m.tets.size() < m_.tets.size() || !blocks_named);
   };
   std::vector<std::string> region_sets;
   for (const std::string& name : section_sets_)

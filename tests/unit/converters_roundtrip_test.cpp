@@ -458,6 +458,13 @@ TEST(ConvertersRoundTrip, AbaqusRegionsFromSolidSectionsAndElementSets) {
   EXPECT_EQ(eall.size(), 2u);
   EXPECT_NEAR(eall.at("#1"), 1.0 / 6, 1e-15);
   EXPECT_NEAR(eall.at("#2"), 1.0 / 3, 1e-15);
+  // Element blocks without a set (Abaqus/CAE's parts): the one section names the region.
+  const auto cae = volumes_by_name(
+      "*Element, type=C3D4\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n*Elset, elset=Set-1, generate\n1, 2, 1\n"
+      "*Solid Section, elset=Set-1, material=Material-1\n",
+      "cae.inp");
+  EXPECT_EQ(cae.size(), 1u);
+  EXPECT_NEAR(cae.at("Set-1"), 0.5, 1e-15);
   // A chain of sets each naming the next resolves each set once.
   std::string chain = "*ELEMENT, TYPE=C3D4, ELSET=Region1\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n";
   for (int k = 0; k < 4000; ++k) chain += "*ELSET, ELSET=S" + std::to_string(k) + "\nS" + std::to_string(k + 1) + "\n";
