@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
-#include <functional>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -430,30 +429,42 @@ void InpReader::regions_from_sets() {
     size_t others = 0;
   };
   std::map<std::string, Members> resolved;
-  std::set<std::string> open;
-  std::function<const Members&(const std::string&)> members = [&](const std::string& name) -> const Members& {
-    static const Members kNone;
+  // Depth first without recursion: a chain of 4,000 sets overflowed the
+  // stack under AddressSanitizer.
+  const auto members = [&](const std::string& name) -> const Members& {
     if (const auto done = resolved.find(name); done != resolved.end()) return done->second;
-    if (!open.insert(name).second) return kNone;
-    if (open.size() > 10000) throw InputError(in_.name() + ": *ELSET definitions nested more than 10,000 deep");
-    Members out;
-    if (const auto b = block.find(name); b != block.end()) out.tets = b->second;
-    if (const auto e = elsets_.find(name); e != elsets_.end()) {
-      for (const int64_t id : e->second.ids) {
-        const int t = tet_index_.find(id);
-        if (t >= 0) out.tets.push_back(t);
-        else ++out.others;
+    std::set<std::string> open{name};
+    std::vector<std::pair<std::string, size_t>> stack{{name, 0}};  // a set, its next inner set
+    while (!stack.empty()) {
+      const std::string set = stack.back().first;
+      const auto e = elsets_.find(set);
+      if (e != elsets_.end() && stack.back().second < e->second.sets.size()) {
+        const std::string inner = e->second.sets[stack.back().second++];
+        if (!resolved.count(inner) && open.insert(inner).second) stack.push_back({inner, 0});
+        continue;
       }
-      for (const std::string& inner : e->second.sets) {
-        const Members& m = members(inner);
-        out.tets.insert(out.tets.end(), m.tets.begin(), m.tets.end());
-        out.others += m.others;
+      Members out;
+      if (const auto b = block.find(set); b != block.end()) out.tets = b->second;
+      if (e != elsets_.end()) {
+        for (const int64_t id : e->second.ids) {
+          const int t = tet_index_.find(id);
+          if (t >= 0) out.tets.push_back(t);
+          else ++out.others;
+        }
+        for (const std::string& inner : e->second.sets) {
+          const auto m = resolved.find(inner);
+          if (m == resolved.end()) continue;  // still open: a cycle adds nothing
+          out.tets.insert(out.tets.end(), m->second.tets.begin(), m->second.tets.end());
+          out.others += m->second.others;
+        }
       }
+      std::sort(out.tets.begin(), out.tets.end());
+      out.tets.erase(std::unique(out.tets.begin(), out.tets.end()), out.tets.end());
+      resolved[set] = std::move(out);
+      open.erase(set);
+      stack.pop_back();
     }
-    std::sort(out.tets.begin(), out.tets.end());
-    out.tets.erase(std::unique(out.tets.begin(), out.tets.end()), out.tets.end());
-    open.erase(name);
-    return resolved[name] = std::move(out);
+    return resolved.at(name);
   };
   // A set that holds every tetrahedron says nothing of regions the element
   // blocks give (the usual EALL of a deck, or one material for all): they
