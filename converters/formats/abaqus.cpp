@@ -364,7 +364,7 @@ void InpReader::elset(const Keyword& k) {
   const bool generate = k.options.count("GENERATE") > 0;
   const std::string key = upper(it->second);
   if (!elsets_.count(key)) elset_order_.push_back(key);
-  if (!set_index_.count(key)) set_names_.push_back(it->second), set_index_[key] = static_cast<int>(set_names_.size()) - 1;
+  set_of(it->second);  // named as first written, like the blocks' sets
   ElementSet& set = elsets_[key];
   std::vector<int64_t>& ids = set.ids;
   while (at_data_line()) {

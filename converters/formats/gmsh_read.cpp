@@ -540,8 +540,7 @@ void MshReader::finish() {
   }
   // Gmsh's signs are not to be trusted: its OpenCASCADE kernel writes every
   // one as +, a wall between two boxes or a sphere in a box in both, and
-  // its own kernel's
-  // disagree with the triangles' turn on some surfaces. Sides that do not
+  // its own kernel's disagree with the triangles' turn on some surfaces. Sides that do not
   // close each region are dropped, and the regions are found from the
   // surface as for 2.2 ("region tags contradict the surface" before).
   // A triangle no volume lists (a surface-only model: Gmsh writes

@@ -79,9 +79,10 @@ void clip_ears(std::vector<int> loop, const std::vector<P2>& at, std::vector<std
 
 // Lawson's flips of the edges that are not the polygons' own, until every
 // one is locally Delaunay in the facet's plane: the constrained Delaunay
-// triangulation of the facet. Ear clipping leaves fans of needles (a polygon with many points on
-// a long side), and a pair of coplanar facets whose circle holds the other's
-// apex is never a face of the Delaunay tetrahedralization: with --no-flips
+// triangulation of the facet. Ear clipping leaves fans of needles (a
+// polygon with many points on a long side), and a pair of coplanar facets
+// whose circle holds the other's apex is never a face of the Delaunay
+// tetrahedralization: with --no-flips
 // nothing inside a face changes, and `tetgen_example.poly` ended in exit 4
 // (1,776 facets missing after 12 passes) on its clipped facets. The
 // triangles are counter-clockwise in `at`; a triangulation that is not
@@ -92,6 +93,7 @@ void flip_to_delaunay(std::vector<std::array<int, 3>>& tris, const std::vector<V
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
   };
   const auto p = [&](int i) { return at[static_cast<size_t>(i)]; };
+  const auto P = [&](int i) { return points[static_cast<size_t>(i)]; };
   const auto turn = [&](int a, int b, int c) { return orientation_2d(p(a).x, p(a).y, p(b).x, p(b).y, p(c).x, p(c).y); };
   std::unordered_set<std::uint64_t> fixed;  // the polygons' edges, both ways
   for (const auto* poly : polys)
@@ -129,7 +131,6 @@ void flip_to_delaunay(std::vector<std::array<int, 3>>& tris, const std::vector<V
     // In the facet's plane, not in the projection, which is no similarity
     // (a tilted facet's circles are ellipses there): the circle of (a, b, c)
     // is the equator of their smallest sphere.
-    const auto P = [&](int i) { return points[static_cast<size_t>(i)]; };
     if (side_of_equatorial_sphere(P(a), P(b), P(c), P(d)) != SphereSide::inside) continue;
     if (turn(a, d, c) <= 0 || turn(d, b, c) <= 0) continue;
     owner.erase(ab);

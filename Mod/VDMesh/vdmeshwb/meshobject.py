@@ -104,21 +104,12 @@ class VDMeshObject:
             return
         try:
             key = mesh_inputs(obj.Part, params_of(obj))
-        except engine.VDMeshError as e:
-            FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
-            raise
-        if key != obj.MeshInputs or obj.FemMesh.VolumeCount == 0:
-            try:
+            if key != obj.MeshInputs or obj.FemMesh.VolumeCount == 0:
                 fm, info, inp, report, text = run_mesh(obj.Part, params_of(obj))
-            except engine.VDMeshError as e:
-                FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
-                raise
-            apply_result(obj, fm, inp, report)
-            obj.MeshInputs = key
-            print_warnings(obj, report)
-        # Else only a material changed (the mesh links them): its groups are renewed, the mesh kept.
-        try:
-            renew_material_groups(obj)
+                adopt_result(obj, fm, inp, report, key)
+            else:
+                # Only a material changed (the mesh links them): its groups are renewed, the mesh kept.
+                renew_material_groups(obj)
         except engine.VDMeshError as e:
             FreeCAD.Console.PrintError("VDMesh %s: %s\n" % (obj.Label, e.message))
             raise
@@ -236,10 +227,11 @@ def renew_material_groups(obj):
     return [m.Name for m in materials]
 
 
-def adopt_result(obj, fm, inp, report):
-    """The mesh of a run made from the object's part and properties, with what goes with it."""
+def adopt_result(obj, fm, inp, report, key=None):
+    """The mesh of a run made from the object's part and properties, with what goes with it.
+    key: mesh_inputs of that part and those properties, when the caller has it already."""
     apply_result(obj, fm, inp, report)
-    obj.MeshInputs = mesh_inputs(obj.Part, params_of(obj))
+    obj.MeshInputs = key or mesh_inputs(obj.Part, params_of(obj))
     print_warnings(obj, report)
     renew_material_groups(obj)
 
