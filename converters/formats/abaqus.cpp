@@ -4,11 +4,15 @@
 // nodes: no *HEADING (a deck allows one, and ours is meant to be included),
 // no 2D elements in a solid deck (CalculiX wants a section for every element).
 // A mesh without tetrahedra is written as S3/STRI65 shells, one ELSET per face.
-// Reads nodes, tetrahedra, triangle shells, ELSETs and element surfaces back.
+// Reads nodes, tetrahedra, triangle shells, ELSETs and element surfaces back,
+// through *INCLUDE files too.
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <filesystem>
 #include <map>
+#include <memory>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -155,7 +159,11 @@ struct Keyword {
 
 class InpReader {
  public:
-  InpReader(const FileBytes& data, const std::string& path) : in_(data, path) { in_.set_comma_separates(true); }
+  InpReader(const FileBytes& data, const std::string& path) {
+    sources_.push_back(std::make_unique<Source>(nullptr, data, path));
+    in_ = &sources_.back()->cursor;
+    total_bytes_ = data.size();
+  }
   Mesh read();
 
  private:
@@ -168,14 +176,27 @@ class InpReader {
   void elset(const Keyword& k);
   void surface(const Keyword& k);
   void skip_data();
+  void keyword_data(const Keyword& k);
+  void include(const Keyword& k, size_t line);
   int node(std::string_view field);
 
   // Fails naming the first line of the data just read by fields().
   [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(in_.name() + ":" + std::to_string(data_line_) + ": " + what);
+    throw InputError(in_->name() + ":" + std::to_string(data_line_) + ": " + what);
   }
 
-  Cursor in_;
+  // The deck and the files it includes, the one being read last.
+  struct Source {
+    std::unique_ptr<FileBytes> owned;  // null for the deck itself
+    Cursor cursor;
+    Source(std::unique_ptr<FileBytes> file, const FileBytes& bytes, const std::string& path)
+        : owned(std::move(file)), cursor(bytes, path) {
+      cursor.set_comma_separates(true);
+    }
+  };
+  std::vector<std::unique_ptr<Source>> sources_;
+  Cursor* in_ = nullptr;
+  size_t total_bytes_ = 0;
   size_t data_line_ = 0;
   Mesh m_;
   detail::IdIndex node_index_;
@@ -246,10 +267,10 @@ Keyword InpReader::keyword(std::string_view line) {
 // True when the next non-comment line is data (not a keyword, not the end).
 bool InpReader::at_data_line() {
   for (;;) {
-    if (in_.at_end()) return false;
-    const std::string_view rest = in_.data().substr(in_.pos());
+    if (in_->at_end()) return false;
+    const std::string_view rest = in_->data().substr(in_->pos());
     if (rest.compare(0, 2, "**") == 0) {
-      in_.skip_line();
+      in_->skip_line();
       continue;
     }
     return rest[0] != '*';
@@ -257,16 +278,16 @@ bool InpReader::at_data_line() {
 }
 
 std::vector<std::string_view> InpReader::fields(size_t want) {
-  data_line_ = in_.line();
+  data_line_ = in_->line();
   std::vector<std::string_view> f;
   for (;;) {
-    for (std::string_view t = in_.token_in_line(); !t.empty(); t = in_.token_in_line()) f.push_back(t);
+    for (std::string_view t = in_->token_in_line(); !t.empty(); t = in_->token_in_line()) f.push_back(t);
     // A line ending in a comma continues on the next one.
-    const std::string_view data = in_.data();
-    size_t back = in_.pos();
+    const std::string_view data = in_->data();
+    size_t back = in_->pos();
     while (back > 0 && (data[back - 1] == ' ' || data[back - 1] == '\t' || data[back - 1] == '\r')) --back;
     const bool continued = back > 0 && data[back - 1] == ',' && f.size() < want;
-    in_.skip_line();
+    in_->skip_line();
     if (!continued || !at_data_line()) break;
   }
   return f;
@@ -290,12 +311,12 @@ int InpReader::set_of(const std::string& name) {
 }
 
 void InpReader::skip_data() {
-  while (at_data_line()) in_.skip_line();
+  while (at_data_line()) in_->skip_line();
 }
 
 void InpReader::nodes() {
   while (at_data_line()) {
-    const size_t line = in_.line();
+    const size_t line = in_->line();
     const auto f = fields(4);
     if (f.empty()) continue;
     int64_t id;
@@ -304,12 +325,12 @@ void InpReader::nodes() {
     for (int k = 0; k < 3; ++k) {
       double v = 0;
       if (static_cast<size_t>(k + 1) < f.size() && !Cursor::parse_real(f[static_cast<size_t>(k + 1)], v))
-        throw InputError(in_.name() + ":" + std::to_string(line) + ": bad coordinate '" +
+        throw InputError(in_->name() + ":" + std::to_string(line) + ": bad coordinate '" +
                          std::string(f[static_cast<size_t>(k + 1)].substr(0, 40)) + "'");
       p[k] = v;
     }
     if (!node_index_.add(id, static_cast<int>(m_.points.size())))
-      throw InputError(in_.name() + ":" + std::to_string(line) + ": node " + std::to_string(id) + " appears twice");
+      throw InputError(in_->name() + ":" + std::to_string(line) + ": node " + std::to_string(id) + " appears twice");
     m_.points.push_back(p);
   }
 }
@@ -381,7 +402,7 @@ void InpReader::elset(const Keyword& k) {
       if (step <= 0 || nums[1] < nums[0]) fail("bad GENERATE range");
       const uint64_t span = static_cast<uint64_t>(nums[1]) - static_cast<uint64_t>(nums[0]);
       const uint64_t count = span / static_cast<uint64_t>(step) + 1;
-      if (count > 4 * static_cast<uint64_t>(in_.data().size())) fail("GENERATE range larger than the file could use");
+      if (count > 4 * static_cast<uint64_t>(total_bytes_)) fail("GENERATE range larger than the file could use");
       for (uint64_t i = 0; i < count; ++i)
         ids.push_back(static_cast<int64_t>(static_cast<uint64_t>(nums[0]) + i * static_cast<uint64_t>(step)));
     } else {
@@ -501,25 +522,76 @@ void InpReader::regions_from_sets() {
       for (const int t : members(name).tets) m_.tets[static_cast<size_t>(t)].region = set_index_.at(name);
 }
 
+// The data lines of keyword `k`, read when it is met and again when its data
+// goes on in (or after) an included file: decks often say "*NODE" and then
+// "*INCLUDE, INPUT=nodes.inp" holding the lines alone.
+void InpReader::keyword_data(const Keyword& k) {
+  if (k.name == "NODE") nodes();
+  else if (k.name == "ELEMENT") elements(k);
+  else if (k.name == "ELSET") elset(k);
+  else if (k.name == "SURFACE") surface(k);
+  else skip_data();
+}
+
+// Files are named relative to the including file's folder: decks are run
+// from their own folder (CalculiX and Abaqus look in the working folder),
+// and `vdmesh convert sub/deck.inp` should find what the deck's run would.
+void InpReader::include(const Keyword& k, size_t line) {
+  const std::string where = in_->name() + ":" + std::to_string(line) + ": ";
+  const auto it = k.options.find("INPUT");
+  std::string file = it == k.options.end() ? "" : it->second;
+  if (file.size() >= 2 && (file.front() == '"' || file.front() == '\'') && file.back() == file.front())
+    file = file.substr(1, file.size() - 2);
+  if (file.empty()) throw InputError(where + "*INCLUDE without INPUT=");
+  // Deeper than any deck nests its files: a file including itself, or two each other.
+  constexpr size_t kDeepest = 32;
+  if (sources_.size() > kDeepest)
+    throw InputError(where + "*INCLUDE nested more than " + std::to_string(kDeepest) +
+                     " files deep (a file that includes itself?)");
+  std::filesystem::path path(file);
+  if (path.is_relative()) path = std::filesystem::path(in_->name()).parent_path() / path;
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    throw InputError(where + "*INCLUDE, INPUT=" + file + ": " + path.string() +
+                     (std::filesystem::exists(path, error) ? " is not a regular file" : " does not exist"));
+  auto bytes = std::make_unique<FileBytes>(path.string());
+  const FileBytes& view = *bytes;
+  total_bytes_ += view.size();
+  sources_.push_back(std::make_unique<Source>(std::move(bytes), view, path.string()));
+  in_ = &sources_.back()->cursor;
+}
+
 Mesh InpReader::read() {
-  while (!in_.at_end()) {
-    const size_t line = in_.line();
-    const std::string_view l = in_.rest_of_line();
-    std::string_view t = trim(l);
-    if (t.empty() || t.compare(0, 2, "**") == 0) continue;
-    if (t[0] != '*') throw InputError(in_.name() + ":" + std::to_string(line) + ": data line outside a keyword");
-    const Keyword k = keyword(t);
-    if (k.name == "NODE") nodes();
-    else if (k.name == "ELEMENT") elements(k);
-    else if (k.name == "ELSET") elset(k);
-    else if (k.name == "SURFACE") surface(k);
-    else if (k.name == "SOLID SECTION" && k.options.count("ELSET")) {
-      section_sets_.push_back(upper(k.options.at("ELSET")));
-      skip_data();
+  std::optional<Keyword> open;  // the last keyword met
+  bool crossed = false;         // a file began or ended since then
+  for (;;) {
+    if (in_->at_end()) {
+      if (sources_.size() == 1) break;
+      sources_.pop_back();
+      in_ = &sources_.back()->cursor;
+      crossed = true;
+      continue;
     }
-    else if (k.name == "INCLUDE")
-      throw InputError(in_.name() + ":" + std::to_string(line) + ": *INCLUDE is not supported");
-    else skip_data();
+    if (at_data_line()) {
+      if (!crossed || !open)
+        throw InputError(in_->name() + ":" + std::to_string(in_->line()) + ": data line outside a keyword");
+      crossed = false;
+      keyword_data(*open);
+      continue;
+    }
+    if (in_->at_end()) continue;  // the file ended in comments
+    const size_t line = in_->line();
+    const std::string_view t = trim(in_->rest_of_line());
+    const Keyword k = keyword(t);
+    if (k.name == "INCLUDE") {
+      include(k, line);
+      crossed = true;
+      continue;
+    }
+    open = k;
+    crossed = false;
+    if (k.name == "SOLID SECTION" && k.options.count("ELSET")) section_sets_.push_back(upper(k.options.at("ELSET")));
+    keyword_data(k);
   }
   regions_from_sets();
   const bool mids = !m_.tet_mid.empty();
@@ -587,7 +659,7 @@ Mesh InpReader::read() {
     for (const auto& [target, f] : entries) {
       int64_t eid;
       if (Cursor::parse_int(target, eid)) {
-        if (!add(eid, f)) throw InputError(in_.name() + ": surface " + name + " names element " + std::to_string(eid) +
+        if (!add(eid, f)) throw InputError(in_->name() + ": surface " + name + " names element " + std::to_string(eid) +
                                            ", which is not a tetrahedron");
       } else {
         auto it = elsets_.find(upper(target));
@@ -609,7 +681,7 @@ Mesh InpReader::read() {
       if (quad_shells_) m_.triangle_mid.push_back(s.mid);
     }
   }
-  detail::require_valid(m_, in_.name());
+  detail::require_valid(m_, in_->name());
   detail::sides_from_tets(m_);
   return std::move(m_);
 }

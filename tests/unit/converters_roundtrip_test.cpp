@@ -496,6 +496,43 @@ TEST(ConvertersRoundTrip, AbaqusRegionsFromSolidSectionsAndElementSets) {
   EXPECT_NEAR(partial.at("#2"), 1.0 / 3, 1e-15);
 }
 
+// *INCLUDE, as split decks use it (FreeCAD's "split input", Abaqus/CAE's
+// parts): files named relative to the including one, data lines of the
+// keyword before the *INCLUDE going on in the included file and after it,
+// files nesting. Refused as "not supported" until 2026-11-30.
+TEST(ConvertersRoundTrip, AbaqusIncludedFiles) {
+  namespace fs = std::filesystem;
+  const fs::path dir = test::temp_path("include_deck");
+  fs::create_directories(dir / "parts");
+  std::ofstream(dir / "nodes.inp") << "** nodes alone\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n";
+  std::ofstream(dir / "parts" / "elements.inp")
+      << "*ELEMENT, TYPE=C3D4, ELSET=Inner\n1, 1, 2, 3, 4\n*INCLUDE, INPUT=outer.inp\n";
+  std::ofstream(dir / "parts" / "outer.inp") << "*ELEMENT, TYPE=C3D4, ELSET=Outer\n2, 2, 3, 4, 5\n";
+  std::ofstream(dir / "deck.inp") << "*HEADING\nsplit deck\n*NODE, NSET=NALL\n*INCLUDE, INPUT=nodes.inp\n"
+                                     "4, 0, 0, 1\n5, 1, 1, 1\n*INCLUDE, INPUT=\"parts/elements.inp\"\n"
+                                     "*SURFACE, NAME=Bottom, TYPE=ELEMENT\n1, S1\n";
+  const Mesh m = io::read_mesh((dir / "deck.inp").string());
+  ASSERT_EQ(m.points.size(), 5u);
+  ASSERT_EQ(m.tets.size(), 2u);
+  std::map<std::string, double> volume;
+  for (const Tetrahedron& t : m.tets)
+    volume[m.region_names.at(t.region)] +=
+        std::abs(dot(cross(m.points[t.v[1]] - m.points[t.v[0]], m.points[t.v[2]] - m.points[t.v[0]]),
+                     m.points[t.v[3]] - m.points[t.v[0]])) / 6;
+  EXPECT_NEAR(volume.at("Inner"), 1.0 / 6, 1e-15);
+  EXPECT_NEAR(volume.at("Outer"), 1.0 / 3, 1e-15);
+  ASSERT_EQ(m.triangles.size(), 1u);
+  EXPECT_EQ(m.face_names.at(m.triangles[0].face), "Bottom");
+  // An error inside an included file names that file and its line.
+  std::ofstream(dir / "nodes.inp") << "1, 0, 0, 0\n2, 1, zero, 0\n";
+  try {
+    io::read_mesh((dir / "deck.inp").string());
+    ADD_FAILURE() << "a bad coordinate in an included file was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind((dir / "nodes.inp").string() + ":2: ", 0), 0u) << e.what();
+  }
+}
+
 // The real TetGen: `tetgen -pq1.4o2` on a unit box, read back. Every mid node
 // must sit on the mid-point of the edge vdmesh's order names (01, 12, 20, 03,
 // 13, 23 for tetrahedra, 01, 12, 20 for faces), and writing the mesh again
