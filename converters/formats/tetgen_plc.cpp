@@ -1,9 +1,12 @@
 // TetGen piecewise linear complexes: .poly (facets of several polygons, with
 // facet holes) and .smesh (one polygon per facet). Polygons are triangulated
 // in their facet plane; the facet marker is the face id (else the facet's
-// position, 1-based). The global hole and region lists are read past: the
-// Mesh has no place for them. Writing gives one triangle per facet.
+// position, 1-based). The hole and region lists become region points.
+// Writing gives one triangle per facet and the region points back.
+#include <cmath>
 #include <filesystem>
+
+#include "mesh/number_text.h"
 
 #include "surface/orient_surface.h"
 #include "formats.h"
@@ -91,13 +94,37 @@ Mesh read_plc(const std::string& path) {
       m.triangles.push_back(tri);
     }
   }
-  // Parts 3 and 4 (holes, regions) are optional; check they parse.
+  // Parts 3 and 4, optional: holes (made exterior) and region points (their
+  // attribute is the region id). Read past until 2026-11-30, which meshed
+  // tetgen_example.poly's two holes as regions and numbered its regions
+  // 1 and 2 where TetGen's -A numbers them 10 and 20.
+  auto point = [&in](const char* what) {
+    in.integer(what);
+    Vec3 p;
+    for (int k = 0; k < 3; ++k) p[k] = in.real("a coordinate");
+    return p;
+  };
   if (!in.at_end()) {
     const uint64_t nh = in.count("the number of holes", data.size());
+    in.skip_line();
     for (uint64_t h = 0; h < nh; ++h) {
-      in.integer("a hole number");
-      for (int k = 0; k < 3; ++k) in.real("a hole coordinate");
+      m.region_points.push_back({point("a hole number"), 0});
       in.skip_line();
+    }
+  }
+  if (!in.at_end()) {
+    const uint64_t nr = in.count("the number of regions", data.size());
+    in.skip_line();
+    for (uint64_t r = 0; r < nr; ++r) {
+      const Vec3 p = point("a region number");
+      const double attribute = in.real("a region attribute");
+      // Attribute 0 is TetGen's "none given": the region keeps the number
+      // vdmesh finds for it.
+      if (attribute != 0 && (attribute != std::floor(attribute) || attribute < 1 || attribute > 1e6))
+        in.fail("region attribute " + number_text(attribute, "%g") +
+                ": vdmesh takes it as the region id, a whole number from 1 to 1000000 (or 0: none)");
+      if (attribute != 0) m.region_points.push_back({p, static_cast<int>(attribute)});
+      in.skip_line();  // a volume bound may follow
     }
   }
   // TetGen's facets carry no orientation; vdmesh's facets do (normal into
@@ -122,7 +149,17 @@ void write_plc(const Mesh& m, const std::string& path, const WriteOptions&) {
     if (!poly) out << ' ' << t.face;
     out << '\n';
   }
-  out << "0\n0\n";
+  std::vector<const RegionPoint*> holes, regions;
+  for (const RegionPoint& r : m.region_points) (r.region == 0 ? holes : regions).push_back(&r);
+  for (const auto* list : {&holes, &regions}) {
+    out << list->size() << '\n';
+    for (size_t i = 0; i < list->size(); ++i) {
+      const RegionPoint& r = *(*list)[i];
+      out << i + 1 << ' ' << r.at.x << ' ' << r.at.y << ' ' << r.at.z;
+      if (list == &regions) out << ' ' << r.region;
+      out << '\n';
+    }
+  }
   out.finish();
 }
 

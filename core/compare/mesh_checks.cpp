@@ -332,7 +332,7 @@ std::vector<RegionPoint> region_points(const InputSurface& input) {
         // No facet nearer than the one it was put behind: the segment from
         // the facet to p crosses nothing, so p is in `region`.
         if (input.index().closest(p).distance >= delta * (1 - 1e-6)) {
-          out.push_back({region, p});
+          out.push_back({p, region});
           found = true;
         }
       }

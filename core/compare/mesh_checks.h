@@ -125,10 +125,6 @@ MeshChecks check_mesh(const InputSurface& input, const Mesh& result);
 // per region id > 0 (for TetGen's region list): a point a little behind a
 // large facet of the region, kept only if no other facet is nearer to it.
 // Regions for which no such point is found are left out.
-struct RegionPoint {
-  int region = 0;
-  Vec3 point;
-};
 std::vector<RegionPoint> region_points(const InputSurface& input);
 
 }  // namespace vd::compare

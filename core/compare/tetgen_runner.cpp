@@ -2,9 +2,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <sstream>
 
 #include "converters/registry.h"
 #include "mesh/error.h"
@@ -15,29 +12,9 @@ void write_tetgen_input(const Mesh& input, const std::vector<RegionPoint>& regio
   Mesh surface;
   surface.points = input.points;
   surface.triangles = input.triangles;
+  surface.region_points = regions;
   for (Triangle& t : surface.triangles) t.face = t.face < 0 ? 0 : t.face + 1;
   io::write_mesh(surface, smesh_path, {}, "tetgen-plc");
-  // The converter ends the file with empty hole and region lists ("0\n0\n");
-  // the region list is replaced by the region points.
-  std::string text;
-  {
-    std::ifstream f(smesh_path, std::ios::binary);
-    text.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-  }
-  if (text.size() < 5 || text.compare(text.size() - 5, 5, "\n0\n0\n") != 0)
-    throw std::runtime_error(smesh_path + ": the .smesh writer no longer ends with empty hole and region lists");
-  if (regions.empty()) return;
-  text.resize(text.size() - 2);
-  std::ostringstream s;
-  s.precision(17);
-  s << regions.size() << "\n";
-  for (size_t i = 0; i < regions.size(); ++i)
-    s << i + 1 << ' ' << regions[i].point.x << ' ' << regions[i].point.y << ' ' << regions[i].point.z << ' '
-      << regions[i].region << "\n";
-  text += s.str();
-  std::ofstream f(smesh_path, std::ios::binary | std::ios::trunc);
-  f << text;
-  if (!f) throw std::runtime_error("cannot write " + smesh_path);
 }
 
 MesherRun run_tetgen(const Mesh& input, const std::vector<RegionPoint>& regions, const std::string& switches,

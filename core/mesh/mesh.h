@@ -93,6 +93,14 @@ struct Tetrahedron {
 using TetMidNodes = std::array<int, 6>;
 using TriMidNodes = std::array<int, 3>;
 
+// A point that names the region around it (TetGen's region list), or with
+// region 0 makes it exterior (TetGen's hole list). Where the regions are
+// found from the surface, the region holding the point takes its id.
+struct RegionPoint {
+  Vec3 at;
+  int region = 0;
+};
+
 struct Mesh {
   std::vector<Vec3> points;
   std::vector<double> point_size;  // mesh size per point; empty when not given
@@ -104,6 +112,9 @@ struct Mesh {
   // Optional names, e.g. from Gmsh physical groups or CAD ("Solid1", "Face3").
   std::map<int, std::string> region_names;
   std::map<int, std::string> face_names;
+  // Holes win over region points in the same region, as TetGen carves
+  // holes before it labels regions.
+  std::vector<RegionPoint> region_points;
 
   bool second_order() const { return !tet_mid.empty() || !triangle_mid.empty(); }
   bool has_region_tags() const;

@@ -220,6 +220,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   m.triangles = input.triangles;
   m.region_names = input.region_names;
   m.face_names = input.face_names;
+  m.region_points = input.region_points;
   const std::vector<int> kept = drop_unused_points(m);
   report.unused_input_vertices = static_cast<int>(std::count(kept.begin(), kept.end(), -1));
   report.welded_input_vertices = weld_coincident_points(m);
@@ -367,6 +368,10 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   timer.start("volume");
   try {
     report.regions = build_region_tetrahedra(m, dt);
+    if (!report.regions.regions_from_tags && apply_region_points(m, dt)) {
+      report.regions = build_region_tetrahedra(m, dt);
+      report.regions.regions_from_tags = false;  // the points named them, not the input's tags
+    }
   } catch (const FacetsError& e) {
     // Found on a surface the user never saw: named by the input's facets
     // (`vdmesh mesh cgal_complex_patch-13.off --size 2.26` said "2522

@@ -51,6 +51,14 @@ void check_tags_and_sizes(const Mesh& m) {
       s << "vertex " << v << " has size " << m.point_size[v] << "; a vertex's size is positive, or 0 (none)";
       throw InputError(s.str());
     }
+  for (size_t i = 0; i < m.region_points.size(); ++i) {
+    const RegionPoint& r = m.region_points[i];
+    if (!std::isfinite(r.at.x) || !std::isfinite(r.at.y) || !std::isfinite(r.at.z))
+      throw InputError("region point " + std::to_string(i) + " has a non-finite coordinate");
+    if (r.region < 0 || r.region > kLargestRegionId)
+      throw InputError("region point " + std::to_string(i) + " names region " + std::to_string(r.region) +
+                       "; a region point names 1 to " + std::to_string(kLargestRegionId) + ", or 0 (a hole)");
+  }
 }
 
 namespace {

@@ -181,6 +181,36 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   return stats;
 }
 
+bool apply_region_points(Mesh& m, const DelaunayTetrahedralization& dt) {
+  if (m.region_points.empty()) return false;
+  int found = 0, largest = 0;
+  for (const Triangle& t : m.triangles) found = std::max({found, t.front, t.back});
+  for (const RegionPoint& r : m.region_points) largest = std::max(largest, r.region);
+  std::vector<int> id(static_cast<size_t>(found) + 1, -1);  // found region -> its id, -1: none given
+  id[0] = 0;
+  for (const bool holes : {false, true})
+    for (const RegionPoint& r : m.region_points) {
+      if ((r.region == 0) != holes) continue;
+      const int at = dt.label_at(r.at);
+      if (at > 0 && at <= found) id[static_cast<size_t>(at)] = r.region;  // in the exterior: nothing to name
+    }
+  int next = largest + 1;
+  bool changed = false;
+  for (int r = 1; r <= found; ++r) {
+    if (id[static_cast<size_t>(r)] < 0) id[static_cast<size_t>(r)] = next++;
+    changed |= id[static_cast<size_t>(r)] != r;
+  }
+  if (!changed) return false;
+  for (Triangle& t : m.triangles) {
+    t.front = id[static_cast<size_t>(t.front)];
+    t.back = id[static_cast<size_t>(t.back)];
+  }
+  m.triangles.erase(std::remove_if(m.triangles.begin(), m.triangles.end(),
+                                   [](const Triangle& t) { return t.front == 0 && t.back == 0; }),
+                    m.triangles.end());
+  return true;
+}
+
 std::vector<double> enclosed_volumes(const Mesh& m) {
   std::vector<double> vol;
   const Vec3 o = m.points.empty() ? Vec3{} : m.points.front();

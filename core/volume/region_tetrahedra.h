@@ -28,6 +28,16 @@ struct RegionStats {
 // labelled with its region (0 for the exterior; see label_cells).
 RegionStats build_region_tetrahedra(Mesh& surface, DelaunayTetrahedralization& dt);
 
+// Where the regions were found from the surface (no region tags), after
+// build_region_tetrahedra: the regions holding m.region_points take their
+// ids (a hole's region becomes exterior, winning over region points; of two
+// region points in one region the last wins, as in TetGen), the others are
+// numbered after the largest id given. The facets' sides follow, and the
+// facets left with the exterior on both sides (between a hole and the
+// exterior, or two holes) are dropped. Returns true when anything changed:
+// the tetrahedra must then be built again.
+bool apply_region_points(Mesh& surface, const DelaunayTetrahedralization& dt);
+
 // Signed volume of tetrahedron (a, b, c, d): positive when positively oriented.
 double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 // Volume enclosed by the surface for each region (index = region id), from

@@ -927,6 +927,24 @@ TEST(ConvertersRoundTrip, ReadsSharedPolyWithFacetHole) {
     if (on_y0 && m.points[t.v[0]].z <= 4 && m.points[t.v[1]].z <= 4 && m.points[t.v[2]].z <= 4) y0 += area(m, t);
   }
   EXPECT_DOUBLE_EQ(y0, 8.0 - 1.5 * 0.5);
+  // Its hole and region lists (read past until 2026-11-30): two holes, and
+  // regions 10 and 20, the ids TetGen's -A gives.
+  ASSERT_EQ(m.region_points.size(), 4u);
+  EXPECT_EQ(m.region_points[0].region, 0);
+  EXPECT_EQ(m.region_points[1].region, 0);
+  EXPECT_EQ(m.region_points[2].region, 10);
+  EXPECT_EQ(m.region_points[3].region, 20);
+  EXPECT_DOUBLE_EQ(m.region_points[3].at.y, 0.5);
+  EXPECT_DOUBLE_EQ(m.region_points[3].at.z, 4.0);
+  // Written back and read again, the same points.
+  const std::string again = test::temp_path("again.poly");
+  io::write_mesh(m, again);
+  const Mesh back = io::read_mesh(again);
+  ASSERT_EQ(back.region_points.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(back.region_points[i].region, m.region_points[i].region);
+    EXPECT_EQ(norm(back.region_points[i].at - m.region_points[i].at), 0.0);
+  }
 }
 
 }  // namespace

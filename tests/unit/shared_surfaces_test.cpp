@@ -12,6 +12,7 @@
 #include "mesh/error.h"
 #include "pipeline/mesher.h"
 #include "quality/conformity.h"
+#include "volume/region_tetrahedra.h"
 #include "test_support.h"
 
 namespace vd {
@@ -107,6 +108,23 @@ TEST(SharedSurfaceNoFlips, PlcPolygonsRecoverWithoutFlips) {
     expect_delaunay_and_conforming(r.mesh);
     EXPECT_LT(r.report.added_surface_vertices, 100);
   }
+}
+
+// TetGen's example PLC has two holes and regions 10 and 20 (`tetgen -pA`:
+// volumes 11.9375 and 6, the holes empty); vdmesh meshed the holes as
+// regions 3 and 4 until 2026-11-30.
+TEST(SharedSurfaceRegions, TetgenHolesAndRegionAttributes) {
+  VD_REQUIRE_DATA(path, "surface-multiregion/tetgen_example.poly");
+  const MeshResult r = mesh_surface(io::read_mesh(path), MeshOptions{});
+  ASSERT_TRUE(r.report.complete);
+  expect_delaunay_and_conforming(r.mesh);
+  const std::vector<double> volume = region_volumes(r.mesh);
+  std::set<int> regions;
+  for (const Tetrahedron& t : r.mesh.tets) regions.insert(t.region);
+  EXPECT_EQ(regions, (std::set<int>{10, 20}));
+  ASSERT_EQ(volume.size(), 21u);
+  EXPECT_NEAR(volume[10], 11.9375, 1e-9);
+  EXPECT_NEAR(volume[20], 6.0, 1e-9);
 }
 
 // The horizons' caps (flat tetrahedra over 45-45-90 facet pairs folding by

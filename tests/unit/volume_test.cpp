@@ -107,6 +107,58 @@ TEST(Volume, InterfaceBetweenTwoRegionsWithInteriorVertices) {
   EXPECT_GT(r.report.tets_per_region[2], 0);
 }
 
+// Region points (TetGen's region and hole lists) where the regions are
+// found from the surface: a region takes the id of the point inside it, a
+// hole's region becomes exterior, facets left with the exterior on both
+// sides go, and the other regions are numbered after the largest id given.
+// TetGen's holes were meshed as regions until 2026-11-30.
+TEST(Volume, RegionPointsNameRegionsAndHolesEmptyThem) {
+  const auto untagged = [](Mesh m) {
+    for (Triangle& t : m.triangles) t.front = t.back = kUnknownRegion;
+    return m;
+  };
+  {
+    // A cavity: the inner box is a hole, the rest region 7.
+    Mesh in = untagged(test::box_in_box());
+    in.region_points = {{{0.5, 0.5, 0.5}, 7}, {{1.5, 1.5, 1.5}, 0}};
+    const MeshResult r = mesh_with_interior(in);
+    const ConformityReport c = check_conformity(r.mesh);
+    EXPECT_TRUE(c.ok()) << c.summary();
+    ASSERT_EQ(c.region_volume.size(), 8u);
+    EXPECT_NEAR(c.region_volume[7], 27.0 - 1.0, 1e-9);
+    for (const Tetrahedron& t : r.mesh.tets) EXPECT_EQ(t.region, 7);
+    EXPECT_EQ(r.mesh.triangles.size(), in.triangles.size());  // the cavity's walls stay, 7 against 0
+  }
+  {
+    // Two boxes sharing a face, the first a hole: its outer walls go (the
+    // exterior on both sides), the shared face is the other's boundary; the
+    // unnamed box is numbered after the largest id given (a hole: 0).
+    Mesh in = untagged(test::two_boxes_sharing_a_face(2));
+    in.region_points = {{{0.5, 0.5, 0.5}, 0}};
+    const MeshResult r = mesh_with_interior(in);
+    const ConformityReport c = check_conformity(r.mesh);
+    EXPECT_TRUE(c.ok()) << c.summary();
+    for (const Tetrahedron& t : r.mesh.tets) EXPECT_EQ(t.region, 1);
+    EXPECT_NEAR(c.region_volume[1], 1.0, 1e-9);
+    for (const Triangle& t : r.mesh.triangles) {
+      EXPECT_EQ(std::min(t.front, t.back), 0);
+      EXPECT_EQ(std::max(t.front, t.back), 1);
+      for (int v : t.v) EXPECT_GE(r.mesh.points[v].x, 1.0 - 1e-12);
+    }
+  }
+  {
+    // Two region points in one region: the last wins, as in TetGen; a point
+    // outside every region names nothing.
+    Mesh in = untagged(test::two_boxes_sharing_a_face(2));
+    in.region_points = {{{1.5, 0.5, 0.5}, 4}, {{1.2, 0.5, 0.5}, 9}, {{5, 5, 5}, 3}};
+    const MeshResult r = mesh_with_interior(in);
+    std::set<int> regions;
+    for (const Tetrahedron& t : r.mesh.tets) regions.insert(t.region);
+    EXPECT_EQ(regions, (std::set<int>{9, 10}));
+    EXPECT_NEAR(check_conformity(r.mesh).region_volume[9], 1.0, 1e-9);
+  }
+}
+
 TEST(Volume, NoInteriorPointOutsideTheSolid) {
   // A box with a hole: the hole and the outside get no interior vertices.
   const Mesh in = shapes::box_with_hole({0, 0, 0}, {4, 4, 1}, 0.5);
