@@ -36,10 +36,31 @@ std::string sanitized(const std::string& name) {
   return r;
 }
 
-std::string region_set_name(const Mesh& m, int region) {
-  if (region == kUnknownRegion) return "RegionUnknown";
-  return sanitized(detail::region_name(m, region));
-}
+// Set names CalculiX takes and Abaqus keeps apart: sanitized, at most 80
+// characters with "_Nodes" added (CalculiX stops at "set name too long"),
+// and unique regardless of case, Abaqus's names being case-blind: "Steel"
+// and "steel", or "part A" and "part_A", were written as one set until
+// 2026-11-30, and read back as one region.
+class SetNames {
+ public:
+  std::string unique(const std::string& wanted) {
+    constexpr size_t kLongest = 80 - 6;  // room for "_Nodes"
+    const std::string base = sanitized(wanted).substr(0, kLongest);
+    std::string name = base;
+    for (int k = 2; !taken_.insert(upper_case(name)).second; ++k) {
+      const std::string suffix = "_" + std::to_string(k);
+      name = base.substr(0, kLongest - suffix.size()) + suffix;
+    }
+    return name;
+  }
+
+ private:
+  static std::string upper_case(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return s;
+  }
+  std::set<std::string> taken_;
+};
 
 // CalculiX reads each field of a data line through 20 characters: a longer
 // number stops it ("ERROR reading *NODE"), and 4.8502286207676093E-05 is 22.
@@ -96,7 +117,15 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
   }
   std::map<int, std::vector<size_t>> by_face;
   for (size_t i = 0; i < m.triangles.size(); ++i) by_face[m.triangles[i].face].push_back(i);
-  auto face_set = [&](int f) { return f == kNoFace ? std::string("FaceNone") : sanitized(detail::face_name(m, f)); };
+  std::map<int, std::vector<size_t>> by_region;
+  for (size_t i = 0; i < m.tets.size(); ++i) by_region[m.tets[i].region].push_back(i);
+  SetNames names;
+  std::map<int, std::string> region_set, face_set_name;
+  for (const auto& [r, tets] : by_region)
+    region_set[r] = names.unique(r == kUnknownRegion ? "RegionUnknown" : detail::region_name(m, r));
+  for (const auto& [f, tris] : by_face)
+    face_set_name[f] = names.unique(f == kNoFace ? "FaceNone" : detail::face_name(m, f));
+  auto face_set = [&](int f) { return face_set_name.at(f); };
 
   if (m.tets.empty()) {
     const bool quad = !m.triangle_mid.empty();
@@ -114,10 +143,8 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
     }
   } else {
     const bool quad = !m.tet_mid.empty();
-    std::map<int, std::vector<size_t>> by_region;
-    for (size_t i = 0; i < m.tets.size(); ++i) by_region[m.tets[i].region].push_back(i);
     for (const auto& [r, tets] : by_region) {
-      out << "*ELEMENT, TYPE=" << (quad ? "C3D10" : "C3D4") << ", ELSET=" << region_set_name(m, r) << '\n';
+      out << "*ELEMENT, TYPE=" << (quad ? "C3D10" : "C3D4") << ", ELSET=" << region_set.at(r) << '\n';
       for (size_t i : tets) {
         const Tetrahedron& t = m.tets[i];
         out << i + 1;
@@ -340,8 +367,14 @@ void InpReader::elements(const Keyword& k) {
   const std::string type = type_it == k.options.end() ? "" : upper(type_it->second);
   int nodes = 0;
   bool tet = false;
-  if (type.rfind("C3D4", 0) == 0) nodes = 4, tet = true;
-  else if (type.rfind("C3D10", 0) == 0) nodes = 10, tet = true;
+  // Stress (C3D4, C3D10 and their H, M, T... variants) and heat transfer
+  // (DC3D4, DC3D10) tetrahedra; DC3D4 was skipped until 2026-11-30.
+  const std::string solid = type.rfind("DC3D", 0) == 0 ? type.substr(1) : type;
+  if (solid.rfind("C3D4", 0) == 0) nodes = 4, tet = true;
+  else if (solid.rfind("C3D10", 0) == 0) nodes = 10, tet = true;
+  else if (solid.rfind("C3D", 0) == 0)
+    throw InputError(in_->name() + ":" + std::to_string(in_->line() - 1) + ": " +"*ELEMENT, TYPE=" + type + ": vdmesh reads tetrahedra (C3D4, C3D10) of the solid elements only, "
+                     "and would lose these");
   else if (type == "S3" || type == "S3R" || type == "CPS3" || type == "CPE3" || type == "M3D3" || type == "R3D3" ||
            type == "STRI3" || type == "SFM3D3")
     nodes = 3;
@@ -600,9 +633,20 @@ Mesh InpReader::read() {
   tet_ids_ = {};
   std::vector<int> region_of_set(set_names_.size(), 0);  // 0: not numbered yet
   int next_region = 1;
+  std::set<int> claimed;
   for (size_t k = 0; k < set_names_.size(); ++k) {
     const int r = detail::id_from_name(set_names_[k], "Region");
-    if (r >= 0) region_of_set[k] = r, next_region = std::max(next_region, r + 1);
+    if (r >= 0) region_of_set[k] = r, next_region = std::max(next_region, r + 1), claimed.insert(r);
+  }
+  // Solid<k>, vdmesh's name for CAD solid k, keeps its number and its name
+  // (numbered by the lowest element before 2026-11-30: Solid2 came back as
+  // region 1), unless a Region<k> set has it.
+  for (size_t k = 0; k < set_names_.size(); ++k) {
+    const int r = detail::id_from_name(set_names_[k], "Solid");
+    if (r < 1 || region_of_set[k] != 0 || !claimed.insert(r).second) continue;
+    region_of_set[k] = r;
+    next_region = std::max(next_region, r + 1);
+    m_.region_names[r] = set_names_[k];
   }
   for (Tetrahedron& t : m_.tets) {
     if (t.region < 0) continue;  // no ELSET: unknown

@@ -75,7 +75,11 @@ Mesh read_medit(const std::string& path) {
       for (uint64_t i = 0; i < n; ++i) {
         Tetrahedron t;
         for (int& v : t.v) v = vertex("a tetrahedron vertex");
+        // Reference 0 is "none" (TetGen's -g and meshio write it for
+        // untagged meshes), not region 0, the exterior: read as that, a
+        // TetGen mesh was "region 0: volume 2" until 2026-11-30.
         t.region = in.int32("a tetrahedron reference");
+        if (t.region == 0) t.region = kUnknownRegion;
         m.tets.push_back(t);
       }
     } else if (key == "end") {
@@ -84,6 +88,9 @@ Mesh read_medit(const std::string& path) {
       const int width = skipped_section_width(key);
       if (width < 0) in.fail("unknown section '" + key.substr(0, 40) + "'");
       const uint64_t n = in.count("a section size", data.size());
+      // Elements vdmesh has no place for were skipped without a word.
+      if (n > 0 && (key == "quadrilaterals" || key == "hexahedra" || key == "prisms" || key == "pyramids"))
+        in.fail(std::to_string(n) + " " + key + ": vdmesh reads triangles and tetrahedra only, and would lose them");
       for (uint64_t i = 0; i < n * static_cast<uint64_t>(width); ++i) in.token("a section value");
     }
   }

@@ -217,7 +217,7 @@ void LegacyReader::read_cell_types() {
 }
 
 // The tetrahedra and triangles from the connectivity, once both cells and
-// types are known; other cells are skipped.
+// types are known; points and lines are skipped, other cells refused.
 void LegacyReader::build_elements() {
   if (built_ || !have_cells_ || !have_types_) return;
   if (types_.size() != sizes_.size())
@@ -225,6 +225,7 @@ void LegacyReader::build_elements() {
              " cells");
   const detail::VtkElementCounts counts(types_);
   if (counts.mixed_order()) in_.fail("first- and second-order cells of one kind are mixed");
+  if (counts.first_lost >= 0) in_.fail(counts.lost_text(types_));
   m_.tets.reserve(counts.tets);
   m_.tet_mid.reserve(counts.tets10);
   m_.triangles.reserve(counts.tris);

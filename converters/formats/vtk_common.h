@@ -38,16 +38,42 @@ inline int vtk_element_nodes(int type) {
 inline bool vtk_is_tet(int type) { return type == kVtkTet || type == kVtkQuadraticTet; }
 inline bool vtk_is_triangle(int type) { return type == kVtkTriangle || type == kVtkQuadraticTriangle; }
 
+// Cells skipped without loss: empty cells, vertices and lines (VTK_EMPTY_CELL,
+// VERTEX, POLY_VERTEX, LINE, POLY_LINE, QUADRATIC_EDGE, CUBIC_LINE,
+// LAGRANGE_CURVE, BEZIER_CURVE). Other cells that are no triangle or
+// tetrahedron vdmesh has no place for: a mesh of tetrahedra and wedges was
+// read as its tetrahedra, a hexahedron as nothing, exit 0, until 2026-11-30.
+inline bool vtk_is_point_or_line(int type) {
+  return type <= 4 || type == 21 || type == 35 || type == 68 || type == 75;
+}
+
 // The tetrahedra and triangles among cell types, first and second order.
 struct VtkElementCounts {
   size_t tets = 0, tets10 = 0, tris = 0, tris6 = 0;
+  long first_lost = -1;  // the first cell vdmesh would lose, -1 when none
   explicit VtkElementCounts(const std::vector<uint8_t>& types) {
-    for (uint8_t t : types) {
+    for (size_t i = 0; i < types.size(); ++i) {
+      const uint8_t t = types[i];
       tets += vtk_is_tet(t);
       tets10 += t == kVtkQuadraticTet;
       tris += vtk_is_triangle(t);
       tris6 += t == kVtkQuadraticTriangle;
+      if (first_lost < 0 && !vtk_is_tet(t) && !vtk_is_triangle(t) && !vtk_is_point_or_line(t))
+        first_lost = static_cast<long>(i);
     }
+  }
+  // "cell 7 has VTK type 13 (a wedge): ..." for the first lost cell.
+  std::string lost_text(const std::vector<uint8_t>& types) const {
+    const int t = types[static_cast<size_t>(first_lost)];
+    const char* name = t == 9 || t == 23 || t == 28 ? "a quadrilateral"
+                       : t == 12 || t == 25 || t == 29 ? "a hexahedron"
+                       : t == 13 || t == 26 ? "a wedge"
+                       : t == 14 || t == 27 ? "a pyramid"
+                       : t == 7 ? "a polygon"
+                       : t == 42 ? "a polyhedron"
+                                  : "neither a triangle nor a tetrahedron of order 1 or 2";
+    return "cell " + std::to_string(first_lost) + " has VTK type " + std::to_string(t) + " (" + name +
+           "): vdmesh reads triangles and tetrahedra of order 1 or 2 only, and would lose it";
   }
   // First- and second-order cells of one kind cannot share the mesh's arrays.
   bool mixed_order() const { return (tets10 && tets10 != tets) || (tris6 && tris6 != tris); }

@@ -592,6 +592,7 @@ void VtuReader::read_cells(const Tag& types, const Tag& offsets, const Tag& conn
   });
   const detail::VtkElementCounts counts(types_);
   if (counts.mixed_order()) fail(types.content, "first- and second-order cells of one kind are mixed");
+  if (counts.first_lost >= 0) fail(types.content, counts.lost_text(types_));
   m_.tets.resize(counts.tets);
   m_.tet_mid.resize(counts.tets10);
   m_.triangles.resize(counts.tris);

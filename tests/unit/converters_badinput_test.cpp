@@ -121,6 +121,16 @@ const Snippet kSnippets[] = {
     {"dimension2.mesh", 2, "MeshVersionFormatted 2\nDimension 2\n"},
     {"unknown_section.mesh", 3, "MeshVersionFormatted 2\nDimension 3\nBananas 3\n"},
     {"bad_coordinate.mesh", 5, "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 q 0 0\nEnd\n"},
+    // Elements vdmesh would lose (a prism read as nothing, exit 0, before).
+    {"prism.msh", 15,
+     "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 0 1\n6 0 1 1\n"
+     "$EndNodes\n$Elements\n1\n1 6 2 1 1 1 2 3 4 5 6\n$EndElements\n"},
+    {"hexahedra.mesh", 14,
+     "MeshVersionFormatted 2\nDimension 3\nVertices\n8\n0 0 0 0\n1 0 0 0\n1 1 0 0\n0 1 0 0\n0 0 1 0\n1 0 1 0\n"
+     "1 1 1 0\n0 1 1 0\nHexahedra\n1\n1 2 3 4 5 6 7 8 1\nEnd\n"},
+    {"wedge.vtk", 0,
+     "# vtk DataFile Version 4.2\nw\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 6 double\n0 0 0 1 0 0 0 1 0 0 0 1 1 0 1 0 1 1\n"
+     "CELLS 1 7\n6 0 1 2 3 4 5\nCELL_TYPES 1\n13\n"},
     // TetGen
     {"gap.node", 3, "2 3 0 0\n1 0 0 0\n3 1 1 1\n"},
     {"dim2.node", 1, "2 2 0 0\n1 0 0\n2 1 1\n"},
@@ -136,6 +146,7 @@ const Snippet kSnippets[] = {
      "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n*SURFACE, NAME=A\n"
      "1, S7\n"},
     {"data_outside.inp", 1, "1, 2, 3\n"},
+    {"hexahedra.inp", 3, "*NODE\n1, 0, 0, 0\n*ELEMENT, TYPE=C3D8R, ELSET=Block\n1, 1, 1, 1, 1, 1, 1, 1, 1\n"},
     {"duplicate_element.inp", 8,
      "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n1, 1, 2, 4, 3\n"},
     // *INCLUDE: a file that is not there, a folder, a deck that includes itself.

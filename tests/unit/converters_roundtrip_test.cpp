@@ -385,6 +385,31 @@ TEST(ConvertersRoundTrip, BinaryMsh41PutsTetrahedraInTagOrder) {
   }
 }
 
+// Gmsh's 2.2 writer repeats an element under the next number for each
+// further physical group of its entity: read once, in its first group (two
+// tetrahedra, a third region and twice the volume before 2026-11-30).
+TEST(ConvertersRoundTrip, Msh22ElementInTwoPhysicalGroupsIsReadOnce) {
+  const std::string path = test::temp_path("two_groups.msh");
+  std::ofstream(path) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
+                         "5 1 1 1\n$EndNodes\n$Elements\n4\n7 4 2 11 1 1 2 3 4\n8 4 2 99 1 1 2 3 4\n"
+                         "9 4 2 22 2 2 3 4 5\n10 4 2 99 2 2 3 4 5\n$EndElements\n";
+  const Mesh m = io::read_mesh(path);
+  ASSERT_EQ(m.tets.size(), 2u);
+  EXPECT_EQ(m.tets[0].region, 11);
+  EXPECT_EQ(m.tets[1].region, 22);
+}
+
+// Medit reference 0 on a tetrahedron is "none" (TetGen's -g, meshio without
+// cell data), not the exterior: "region 0: volume 2" until 2026-11-30.
+TEST(ConvertersRoundTrip, MeditReferenceZeroIsNoRegion) {
+  const std::string path = test::temp_path("ref0.mesh");
+  std::ofstream(path) << "MeshVersionFormatted 1\nDimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n"
+                         "1 1 1 0\nTetrahedra\n2\n1 2 3 4 0\n2 3 4 5 0\nEnd\n";
+  const Mesh m = io::read_mesh(path);
+  ASSERT_EQ(m.tets.size(), 2u);
+  for (const Tetrahedron& t : m.tets) EXPECT_EQ(t.region, kUnknownRegion);
+}
+
 TEST(ConvertersRoundTrip, AbaqusRegionNamesAndSets) {
   Mesh m = cube_tets();
   m.region_names[2] = "Copper";
@@ -401,6 +426,32 @@ TEST(ConvertersRoundTrip, AbaqusRegionNamesAndSets) {
     regions.insert(back.tets[i].region);
   }
   EXPECT_EQ(regions.size(), 2u);
+}
+
+// Names that sanitize or upper-case to one set, and names over CalculiX's
+// 80 characters, get sets of their own that CalculiX takes: "part A" and
+// "part_A", "Steel" and "steel" were one region read back, and a 101-letter
+// name stopped ccx ("set name too long"), until 2026-11-30.
+TEST(ConvertersRoundTrip, AbaqusSetNamesStayApartAndShort) {
+  Mesh m = cube_tets();
+  const std::string longest(101, 'L');
+  const std::vector<std::string> wanted = {"part A", "part_A", "Steel", "steel", longest, longest + "2"};
+  for (size_t i = 0; i < m.tets.size(); ++i) {
+    m.tets[i].region = static_cast<int>(i) + 1;
+    m.region_names[static_cast<int>(i) + 1] = wanted[i];
+  }
+  m.triangles.clear();
+  const std::string path = test::temp_path("names.inp");
+  io::write_mesh(m, path);
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    const size_t at = line.find("ELSET=");
+    if (at != std::string::npos) EXPECT_LE(line.size() - at - 6, 80u) << line;
+  }
+  const Mesh back = io::read_mesh(path);
+  std::set<int> regions;
+  for (const Tetrahedron& t : back.tets) regions.insert(t.region);
+  EXPECT_EQ(regions.size(), 6u);
 }
 
 // Regions of decks other programs write: a material's elements are listed
@@ -469,6 +520,21 @@ TEST(ConvertersRoundTrip, AbaqusRegionsFromSolidSectionsAndElementSets) {
   std::string chain = "*ELEMENT, TYPE=C3D4, ELSET=Region1\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n";
   for (int k = 0; k < 4000; ++k) chain += "*ELSET, ELSET=S" + std::to_string(k) + "\nS" + std::to_string(k + 1) + "\n";
   EXPECT_EQ(volumes_by_name(chain, "chain.inp").size(), 1u);
+  // Heat transfer tetrahedra are tetrahedra (skipped before 2026-11-30).
+  const auto heat = volumes_by_name("*ELEMENT, TYPE=DC3D4, ELSET=Copper\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n", "heat.inp");
+  EXPECT_NEAR(heat.at("Copper"), 0.5, 1e-15);
+  // CAD solids keep their numbers: Solid2 is region 2 though its elements come first.
+  {
+    const std::string path = test::temp_path("solids.inp");
+    std::ofstream(path) << abaqus_decks::kNodes
+                        << "*ELEMENT, TYPE=C3D4, ELSET=Solid2\n1, 1, 2, 3, 4\n*ELEMENT, TYPE=C3D4, ELSET=Solid1\n"
+                           "2, 2, 3, 4, 5\n";
+    const Mesh m = io::read_mesh(path);
+    ASSERT_EQ(m.tets.size(), 2u);
+    EXPECT_EQ(m.tets[0].region, 2);
+    EXPECT_EQ(m.tets[1].region, 1);
+    EXPECT_EQ(m.region_names.at(2), "Solid2");
+  }
   // Set names are not case-sensitive.
   const auto cases = volumes_by_name(
       "*Element, type=C3D4, elset=Steel\n1, 1, 2, 3, 4\n*Element, type=C3D4, elset=STEEL\n2, 2, 3, 4, 5\n", "case.inp");

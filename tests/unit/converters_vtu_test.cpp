@@ -172,15 +172,16 @@ TEST(ConvertersVtu, ReadsRawAppendedData) {
 }
 
 // VTK's own uncompressed binary: the header and the data base64-encoded
-// apart (the header's padding sits between them). A polygon (its size only
-// in the offsets) and a quad come first and are skipped; their nodes still
-// count in the connectivity. A Float32 region array is converted.
-TEST(ConvertersVtu, ReadsSeparatelyEncodedHeadersAndSkipsOtherCells) {
+// apart (the header's padding sits between them). A poly-vertex and a
+// poly-line (their sizes only in the offsets) come first and are skipped;
+// their nodes still count in the connectivity. A Float32 region array is
+// converted.
+TEST(ConvertersVtu, ReadsSeparatelyEncodedHeadersAndSkipsLines) {
   const double p[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.25, 0.5, 1.5, 2, 2, 2};
-  // polygon (0 1 4), quad (2 1 4 3), tetrahedron (0 1 2 3), triangle (0 2 1)
+  // poly-vertex (0 1 4), poly-line (2 1 4 3), tetrahedron (0 1 2 3), triangle (0 2 1)
   const int64_t c[14] = {0, 1, 4, 2, 1, 4, 3, 0, 1, 2, 3, 0, 2, 1};
   const int64_t offsets[4] = {3, 7, 11, 14};
-  const uint8_t types[4] = {7, 9, 10, 5};
+  const uint8_t types[4] = {2, 4, 10, 5};
   const float region[4] = {8, 9, 5, 3};
   auto arr = [&](const char* type, const char* name, int comps, const std::string& raw) {
     const uint32_t n = uint32_t(raw.size());
@@ -230,7 +231,7 @@ TEST(ConvertersVtu, OffsetsThatContradictATypeAreRefused) {
   }
 }
 
-// Legacy VTK 5.1 (OFFSETS / CONNECTIVITY), binary: a polygon skipped, cell
+// Legacy VTK 5.1 (OFFSETS / CONNECTIVITY), binary: a poly-line skipped, cell
 // data given twice, "region" after "gmsh:physical": vdmesh's own name wins
 // whatever the order.
 TEST(ConvertersVtu, LegacyOffsetsLayoutAndTagPriority) {
@@ -246,7 +247,7 @@ TEST(ConvertersVtu, LegacyOffsetsLayoutAndTagPriority) {
   f += "\nCONNECTIVITY vtktypeint64\n";
   for (int64_t v : {0, 1, 4, 0, 1, 2, 3, 0, 2, 1}) f += be(v);
   f += "\nCELL_TYPES 3\n";
-  for (int32_t v : {7, 10, 5}) f += be(v);
+  for (int32_t v : {4, 10, 5}) f += be(v);
   f += "\nCELL_DATA 3\nSCALARS gmsh:physical int 1\nLOOKUP_TABLE default\n";
   for (int32_t v : {1, 2, 7}) f += be(v);
   f += "\nSCALARS region int 1\nLOOKUP_TABLE default\n";
