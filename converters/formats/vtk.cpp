@@ -47,8 +47,10 @@ class LegacyReader {
   template <class Store>
   void values(uint64_t count, std::string_view type, Store store);
   void skip_values(uint64_t count, std::string_view type) {
+    if (detail::iequals(type, "string") || detail::iequals(type, "utf8_string")) return skip_strings(count);
     values(count, type, [](uint64_t, double) {});
   }
+  void skip_strings(uint64_t count);
   int64_t cell_index(Binary type);
   void read_points();
   void read_cells();
@@ -78,6 +80,29 @@ class LegacyReader {
 void LegacyReader::expect_word(std::string_view w) {
   const std::string_view t = in_.token(std::string(w).c_str());
   if (!detail::iequals(t, w)) in_.fail("expected " + std::string(w) + ", found '" + std::string(t.substr(0, 40)) + "'");
+}
+
+// VTK's string arrays (a FIELD array of names, say; refused as "expected a
+// number" until 2026-11-30): in ASCII one string a line, in binary each
+// string after its length, whose first byte's top two bits say how many
+// bytes hold it (11: that byte, 10: two, 01: four, 00: eight, big-endian).
+void LegacyReader::skip_strings(uint64_t count) {
+  if (!binary_) {
+    in_.skip_line();  // the array's header line
+    for (uint64_t i = 0; i < count; ++i) {
+      if (in_.at_end()) in_.fail("file ends inside a string array");
+      in_.skip_line();
+    }
+    return;
+  }
+  in_.skip_newline();
+  for (uint64_t i = 0; i < count; ++i) {
+    const uint8_t first = in_.get<uint8_t>("a string length");
+    const int more = (first >> 6) == 3 ? 0 : (first >> 6) == 2 ? 1 : (first >> 6) == 1 ? 3 : 7;
+    uint64_t length = first & 0x3f;
+    for (int k = 0; k < more; ++k) length = (length << 8) | in_.get<uint8_t>("a string length");
+    in_.skip_bytes(length, "a string");
+  }
 }
 
 template <class Store>

@@ -672,7 +672,7 @@ Mesh VtuReader::read() {
   bool have_piece = false;
   std::optional<Tag> points, types, offsets, conn;
   std::map<std::string, Tag> cell_data;
-  std::string section;  // Points, Cells, CellData, PointData
+  std::string section;  // Points, Cells, CellData, PointData, FieldData
   while (next_tag(t)) {
     if (t.name == "VTKFile" && !t.closing) {
       is_vtu = true;
@@ -701,9 +701,14 @@ Mesh VtuReader::read() {
       if (!Cursor::parse_int(attr(t, "NumberOfCells"), v) || v < 0) fail(t.begin, "bad NumberOfCells");
       ncells = static_cast<uint64_t>(v);
       if (npoints > d_.size() || ncells > d_.size()) fail(t.begin, "more points or cells than the file can hold");
-    } else if (t.name == "Points" || t.name == "Cells" || t.name == "CellData" || t.name == "PointData") {
+    } else if (t.name == "Points" || t.name == "Cells" || t.name == "CellData" || t.name == "PointData" ||
+               t.name == "FieldData") {
       section = t.closing || t.self_closing ? "" : t.name;
     } else if (t.name == "DataArray" && !t.closing) {
+      // Arrays of the whole data set (VTK writes a time value there, and
+      // ParaView more): nothing vdmesh keeps. Refused as "<DataArray>
+      // outside a <Piece>" until 2026-11-30.
+      if (section == "FieldData") continue;
       if (!have_piece) fail(t.begin, "<DataArray> outside a <Piece>");
       const std::string name = attr(t, "Name", "");
       if (section == "Points") {

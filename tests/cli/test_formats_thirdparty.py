@@ -229,13 +229,24 @@ def check_reads_vtk_writers(binary, vtu, tmp, n_tets, expected):
     XML writer's default (appended, zlib, 32768-byte blocks declared for
     arrays far smaller), inline binary, ASCII (an <InformationKey> inside
     the points' array), and the legacy writer (METADATA after each FIELD
-    array), ASCII and binary."""
+    array), ASCII and binary; each with a number and a string array of the
+    whole data set (<FieldData>, FIELD)."""
     import vtk
 
     reader = vtk.vtkXMLUnstructuredGridReader()
     reader.SetFileName(vtu)
     reader.Update()
     grid = reader.GetOutput()
+    # Arrays of the whole data set, as VTK and ParaView write them (a time,
+    # a name): refused in every mode until 2026-11-30.
+    time = vtk.vtkDoubleArray()
+    time.SetName("TimeValue")
+    time.InsertNextValue(1.5)
+    grid.GetFieldData().AddArray(time)
+    author = vtk.vtkStringArray()
+    author.SetName("author")
+    author.InsertNextValue("me and you")
+    grid.GetFieldData().AddArray(author)
     variants = []
     for mode in ("default", "binary", "ascii", "raw"):
         w = vtk.vtkXMLUnstructuredGridWriter()
