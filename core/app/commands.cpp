@@ -84,14 +84,34 @@ const char* kMeshHelp =
     "  --shift REL             random shift relative to the local edge length (default 1e-4, 0 = none)\n"
     "  --max-passes N          Delaunayzation guard (default 200)\n"
     "  --max-added N           Delaunayzation guard on added vertices (default 20 x input + 1000)\n"
-    "  --report FILE.json      write the report (counts, oracle statistics, times, quality)\n"
+    "  --report FILE.json      write the report (counts, oracle statistics, times, quality); - for the output\n"
     "  --binary                binary variant of the output format where there is one\n"
     "  --quiet                 no progress and no report table\n";
 
+// "-" is the standard output.
 void write_text(const std::string& path, const std::string& text) {
+  if (path == "-") {
+    std::fputs(text.c_str(), stdout);
+    return;
+  }
   std::ofstream f(path);
   f << text;
   if (!f) throw UsageError("cannot write " + path);
+}
+
+// A file the run is to write must have a folder it can be written in, and
+// must not be a folder itself: found after the whole run, and called bad
+// input (exit 3), until 2026-11-30.
+void check_can_write(const std::string& path, const std::string& option) {
+  namespace fs = std::filesystem;
+  if (path == "-") return;
+  std::error_code error;
+  const fs::path folder = fs::path(path).has_parent_path() ? fs::path(path).parent_path() : fs::path(".");
+  const std::string named = option + " " + path + ": ";
+  if (fs::is_directory(path, error)) throw UsageError(named + "is a folder");
+  if (!fs::is_directory(folder, error)) throw UsageError(named + "the folder " + folder.string() + " does not exist");
+  if (::access(folder.c_str(), W_OK) != 0) throw UsageError(named + "the folder " + folder.string() + " is not writable");
+  if (fs::exists(path, error) && ::access(path.c_str(), W_OK) != 0) throw UsageError(named + "the file is not writable");
 }
 
 // Writes into a staging folder beside the output, then moves what the
@@ -262,6 +282,8 @@ int mesh_command(const std::vector<std::string>& raw) {
   if (max_added_given && opt.delaunayzation.max_added_vertices < 0) throw UsageError("--max-added must not be negative");
   // Unknown output format: a usage error before any work; so is second order
   // to Medit, whose writer refuses it (after the whole run, until 2026-11-29).
+  check_can_write(output, "-o");
+  if (!report_path.empty()) check_can_write(report_path, "--report");
   if (io::format_for(output).name == "medit" && opt.order == 2)
     throw UsageError(output + ": the Medit .mesh writer writes first-order elements only; write second order to " +
                      ".msh, .vtu, .vtk, .inp or .node");
@@ -293,7 +315,8 @@ int mesh_command(const std::vector<std::string>& raw) {
     display.reset();  // the last line ends before the report table
     result.report.allocator = allocator_in_use();
     if (!report_path.empty()) write_text(report_path, report_json(result.report));
-    if (!quiet) std::fputs(report_table(result.report).c_str(), stdout);
+    // With the report on the standard output, the table would break its JSON.
+    if (!quiet && report_path != "-") std::fputs(report_table(result.report).c_str(), stdout);
     return 0;
   } catch (const RecoveryError&) {
     display.reset();
@@ -320,6 +343,7 @@ int convert_command(const std::vector<std::string>& raw) {
         "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--quiet] [--size H] [--deflection D] "
         "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G] [--no-smoothing] [--no-face-remesh]");
   io::format_for(pos[1], to);
+  check_can_write(pos[1], "OUT");
   if (from.empty() && cad::is_cad_file_name(pos[0])) {
     // CAD to a surface format: the tagged tessellation the mesher would start from.
     const Mesh surface = cad_plugin().tessellate_file(pos[0], topt);

@@ -2,6 +2,7 @@
 input and bad usage, no output left behind by a failed run, the report."""
 import json
 import os
+import time
 
 from cli_support import BIN, SOURCE, check, data, finish, run, tmpdir
 from surface_shapes import icosphere, paper_pyramids, write_off
@@ -351,6 +352,27 @@ for args in (["mesh"], ["mesh", bracket], ["mesh", bracket, "-o", os.path.join(o
              ["compare", bracket, "--size", "0"]):
     code, _, err = run(*args)
     check(code == 2, "usage error %s: exit 2 (%d: %s)" % (" ".join(args[:1] + args[3:]), code, err.strip()[:200]))
+
+# An output that cannot be written is a usage error before any work (found
+# after the whole run, as bad input, exit 3, before 2026-11-30).
+for args, needle in ((["mesh", bracket, "-o", os.path.join(out, "no-such-folder", "x.vtu")], "does not exist"),
+                     (["mesh", bracket, "-o", out + "/x.vtu", "--report", os.path.join(out, "nope", "r.json")],
+                      "--report"),
+                     (["mesh", bracket, "-o", out], "is a folder"),
+                     (["convert", bracket, os.path.join(out, "no-such-folder", "x.stl")], "does not exist")):
+    started = time.time()
+    code, _, err = run(*args)
+    check(code == 2 and needle in err and time.time() - started < 5,
+          "unwritable output %s: exit 2 at once (%d in %.1f s: %s)" % (args[-1], code, time.time() - started,
+                                                                      err.strip()[:200]))
+
+# `--report -` writes the report to the standard output, without the table.
+code, stdout, err = run("mesh", bracket, "-o", os.path.join(out, "r.vtu"), "--report", "-", "--quiet")
+try:
+    parsed = json.loads(stdout)["counts"]["tetrahedra"] > 0
+except ValueError:
+    parsed = False
+check(code == 0 and parsed, "--report - gives the JSON on the standard output (%d: %s)" % (code, stdout[:200]))
 
 # `vdmesh info` on a CAD file says what reads it (it listed the mesh extensions).
 code, _, err = run("info", os.path.join(out, "part.step"))
