@@ -1,10 +1,13 @@
 // Wavefront OBJ: vertices and polygons; `g`/`o` groups become face ids.
-// Texture and normal indices are ignored, polygons are fan-triangulated.
+// Texture and normal indices are ignored, polygons are triangulated
+// (triangulate_polygon).
+#include <algorithm>
 #include <map>
 
 #include "formats.h"
 #include "groups.h"
 #include "io_util.h"
+#include "polygon_triangulation.h"
 
 namespace vd::io {
 namespace {
@@ -38,7 +41,14 @@ Mesh read_obj(const std::string& path) {
     } else if (key == "f") {
       poly.clear();
       const size_t line = in.line();
-      for (std::string_view t = in.token_in_line(); !t.empty(); t = in.token_in_line()) {
+      for (std::string_view t = in.token_in_line();; t = in.token_in_line()) {
+        // A line ending in '\' goes on on the next (refused as a bad face
+        // vertex until 2026-11-30).
+        if (t == "\\") {
+          in.skip_line();
+          continue;
+        }
+        if (t.empty()) break;
         int64_t i;
         if (!Cursor::parse_int(vertex_part(t), i) || i == 0)
           in.fail("bad face vertex '" + std::string(t.substr(0, 40)) + "'");
@@ -53,9 +63,15 @@ Mesh read_obj(const std::string& path) {
         poly.push_back(static_cast<int>(i - 1));
       }
       if (poly.size() < 3) in.fail("a face has " + std::to_string(poly.size()) + " vertices");
-      for (size_t j = 1; j + 1 < poly.size(); ++j) {
+      // A polygon naming vertices still to come (the format allows it)
+      // is taken convex.
+      const bool known = *std::max_element(poly.begin(), poly.end()) < static_cast<int>(m.points.size());
+      std::vector<std::array<int, 3>> fan;
+      if (!known)
+        for (size_t j = 1; j + 1 < poly.size(); ++j) fan.push_back({poly[0], poly[j], poly[j + 1]});
+      for (const auto& corners : known ? detail::triangulate_polygon(m.points, poly) : fan) {
         Triangle t;
-        t.v = {poly[0], poly[j], poly[j + 1]};
+        t.v = corners;
         m.triangles.push_back(t);
         group_of.push_back(group);
       }

@@ -1,6 +1,8 @@
-// Geomview OFF: a surface of polygons, no tags. Polygons are fan-triangulated.
+// Geomview OFF: a surface of polygons, no tags. Polygons are triangulated
+// (triangulate_polygon).
 #include "formats.h"
 #include "io_util.h"
+#include "polygon_triangulation.h"
 
 namespace vd::io {
 namespace {
@@ -49,9 +51,9 @@ Mesh read_off(const std::string& path) {
       poly.push_back(static_cast<int>(v));
     }
     in.skip_line();  // face colour
-    for (size_t j = 1; j + 1 < poly.size(); ++j) {
+    for (const auto& corners : detail::triangulate_polygon(m.points, poly)) {
       Triangle t;
-      t.v = {poly[0], poly[j], poly[j + 1]};
+      t.v = corners;
       m.triangles.push_back(t);
     }
   }

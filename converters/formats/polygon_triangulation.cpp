@@ -38,8 +38,11 @@ bool crosses(P2 a, P2 b, P2 c, P2 d) {
   return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
 }
 
-bool in_triangle(P2 a, P2 b, P2 c, P2 q) {
-  return cross2(a, b, q) > 0 && cross2(b, c, q) > 0 && cross2(c, a, q) > 0;
+// Inside or on the boundary: a vertex on an ear's closing diagonal blocks
+// it. Counted free, the L-shaped cap's reflex corner on the diagonal of its
+// first ear let the next ear reach outside the polygon (2026-11-30).
+bool in_or_on_triangle(P2 a, P2 b, P2 c, P2 q) {
+  return cross2(a, b, q) >= 0 && cross2(b, c, q) >= 0 && cross2(c, a, q) >= 0;
 }
 
 // Ear clipping of a counter-clockwise loop (may touch itself at bridge
@@ -60,7 +63,7 @@ void clip_ears(std::vector<int> loop, const std::vector<P2>& at, std::vector<std
         const P2 pq = pos(q);
         if ((pq.x == pa.x && pq.y == pa.y) || (pq.x == pb.x && pq.y == pb.y) || (pq.x == pc.x && pq.y == pc.y))
           continue;
-        empty = !in_triangle(pa, pb, pc, pq);
+        empty = !in_or_on_triangle(pa, pb, pc, pq);
       }
       if (!empty) continue;
       out.push_back({a, b, c});
@@ -299,6 +302,22 @@ std::vector<std::array<int, 3>> triangulate_facet(const std::vector<Vec3>& point
   for (auto& t : out)
     for (int& i : t) i = global[static_cast<size_t>(i)];
   return out;
+}
+
+std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& points, const std::vector<int>& polygon) {
+  const size_t n = polygon.size();
+  const auto at = [&](size_t i) { return points[static_cast<size_t>(polygon[i % n])]; };
+  Vec3 normal{0, 0, 0};
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 a = at(i), b = at(i + 1);
+    normal = normal + Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+  }
+  bool convex = true;
+  for (size_t i = 0; i < n && convex; ++i) convex = dot(cross(at(i + 1) - at(i), at(i + 2) - at(i + 1)), normal) > 0;
+  if (!convex && n > 3) return triangulate_facet(points, {polygon}, {});
+  std::vector<std::array<int, 3>> fan;
+  for (size_t j = 1; j + 1 < n; ++j) fan.push_back({polygon[0], polygon[j], polygon[j + 1]});
+  return fan;
 }
 
 }  // namespace vd::io::detail

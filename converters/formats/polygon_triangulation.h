@@ -18,4 +18,11 @@ std::vector<std::array<int, 3>> triangulate_facet(const std::vector<Vec3>& point
                                                   const std::vector<std::vector<int>>& polygons,
                                                   const std::vector<Vec3>& holes);
 
+// One polygon of a surface file (OFF, OBJ): a fan when the polygon is
+// convex in its plane, as every such file's quads are, else the facet
+// triangulation above. A fan over a non-convex polygon folds: an L-shaped
+// cap came out with area 4 for 3, and the solid was refused as
+// self-intersecting, until 2026-11-30.
+std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& points, const std::vector<int>& polygon);
+
 }  // namespace vd::io::detail

@@ -969,6 +969,47 @@ TEST(ConvertersRoundTrip, ReadsSharedSmesh) {
   }
 }
 
+// An L-shaped prism whose caps are single non-convex hexagons, as OFF, OBJ
+// and .smesh: each cap must be covered once (area 3, enclosed volume 3).
+// The fan of OFF and OBJ folded the caps (area 4), and the facet
+// triangulation of .poly/.smesh let an ear reach outside the L through a
+// reflex corner on its diagonal, until 2026-11-30.
+TEST(ConvertersRoundTrip, NonConvexPolygonsAreTriangulatedInside) {
+  const char* points = "0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n0 0 1\n2 0 1\n2 1 1\n1 1 1\n1 2 1\n0 2 1\n";
+  // 0-based; the bottom turned down, the top up, the sides out.
+  const std::vector<std::vector<int>> faces = {{5, 4, 3, 2, 1, 0}, {6, 7, 8, 9, 10, 11}, {0, 1, 7, 6}, {1, 2, 8, 7},
+                                               {2, 3, 9, 8},       {3, 4, 10, 9},        {4, 5, 11, 10}, {5, 0, 6, 11}};
+  std::string off = std::string("OFF\n12 8 0\n") + points, obj, smesh = "12 3 0 0\n";
+  std::istringstream lines(points);
+  int k = 0;
+  for (std::string line; std::getline(lines, line);) obj += "v " + line + "\n", smesh += std::to_string(++k) + " " + line + "\n";
+  smesh += "8 0\n";
+  for (const auto& f : faces) {
+    off += std::to_string(f.size()), obj += "f", smesh += std::to_string(f.size());
+    for (int v : f) off += " " + std::to_string(v), obj += " " + std::to_string(v + 1), smesh += " " + std::to_string(v + 1);
+    off += "\n", obj += "\n", smesh += "\n";
+  }
+  smesh += "0\n0\n";
+  for (const auto& [name, text] : {std::pair{"l.off", off}, std::pair{"l.obj", obj}, std::pair{"l.smesh", smesh}}) {
+    SCOPED_TRACE(name);
+    const std::string path = test::temp_path(name);
+    std::ofstream(path) << text;
+    const Mesh m = io::read_mesh(path);
+    double top = 0, bottom = 0, volume = 0;
+    for (const Triangle& t : m.triangles) {
+      const Vec3 a = m.points[t.v[0]], b = m.points[t.v[1]], c = m.points[t.v[2]];
+      const double nz = cross(b - a, c - a).z / 2;
+      if (a.z == 1 && b.z == 1 && c.z == 1) top += nz;
+      if (a.z == 0 && b.z == 0 && c.z == 0) bottom += nz;
+      volume += dot(a, cross(b, c)) / 6;
+    }
+    // Every triangle of a cap turned like it: signed areas add to the cap's.
+    EXPECT_DOUBLE_EQ(top, 3.0);
+    EXPECT_DOUBLE_EQ(bottom, -3.0);
+    EXPECT_NEAR(std::abs(volume), 3.0, 1e-12);
+  }
+}
+
 TEST(ConvertersRoundTrip, ReadsSharedPolyWithFacetHole) {
   VD_REQUIRE_DATA(path, "surface-multiregion/tetgen_example.poly");
   const Mesh m = io::read_mesh(path);
