@@ -17,6 +17,7 @@
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_Printer.hxx>
+#include <TCollection_AsciiString.hxx>
 #include <OSD.hxx>
 #include <OSD_Signal.hxx>
 #include <Interface_Static.hxx>
@@ -80,27 +81,50 @@ class OccSignalsWhileReading {
   std::array<struct sigaction, 8> saved_{};
 };
 
-// OpenCASCADE's messages below failures off while a file is read: the IGES
-// reader prints "Total number of loaded entities 2932." to standard output
-// (in colour) through the default messenger, under --quiet too. Whoever set
-// the printers (FreeCAD) gets their levels back afterwards.
-class OccMessagesFailuresOnly {
+// OpenCASCADE's messages while a file is read go to vdmesh's error instead
+// of the default messenger's printers: the IGES reader prints "Total number
+// of loaded entities 2932." to standard output (in colour) under --quiet,
+// and the STEP reader its syntax errors ("**** ERR StepFile : ... Line 2:
+// Incorrect syntax", until 2026-11-30), which say what vdmesh's own message
+// cannot. Whoever set the printers (FreeCAD) gets them back afterwards.
+class OccMessagesCollected {
  public:
-  OccMessagesFailuresOnly() {
-    const Message_SequenceOfPrinters& printers = Message::DefaultMessenger()->Printers();
-    for (Message_SequenceOfPrinters::Iterator it(printers); it.More(); it.Next()) {
-      saved_.emplace_back(it.Value(), it.Value()->GetTraceLevel());
-      it.Value()->SetTraceLevel(Message_Fail);
-    }
+  OccMessagesCollected() : collector_(new Collector) {
+    const Handle(Message_Messenger)& messenger = Message::DefaultMessenger();
+    for (Message_SequenceOfPrinters::Iterator it(messenger->Printers()); it.More(); it.Next())
+      saved_.push_back(it.Value());
+    for (const auto& printer : saved_) messenger->RemovePrinter(printer);
+    collector_->SetTraceLevel(Message_Fail);
+    messenger->AddPrinter(collector_);
   }
-  ~OccMessagesFailuresOnly() {
-    for (auto& [printer, level] : saved_) printer->SetTraceLevel(level);
+  ~OccMessagesCollected() {
+    const Handle(Message_Messenger)& messenger = Message::DefaultMessenger();
+    messenger->RemovePrinter(collector_);
+    for (const auto& printer : saved_) messenger->AddPrinter(printer);
   }
-  OccMessagesFailuresOnly(const OccMessagesFailuresOnly&) = delete;
-  OccMessagesFailuresOnly& operator=(const OccMessagesFailuresOnly&) = delete;
+  OccMessagesCollected(const OccMessagesCollected&) = delete;
+  OccMessagesCollected& operator=(const OccMessagesCollected&) = delete;
+  // "; OpenCASCADE says: ..." with the first failure reported, or "".
+  std::string said() const {
+    std::string text = collector_->first;
+    const auto not_space = [](char c) { return c != ' ' && c != '*'; };
+    text.erase(text.begin(), std::find_if(text.begin(), text.end(), not_space));
+    text.erase(std::find_if(text.rbegin(), text.rend(), not_space).base(), text.end());
+    return text.empty() ? "" : "; OpenCASCADE says: " + text;
+  }
 
  private:
-  std::vector<std::pair<Handle(Message_Printer), Message_Gravity>> saved_;
+  class Collector : public Message_Printer {
+   public:
+    mutable std::string first;
+
+   protected:
+    void send(const TCollection_AsciiString& text, const Message_Gravity gravity) const override {
+      if (gravity >= Message_Fail && first.empty()) first = text.ToCString();
+    }
+  };
+  Handle(Collector) collector_;
+  std::vector<Handle(Message_Printer)> saved_;
 };
 
 TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& cancel) {
@@ -110,11 +134,11 @@ TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& c
   const std::string ext = lower_extension(path);
   TopoDS_Shape shape;
   const OccSignalsWhileReading signals;
-  const OccMessagesFailuresOnly quiet;
+  const OccMessagesCollected messages;
   if (ext == ".step" || ext == ".stp") {
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
-      throw InputError(path + ": not a readable STEP file (OpenCASCADE's STEP reader failed)");
+      throw InputError(path + ": not a readable STEP file (OpenCASCADE's STEP reader failed)" + messages.said());
     const int roots = reader.TransferRoots(cancel.range());
     cancel.check();
     if (roots == 0)
@@ -125,7 +149,7 @@ TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& c
   } else if (ext == ".iges" || ext == ".igs") {
     IGESControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
-      throw InputError(path + ": not a readable IGES file (OpenCASCADE's IGES reader failed)");
+      throw InputError(path + ": not a readable IGES file (OpenCASCADE's IGES reader failed)" + messages.said());
     const int roots = reader.TransferRoots(cancel.range());
     cancel.check();
     if (roots == 0)
