@@ -9,6 +9,7 @@
 #include <cstring>
 #include <cstdlib>
 #include <map>
+#include <set>
 #include <unordered_map>
 
 #include "gmsh.h"
@@ -61,6 +62,11 @@ long long group_number(int physical, int entity, int largest_physical) {
   return static_cast<long long>(largest_physical) + entity;
 }
 
+int parent_or_self(const std::map<int, int>& parent, int entity) {
+  const auto it = parent.find(entity);
+  return it == parent.end() ? entity : it->second;
+}
+
 struct Element {
   uint64_t tag;
   int entity;
@@ -76,8 +82,10 @@ class MshReader {
   void read_format();
   void read_physical_names();
   void read_entities();
+  void read_partitioned_entities();
   void read_nodes22();
   void read_nodes41();
+  void read_parametric_nodes22();
   void read_elements22();
   void read_elements41();
   void read_block41_binary(int type, int entity, uint64_t count, int k);
@@ -99,6 +107,11 @@ class MshReader {
   IdIndex nodes_;
   std::map<int, Entity> surfaces_, volumes_;
   bool have_entities_ = false;
+  // A partitioned file's elements lie in partitioned entities: each stands
+  // for its parent entity (with its physical groups), and a surface whose
+  // parent is a volume is a cut between two partitions, no boundary.
+  std::map<int, int> surface_parent_, volume_parent_;
+  std::set<int> partition_cuts_;
   std::vector<Element> tri_info_;
   TagList tet_tags_;  // the tetrahedra's entities wait in their region field
   // Binary 4.1 whose tetrahedron tags are lo..lo+n-1, each once (what vdmesh
@@ -203,6 +216,52 @@ void MshReader::read_entities() {
   expect_end("$Entities");
 }
 
+// $PartitionedEntities (Gmsh -part N): read past until 2026-11-30, which
+// made each partition's piece of a volume a region of its own and the cuts
+// between partitions faces (two volumes read as 4 regions, 20 faces and 33
+// triangles too many).
+void MshReader::read_partitioned_entities() {
+  if (version_ < 4) in_.fail("$PartitionedEntities in a version 2 file");
+  size_value("the number of partitions");
+  const uint64_t ghosts = size_value("the number of ghost entities");
+  if (ghosts > in_.remaining()) in_.fail("too many ghost entities");
+  for (uint64_t i = 0; i < ghosts; ++i) {
+    int_value("a ghost entity tag");
+    int_value("a ghost entity partition");
+  }
+  uint64_t count[4];
+  for (uint64_t& c : count) c = size_value("an entity count");
+  for (int dim = 0; dim < 4; ++dim) {
+    for (uint64_t i = 0; i < count[dim]; ++i) {
+      const int tag = int_value("an entity tag");
+      const int parent_dim = int_value("a parent dimension");
+      const int parent = int_value("a parent tag");
+      const uint64_t partitions = size_value("a partition count");
+      if (partitions > in_.remaining()) in_.fail("too many partitions");
+      for (uint64_t k = 0; k < partitions; ++k) int_value("a partition tag");
+      for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) real_value("an entity bounding box");
+      const uint64_t nphys = size_value("a physical tag count");
+      if (nphys > in_.remaining()) in_.fail("too many physical tags");
+      Entity e;
+      for (uint64_t k = 0; k < nphys; ++k) e.physicals.push_back(int_value("a physical tag"));
+      if (dim > 0) {
+        const uint64_t nb = size_value("a bounding entity count");
+        if (nb > in_.remaining()) in_.fail("too many bounding entities");
+        for (uint64_t k = 0; k < nb; ++k) {
+          const int b = int_value("a bounding entity tag");
+          if (dim == 3) e.bounding.push_back(b);
+        }
+      }
+      if (dim == 2 && parent_dim == 3) partition_cuts_.insert(tag);
+      if (dim == 2 && parent_dim == 2) surface_parent_[tag] = parent;
+      if (dim == 3) volume_parent_[tag] = parent;
+      if (dim == 2) surfaces_[tag] = std::move(e);
+      if (dim == 3) volumes_[tag] = std::move(e);
+    }
+  }
+  expect_end("$PartitionedEntities");
+}
+
 void MshReader::add_node(uint64_t tag, Vec3 p) {
   if (tag > uint64_t{INT64_MAX}) in_.fail("node tag " + std::to_string(tag) + " is too large");
   if (!nodes_.add(static_cast<int64_t>(tag), static_cast<int>(m_.points.size())))
@@ -225,6 +284,31 @@ void MshReader::read_nodes22() {
     add_node(tag, p);
   }
   expect_end("$Nodes");
+}
+
+// 2.2's $ParametricNodes (Mesh.SaveParametric) in place of $Nodes: each
+// node with its entity's dimension and tag, and one parameter per dimension
+// on curves and surfaces. Skipped until 2026-11-30, and every element then
+// "refers to node 15, which does not exist".
+void MshReader::read_parametric_nodes22() {
+  const uint64_t n = in_.count("the number of nodes");
+  nodes_.expect(n, in_.remaining());
+  m_.points.reserve(capped(n, in_.remaining(), 12));
+  if (binary_) in_.skip_line();
+  for (uint64_t i = 0; i < n; ++i) {
+    const uint64_t tag = binary_ ? static_cast<uint64_t>(static_cast<uint32_t>(in_.get<int32_t>("a node tag")))
+                                 : in_.count("a node tag");
+    Vec3 p;
+    p.x = real_value("a node x");
+    p.y = real_value("a node y");
+    p.z = real_value("a node z");
+    const int dim = int_value("an entity dimension");
+    int_value("an entity tag");
+    if (dim < 0 || dim > 3) in_.fail("entity dimension " + std::to_string(dim));
+    for (int k = 0; k < (dim == 1 || dim == 2 ? dim : 0); ++k) real_value("a parametric coordinate");
+    add_node(tag, p);
+  }
+  expect_end("$ParametricNodes");
 }
 
 void MshReader::read_nodes41() {
@@ -520,7 +604,7 @@ void MshReader::finish() {
     // Blocks share entities: look each one up once per run.
     auto physical_and_entity = [&](const Tetrahedron& t) {
       if (version_ < 4) return t.region > 0 ? std::pair{t.region, 0} : std::pair{0, kEntityCode - t.region};
-      return std::pair{physical_of(t.region, volumes_), t.region};
+      return std::pair{physical_of(t.region, volumes_), parent_or_self(volume_parent_, t.region)};
     };
     int largest = 0;
     int last_region = 0, last_number = 0;
@@ -543,11 +627,24 @@ void MshReader::finish() {
     }
   }
   {
+    if (!partition_cuts_.empty()) {
+      size_t kept = 0;
+      for (size_t i = 0; i < m_.triangles.size(); ++i) {
+        if (partition_cuts_.count(tri_info_[i].entity)) continue;
+        m_.triangles[kept] = m_.triangles[i];
+        if (tri_mids) m_.triangle_mid[kept] = m_.triangle_mid[i];
+        tri_info_[kept++] = tri_info_[i];
+      }
+      m_.triangles.resize(kept);
+      if (tri_mids) m_.triangle_mid.resize(kept);
+      tri_info_.resize(kept);
+    }
     auto physical = [&](const Element& e) { return version_ < 4 ? e.physical : physical_of(e.entity, surfaces_); };
     int largest = 0;
     for (const Element& e : tri_info_) largest = std::max(largest, physical(e));
     for (size_t i = 0; i < m_.triangles.size(); ++i)
-      m_.triangles[i].face = numbered(group_number(physical(tri_info_[i]), tri_info_[i].entity, largest));
+      m_.triangles[i].face = numbered(
+          group_number(physical(tri_info_[i]), parent_or_self(surface_parent_, tri_info_[i].entity), largest));
   }
   if (!m_.tets.empty()) {
     require_valid(m_, in_.name());
@@ -609,7 +706,8 @@ Mesh MshReader::read() {
                                                        std::string(section.substr(0, 40)) + "'");
     if (!have_format && section != "$MeshFormat") in_.fail("the file does not start with $MeshFormat");
     // Binary 4.1 sections start right after the line of their name.
-    if (binary_ && version_ >= 4 && (section == "$Entities" || section == "$Nodes" || section == "$Elements"))
+    if (binary_ && version_ >= 4 &&
+        (section == "$Entities" || section == "$PartitionedEntities" || section == "$Nodes" || section == "$Elements"))
       in_.skip_line();
     if (section == "$MeshFormat") {
       read_format();
@@ -618,9 +716,14 @@ Mesh MshReader::read() {
       read_physical_names();
     } else if (section == "$Entities") {
       read_entities();
+    } else if (section == "$PartitionedEntities") {
+      read_partitioned_entities();
     } else if (section == "$Nodes") {
       if (!m_.points.empty()) in_.fail("a second $Nodes section");
       version_ < 4 ? read_nodes22() : read_nodes41();
+    } else if (section == "$ParametricNodes" && version_ < 4) {
+      if (!m_.points.empty()) in_.fail("a second $Nodes section");
+      read_parametric_nodes22();
     } else if (section == "$Elements") {
       if (!m_.triangles.empty() || !m_.tets.empty()) in_.fail("a second $Elements section");
       version_ < 4 ? read_elements22() : read_elements41();

@@ -324,6 +324,48 @@ def check_reads_gmsh_and_meshio_files(binary, tmp):
                   "vdmesh info %s (Gmsh, physical group on the sphere only): 2 regions, %s %s" %
                   (os.path.basename(path), volumes, err))
         gmsh.option.setNumber("Mesh.SaveAll", 0)
+        # Partitioned (gmsh -part 2), with and without ghost cells, ASCII and
+        # binary: each partition's piece of a volume was a region of its
+        # own and the cuts between partitions faces (4 regions, 33 triangles
+        # too many) until 2026-11-30; 2.2 writes the parents' groups.
+        gmsh.model.add("parts")
+        a = gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
+        b = gmsh.model.occ.addBox(1, 0, 0, 2, 1, 1)
+        gmsh.model.occ.fragment([(3, a)], [(3, b)])
+        gmsh.model.occ.synchronize()
+        gmsh.model.addPhysicalGroup(3, [a], 11)
+        gmsh.model.addPhysicalGroup(3, [b], 22)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.3)
+        gmsh.model.mesh.generate(3)
+        whole = len(gmsh.model.mesh.getElementsByType(4)[0])
+        for ghosts in (0, 1):
+            gmsh.option.setNumber("Mesh.PartitionCreateGhostCells", ghosts)
+            gmsh.model.mesh.partition(2)
+            for version, binary_file in ((4.1, 0), (4.1, 1), (2.2, 0)):
+                gmsh.option.setNumber("Mesh.MshFileVersion", version)
+                gmsh.option.setNumber("Mesh.Binary", binary_file)
+                path = os.path.join(tmp, "parts_%d_%s_%d.msh" % (ghosts, version, binary_file))
+                gmsh.write(path)
+                code, tets, volumes, err = vdmesh_info(binary, path)
+                check(code == 0 and tets == whole and set(volumes) == {11, 22} and abs(volumes[11] - 1) < 1e-9 and
+                      abs(volumes[22] - 2) < 1e-9,
+                      "vdmesh info %s (Gmsh, 2 partitions): %s tetrahedra of %d, volumes %s %s" %
+                      (os.path.basename(path), tets, whole, volumes, err))
+            gmsh.model.mesh.unpartition()
+        # 2.2 with parametric nodes ($ParametricNodes in place of $Nodes):
+        # every element "refers to node 15, which does not exist" before.
+        gmsh.option.setNumber("Mesh.SaveParametric", 1)
+        for binary_file in (0, 1):
+            gmsh.option.setNumber("Mesh.MshFileVersion", 2.2)
+            gmsh.option.setNumber("Mesh.Binary", binary_file)
+            path = os.path.join(tmp, "parametric_%d.msh" % binary_file)
+            gmsh.write(path)
+            code, tets, volumes, err = vdmesh_info(binary, path)
+            check(code == 0 and tets == whole and set(volumes) == {11, 22} and abs(volumes[22] - 2) < 1e-9,
+                  "vdmesh info %s (Gmsh 2.2, parametric nodes): %s tetrahedra of %d, volumes %s %s" %
+                  (os.path.basename(path), tets, whole, volumes, err))
+        gmsh.option.setNumber("Mesh.SaveParametric", 0)
+        gmsh.option.setNumber("Mesh.Binary", 0)
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         surfaces = []
         gmsh.model.add("two")
