@@ -204,6 +204,8 @@ class InpReader {
   void surface(const Keyword& k);
   void skip_data();
   void keyword_data(const Keyword& k);
+  void instance();
+  int parts_ = 0, instances_ = 0;
   void include(const Keyword& k, size_t line);
   int node(std::string_view field);
 
@@ -563,7 +565,24 @@ void InpReader::keyword_data(const Keyword& k) {
   else if (k.name == "ELEMENT") elements(k);
   else if (k.name == "ELSET") elset(k);
   else if (k.name == "SURFACE") surface(k);
+  else if (k.name == "INSTANCE") instance();
   else skip_data();
+}
+
+// Abaqus/CAE's decks: one *Part and one *Instance of it read as a flat deck
+// (the part's numbers are the deck's); more parts, more instances, or an
+// instance moved by its data lines are refused: each part numbers its nodes
+// from 1 ("node 1 appears twice"), and a translation was dropped without a
+// word (exit 0) until 2026-11-30.
+void InpReader::instance() {
+  while (at_data_line()) {
+    for (const std::string_view f : fields(7)) {
+      double v;
+      if (Cursor::parse_real(f, v) && v != 0)
+        fail("an *INSTANCE moved by a translation or rotation: vdmesh reads flat decks (Abaqus/CAE: Model > Edit "
+             "Attributes > Do not use parts and assemblies in input files)");
+    }
+  }
 }
 
 // Files are named relative to the including file's folder: decks are run
@@ -621,6 +640,10 @@ Mesh InpReader::read() {
       crossed = true;
       continue;
     }
+    if ((k.name == "PART" && ++parts_ > 1) || (k.name == "INSTANCE" && ++instances_ > 1))
+      throw InputError(in_->name() + ":" + std::to_string(line) + ": a second *" + k.name +
+                       ": vdmesh reads flat decks and Abaqus/CAE decks of one part placed once (Abaqus/CAE: Model > "
+                       "Edit Attributes > Do not use parts and assemblies in input files)");
     open = k;
     crossed = false;
     if (k.name == "SOLID SECTION" && k.options.count("ELSET")) section_sets_.push_back(upper(k.options.at("ELSET")));

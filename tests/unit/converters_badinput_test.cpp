@@ -146,6 +146,11 @@ const Snippet kSnippets[] = {
      "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n*SURFACE, NAME=A\n"
      "1, S7\n"},
     {"data_outside.inp", 1, "1, 2, 3\n"},
+    // Abaqus/CAE assemblies vdmesh cannot place (a translation was dropped, exit 0, before).
+    {"moved_instance.inp", 7,
+     "*PART, NAME=P\n*NODE\n1, 0, 0, 0\n*END PART\n*ASSEMBLY, NAME=A\n*INSTANCE, NAME=I, PART=P\n5., 0., 0.\n"
+     "*END INSTANCE\n"},
+    {"two_parts.inp", 3, "*PART, NAME=A\n*END PART\n*PART, NAME=B\n*END PART\n"},
     {"hexahedra.inp", 3, "*NODE\n1, 0, 0, 0\n*ELEMENT, TYPE=C3D8R, ELSET=Block\n1, 1, 1, 1, 1, 1, 1, 1, 1\n"},
     {"duplicate_element.inp", 8,
      "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n1, 1, 2, 4, 3\n"},

@@ -520,6 +520,13 @@ TEST(ConvertersRoundTrip, AbaqusRegionsFromSolidSectionsAndElementSets) {
   std::string chain = "*ELEMENT, TYPE=C3D4, ELSET=Region1\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n";
   for (int k = 0; k < 4000; ++k) chain += "*ELSET, ELSET=S" + std::to_string(k) + "\nS" + std::to_string(k + 1) + "\n";
   EXPECT_EQ(volumes_by_name(chain, "chain.inp").size(), 1u);
+  // Abaqus/CAE: one part placed once, where it was made.
+  const auto part = volumes_by_name(
+      "*Part, name=Bracket\n*Element, type=C3D4\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n*Elset, elset=Set-1, generate\n1, 2, 1\n"
+      "*Solid Section, elset=Set-1, material=Steel\n*End Part\n*Assembly, name=Assembly\n"
+      "*Instance, name=Bracket-1, part=Bracket\n*End Instance\n*End Assembly\n",
+      "part.inp");
+  EXPECT_NEAR(part.at("Set-1"), 0.5, 1e-15);
   // Heat transfer tetrahedra are tetrahedra (skipped before 2026-11-30).
   const auto heat = volumes_by_name("*ELEMENT, TYPE=DC3D4, ELSET=Copper\n1, 1, 2, 3, 4\n2, 2, 3, 4, 5\n", "heat.inp");
   EXPECT_NEAR(heat.at("Copper"), 0.5, 1e-15);
