@@ -117,9 +117,25 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* giv
       ++stats.fixed;  // a corner
       continue;
     }
+    // A coordinate the vertex shares with its whole star (a face in an axis
+    // plane) or with both ends of its feature line (an edge along an axis)
+    // stays exact: rounding in the normal moved vertices off such planes by
+    // 1e-21 (a node meant for x = 0 at x = -1.5e-21, 14 coordinates of a
+    // unit cube's mesh outside it), which breaks selecting boundary nodes
+    // by their coordinates (2026-11-30).
+    const Vec3 old = m.points[v];
+    for (int k = 0; k < 3; ++k) {
+      bool shared = true;
+      if (feature.count == 2) {
+        shared = m.points[feature.end[0]][k] == old[k] && m.points[feature.end[1]][k] == old[k];
+      } else {
+        for (const int* f = first; f != last && shared; ++f)
+          for (int c : m.triangles[*f].v) shared = shared && m.points[c][k] == old[k];
+      }
+      if (shared) step[k] = 0;
+    }
     // Refuse a move that turns an incident facet over (needles can be thinner
     // than the shift).
-    const Vec3 old = m.points[v];
     before.clear();
     for (const int* f = first; f != last; ++f) before.push_back(facet_area_vector(m.points, m.triangles[*f]));
     m.points[v] = old + step;

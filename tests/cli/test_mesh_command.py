@@ -343,6 +343,28 @@ rep = json.load(open(os.path.join(out, "stray.json"))) if code == 0 else {}
 check(code == 0 and rep["counts"]["unused_input_vertices"] == 1 and rep["counts"]["tetrahedra"] == 1,
       "a vertex no facet uses is dropped: exit %d, %s (%s)" % (code, rep.get("counts"), err.strip()[-200:]))
 
+# Boundary nodes stay exactly on a box's walls: the random shift moved
+# vertices off the planes x = 0, y = 1, ... by about 1e-21 through rounding
+# in the normal (14 coordinates of a unit cube's mesh outside it) until
+# 2026-11-30, and nodes could not be picked by their coordinates.
+if meshio:
+    cube_path = os.path.join(out, "unit_cube.obj")
+    with open(cube_path, "w") as f:
+        f.write("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n")
+    target = os.path.join(out, "unit_cube.vtu")
+    code, _, err = run("mesh", cube_path, "-o", target, "--size", "0.1", "--quiet")
+    if code == 0:
+        p = meshio.read(target).points
+        near = (np.abs(p) < 1e-9) | (np.abs(p - 1) < 1e-9)
+        off = int((near & (p != 0) & (p != 1)).sum())
+        outside = int(((p < 0) | (p > 1)).sum())
+        check(off == 0 and outside == 0 and int((p == 0).sum()) > 100,
+              "unit cube at size 0.1: %d coordinates a hair off a wall, %d outside, %d exactly 0" %
+              (off, outside, int((p == 0).sum())))
+    else:
+        check(False, "unit cube meshes (exit %d: %s)" % (code, err.strip()[-300:]))
+
 # Usage errors: exit 2.
 for args in (["mesh"], ["mesh", bracket], ["mesh", bracket, "-o", os.path.join(out, "x.vtu"), "--oracle", "magic"],
              ["mesh", bracket, "-o", os.path.join(out, "x.vtu"), "--seed", "abc"], ["frobnicate"],
