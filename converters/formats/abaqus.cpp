@@ -28,6 +28,12 @@ using detail::FileBytes;
 // C3D4 / C3D10 faces S1..S4 by corner (0-based).
 const int kFaces[4][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
 
+std::string upper(std::string_view s) {
+  std::string r(s);
+  for (char& c : r) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return r;
+}
+
 // Abaqus names: letters, digits and '_', starting with a letter.
 std::string sanitized(const std::string& name) {
   std::string r;
@@ -47,7 +53,7 @@ class SetNames {
     constexpr size_t kLongest = 80 - 6;  // room for "_Nodes"
     const std::string base = sanitized(wanted).substr(0, kLongest);
     std::string name = base;
-    for (int k = 2; !taken_.insert(upper_case(name)).second; ++k) {
+    for (int k = 2; !taken_.insert(upper(name)).second; ++k) {
       const std::string suffix = "_" + std::to_string(k);
       name = base.substr(0, kLongest - suffix.size()) + suffix;
     }
@@ -55,10 +61,6 @@ class SetNames {
   }
 
  private:
-  static std::string upper_case(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    return s;
-  }
   std::set<std::string> taken_;
 };
 
@@ -205,7 +207,8 @@ class InpReader {
   void skip_data();
   void keyword_data(const Keyword& k);
   void instance();
-  int parts_ = 0, instances_ = 0;
+  int parts_ = 0, instances_ = 0, includes_ = 0;
+  size_t keyword_line_ = 0;  // the line of the keyword being read
   void include(const Keyword& k, size_t line);
   int node(std::string_view field);
 
@@ -259,12 +262,6 @@ class InpReader {
   std::vector<std::pair<std::string, std::vector<std::pair<int64_t, int>>>> surfaces_;
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> surface_sets_;
 };
-
-std::string upper(std::string_view s) {
-  std::string r(s);
-  for (char& c : r) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return r;
-}
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
@@ -375,8 +372,8 @@ void InpReader::elements(const Keyword& k) {
   if (solid.rfind("C3D4", 0) == 0) nodes = 4, tet = true;
   else if (solid.rfind("C3D10", 0) == 0) nodes = 10, tet = true;
   else if (solid.rfind("C3D", 0) == 0)
-    throw InputError(in_->name() + ":" + std::to_string(in_->line() - 1) + ": " +"*ELEMENT, TYPE=" + type + ": vdmesh reads tetrahedra (C3D4, C3D10) of the solid elements only, "
-                     "and would lose these");
+    throw InputError(in_->name() + ":" + std::to_string(keyword_line_) + ": *ELEMENT, TYPE=" + type +
+                     ": vdmesh reads tetrahedra (C3D4, C3D10) of the solid elements only, and would lose these");
   else if (type == "S3" || type == "S3R" || type == "CPS3" || type == "CPE3" || type == "M3D3" || type == "R3D3" ||
            type == "STRI3" || type == "SFM3D3")
     nodes = 3;
@@ -597,6 +594,12 @@ void InpReader::include(const Keyword& k, size_t line) {
   if (file.empty()) throw InputError(where + "*INCLUDE without INPUT=");
   // Deeper than any deck nests its files: a file including itself, or two each other.
   constexpr size_t kDeepest = 32;
+  // And no more files in all: two files each including the next twice
+  // would be read 2^32 times within that depth.
+  constexpr int kMostIncludes = 1000;
+  if (++includes_ > kMostIncludes)
+    throw InputError(where + "more than " + std::to_string(kMostIncludes) + " *INCLUDEs read (files including each "
+                     "other over and over?)");
   if (sources_.size() > kDeepest)
     throw InputError(where + "*INCLUDE nested more than " + std::to_string(kDeepest) +
                      " files deep (a file that includes itself?)");
@@ -646,6 +649,7 @@ Mesh InpReader::read() {
                        "Edit Attributes > Do not use parts and assemblies in input files)");
     open = k;
     crossed = false;
+    keyword_line_ = line;
     if (k.name == "SOLID SECTION" && k.options.count("ELSET")) section_sets_.push_back(upper(k.options.at("ELSET")));
     keyword_data(k);
   }

@@ -81,11 +81,15 @@ class MshReader {
  private:
   void read_format();
   void read_physical_names();
+  struct EntityRecord {
+    int tag = 0, parent_dim = -1, parent = 0;
+    Entity entity;
+  };
+  EntityRecord read_entity(int dim, bool partitioned);
   void read_entities();
   void read_partitioned_entities();
-  void read_nodes22();
+  void read_nodes22(bool parametric);
   void read_nodes41();
-  void read_parametric_nodes22();
   void read_elements22();
   void read_elements41();
   void read_block41_binary(int type, int entity, uint64_t count, int k);
@@ -188,31 +192,45 @@ void MshReader::read_physical_names() {
   expect_end("$PhysicalNames");
 }
 
+// One entity of $Entities, or of $PartitionedEntities (`partitioned`): its
+// tag, then there its parent's dimension and tag and its partitions, then
+// its box, physical groups and bounding entities (kept for volumes).
+MshReader::EntityRecord MshReader::read_entity(int dim, bool partitioned) {
+  EntityRecord r;
+  r.tag = int_value("an entity tag");
+  if (partitioned) {
+    r.parent_dim = int_value("a parent dimension");
+    r.parent = int_value("a parent tag");
+    const uint64_t partitions = size_value("a partition count");
+    if (partitions > in_.remaining()) in_.fail("too many partitions");
+    for (uint64_t k = 0; k < partitions; ++k) int_value("a partition tag");
+  }
+  for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) real_value("an entity bounding box");
+  const uint64_t nphys = size_value("a physical tag count");
+  if (nphys > in_.remaining()) in_.fail("too many physical tags");
+  for (uint64_t k = 0; k < nphys; ++k) r.entity.physicals.push_back(int_value("a physical tag"));
+  if (dim > 0) {
+    const uint64_t nb = size_value("a bounding entity count");
+    if (nb > in_.remaining()) in_.fail("too many bounding entities");
+    for (uint64_t k = 0; k < nb; ++k) {
+      const int b = int_value("a bounding entity tag");
+      if (dim == 3) r.entity.bounding.push_back(b);
+    }
+  }
+  return r;
+}
+
 void MshReader::read_entities() {
   if (version_ < 4) in_.fail("$Entities in a version 2 file");
   have_entities_ = true;
   uint64_t count[4];
   for (uint64_t& c : count) c = size_value("an entity count");
-  for (int dim = 0; dim < 4; ++dim) {
+  for (int dim = 0; dim < 4; ++dim)
     for (uint64_t i = 0; i < count[dim]; ++i) {
-      const int tag = int_value("an entity tag");
-      for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) real_value("an entity bounding box");
-      const uint64_t nphys = size_value("a physical tag count");
-      if (nphys > in_.remaining()) in_.fail("too many physical tags");
-      Entity e;
-      for (uint64_t k = 0; k < nphys; ++k) e.physicals.push_back(int_value("a physical tag"));
-      if (dim > 0) {
-        const uint64_t nb = size_value("a bounding entity count");
-        if (nb > in_.remaining()) in_.fail("too many bounding entities");
-        for (uint64_t k = 0; k < nb; ++k) {
-          const int b = int_value("a bounding entity tag");
-          if (dim == 3) e.bounding.push_back(b);
-        }
-      }
-      if (dim == 2) surfaces_[tag] = std::move(e);
-      if (dim == 3) volumes_[tag] = std::move(e);
+      EntityRecord r = read_entity(dim, false);
+      if (dim == 2) surfaces_[r.tag] = std::move(r.entity);
+      if (dim == 3) volumes_[r.tag] = std::move(r.entity);
     }
-  }
   expect_end("$Entities");
 }
 
@@ -231,34 +249,15 @@ void MshReader::read_partitioned_entities() {
   }
   uint64_t count[4];
   for (uint64_t& c : count) c = size_value("an entity count");
-  for (int dim = 0; dim < 4; ++dim) {
+  for (int dim = 0; dim < 4; ++dim)
     for (uint64_t i = 0; i < count[dim]; ++i) {
-      const int tag = int_value("an entity tag");
-      const int parent_dim = int_value("a parent dimension");
-      const int parent = int_value("a parent tag");
-      const uint64_t partitions = size_value("a partition count");
-      if (partitions > in_.remaining()) in_.fail("too many partitions");
-      for (uint64_t k = 0; k < partitions; ++k) int_value("a partition tag");
-      for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) real_value("an entity bounding box");
-      const uint64_t nphys = size_value("a physical tag count");
-      if (nphys > in_.remaining()) in_.fail("too many physical tags");
-      Entity e;
-      for (uint64_t k = 0; k < nphys; ++k) e.physicals.push_back(int_value("a physical tag"));
-      if (dim > 0) {
-        const uint64_t nb = size_value("a bounding entity count");
-        if (nb > in_.remaining()) in_.fail("too many bounding entities");
-        for (uint64_t k = 0; k < nb; ++k) {
-          const int b = int_value("a bounding entity tag");
-          if (dim == 3) e.bounding.push_back(b);
-        }
-      }
-      if (dim == 2 && parent_dim == 3) partition_cuts_.insert(tag);
-      if (dim == 2 && parent_dim == 2) surface_parent_[tag] = parent;
-      if (dim == 3) volume_parent_[tag] = parent;
-      if (dim == 2) surfaces_[tag] = std::move(e);
-      if (dim == 3) volumes_[tag] = std::move(e);
+      EntityRecord r = read_entity(dim, true);
+      if (dim == 2 && r.parent_dim == 3) partition_cuts_.insert(r.tag);
+      if (dim == 2 && r.parent_dim == 2) surface_parent_[r.tag] = r.parent;
+      if (dim == 3) volume_parent_[r.tag] = r.parent;
+      if (dim == 2) surfaces_[r.tag] = std::move(r.entity);
+      if (dim == 3) volumes_[r.tag] = std::move(r.entity);
     }
-  }
   expect_end("$PartitionedEntities");
 }
 
@@ -269,7 +268,11 @@ void MshReader::add_node(uint64_t tag, Vec3 p) {
   m_.points.push_back(p);
 }
 
-void MshReader::read_nodes22() {
+// $Nodes, or `parametric`: $ParametricNodes (Mesh.SaveParametric), each node
+// then with its entity's dimension and tag, and one parameter per dimension
+// on curves and surfaces (skipped until 2026-11-30, and every element then
+// "refers to node 15, which does not exist").
+void MshReader::read_nodes22(bool parametric) {
   const uint64_t n = in_.count("the number of nodes");
   nodes_.expect(n, in_.remaining());
   m_.points.reserve(capped(n, in_.remaining(), binary_ ? 28 : 8));
@@ -281,34 +284,15 @@ void MshReader::read_nodes22() {
     p.x = real_value("a node x");
     p.y = real_value("a node y");
     p.z = real_value("a node z");
+    if (parametric) {
+      const int dim = int_value("an entity dimension");
+      int_value("an entity tag");
+      if (dim < 0 || dim > 3) in_.fail("entity dimension " + std::to_string(dim));
+      for (int k = 0; k < (dim == 1 || dim == 2 ? dim : 0); ++k) real_value("a parametric coordinate");
+    }
     add_node(tag, p);
   }
-  expect_end("$Nodes");
-}
-
-// 2.2's $ParametricNodes (Mesh.SaveParametric) in place of $Nodes: each
-// node with its entity's dimension and tag, and one parameter per dimension
-// on curves and surfaces. Skipped until 2026-11-30, and every element then
-// "refers to node 15, which does not exist".
-void MshReader::read_parametric_nodes22() {
-  const uint64_t n = in_.count("the number of nodes");
-  nodes_.expect(n, in_.remaining());
-  m_.points.reserve(capped(n, in_.remaining(), 12));
-  if (binary_) in_.skip_line();
-  for (uint64_t i = 0; i < n; ++i) {
-    const uint64_t tag = binary_ ? static_cast<uint64_t>(static_cast<uint32_t>(in_.get<int32_t>("a node tag")))
-                                 : in_.count("a node tag");
-    Vec3 p;
-    p.x = real_value("a node x");
-    p.y = real_value("a node y");
-    p.z = real_value("a node z");
-    const int dim = int_value("an entity dimension");
-    int_value("an entity tag");
-    if (dim < 0 || dim > 3) in_.fail("entity dimension " + std::to_string(dim));
-    for (int k = 0; k < (dim == 1 || dim == 2 ? dim : 0); ++k) real_value("a parametric coordinate");
-    add_node(tag, p);
-  }
-  expect_end("$ParametricNodes");
+  expect_end(parametric ? "$ParametricNodes" : "$Nodes");
 }
 
 void MshReader::read_nodes41() {
@@ -720,10 +704,10 @@ Mesh MshReader::read() {
       read_partitioned_entities();
     } else if (section == "$Nodes") {
       if (!m_.points.empty()) in_.fail("a second $Nodes section");
-      version_ < 4 ? read_nodes22() : read_nodes41();
+      version_ < 4 ? read_nodes22(false) : read_nodes41();
     } else if (section == "$ParametricNodes" && version_ < 4) {
       if (!m_.points.empty()) in_.fail("a second $Nodes section");
-      read_parametric_nodes22();
+      read_nodes22(true);
     } else if (section == "$Elements") {
       if (!m_.triangles.empty() || !m_.tets.empty()) in_.fail("a second $Elements section");
       version_ < 4 ? read_elements22() : read_elements41();

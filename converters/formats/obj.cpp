@@ -44,7 +44,7 @@ Mesh read_obj(const std::string& path) {
       for (std::string_view t = in.token_in_line();; t = in.token_in_line()) {
         // A line ending in '\' goes on on the next (refused as a bad face
         // vertex until 2026-11-30).
-        if (t == "\\") {
+        if (t == "\\" && !in.line_has_more()) {
           in.skip_line();
           continue;
         }
@@ -66,10 +66,7 @@ Mesh read_obj(const std::string& path) {
       // A polygon naming vertices still to come (the format allows it)
       // is taken convex.
       const bool known = *std::max_element(poly.begin(), poly.end()) < static_cast<int>(m.points.size());
-      std::vector<std::array<int, 3>> fan;
-      if (!known)
-        for (size_t j = 1; j + 1 < poly.size(); ++j) fan.push_back({poly[0], poly[j], poly[j + 1]});
-      for (const auto& corners : known ? detail::triangulate_polygon(m.points, poly) : fan) {
+      for (const auto& corners : known ? detail::triangulate_polygon(m.points, poly) : detail::fan(poly)) {
         Triangle t;
         t.v = corners;
         m.triangles.push_back(t);

@@ -23,6 +23,17 @@ double signed_area(const std::vector<P2>& p) {
   return a / 2;
 }
 
+// A polygon's normal by Newell's sums: its length is twice the area, its
+// direction the turn of the polygon's order, also when it is not convex.
+Vec3 newell_normal(const std::vector<Vec3>& points, const std::vector<int>& polygon) {
+  Vec3 normal{0, 0, 0};
+  for (size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    const Vec3 a = points[static_cast<size_t>(polygon[j])], b = points[static_cast<size_t>(polygon[i])];
+    normal = normal + Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+  }
+  return normal;
+}
+
 bool inside(const std::vector<P2>& poly, P2 q) {
   bool in = false;
   for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
@@ -71,8 +82,8 @@ void clip_ears(std::vector<int> loop, const std::vector<P2>& at, std::vector<std
       clipped = true;
     }
     if (!clipped || ++guard > 4 * at.size() + 16) {
-      // Degenerate (collinear or self-touching): drop a flat vertex if any,
-      // else finish as a fan.
+      // Degenerate (collinear or self-touching, or a vertex on every ear's
+      // diagonal): finish as a fan.
       for (size_t i = 1; i + 1 < loop.size(); ++i) out.push_back({loop[0], loop[i], loop[i + 1]});
       return;
     }
@@ -161,15 +172,10 @@ std::vector<std::array<int, 3>> triangulate_local(const std::vector<Vec3>& point
   for (const auto& p : polygons)
     if (p.size() >= 3) polys.push_back(&p);
   if (polys.empty()) return out;
-  // Facet normal (Newell) from all polygons of the first one with area.
+  // Facet normal from the first polygon with area.
   Vec3 normal{0, 0, 0};
-  for (const auto* p : polys) {
-    for (size_t i = 0, j = p->size() - 1; i < p->size(); j = i++) {
-      const Vec3 a = points[static_cast<size_t>((*p)[j])], b = points[static_cast<size_t>((*p)[i])];
-      normal = normal + Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
-    }
-    if (norm(normal) > 0) break;
-  }
+  for (const auto* p : polys)
+    if (norm(normal = newell_normal(points, *p)) > 0) break;
   if (polys.size() == 1 && polys[0]->size() == 3) {
     out.push_back({(*polys[0])[0], (*polys[0])[1], (*polys[0])[2]});
     return out;
@@ -304,20 +310,20 @@ std::vector<std::array<int, 3>> triangulate_facet(const std::vector<Vec3>& point
   return out;
 }
 
+std::vector<std::array<int, 3>> fan(const std::vector<int>& polygon) {
+  std::vector<std::array<int, 3>> out;
+  for (size_t j = 1; j + 1 < polygon.size(); ++j) out.push_back({polygon[0], polygon[j], polygon[j + 1]});
+  return out;
+}
+
 std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& points, const std::vector<int>& polygon) {
   const size_t n = polygon.size();
   const auto at = [&](size_t i) { return points[static_cast<size_t>(polygon[i % n])]; };
-  Vec3 normal{0, 0, 0};
-  for (size_t i = 0; i < n; ++i) {
-    const Vec3 a = at(i), b = at(i + 1);
-    normal = normal + Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
-  }
+  const Vec3 normal = newell_normal(points, polygon);
   bool convex = true;
   for (size_t i = 0; i < n && convex; ++i) convex = dot(cross(at(i + 1) - at(i), at(i + 2) - at(i + 1)), normal) > 0;
   if (!convex && n > 3) return triangulate_facet(points, {polygon}, {});
-  std::vector<std::array<int, 3>> fan;
-  for (size_t j = 1; j + 1 < n; ++j) fan.push_back({polygon[0], polygon[j], polygon[j + 1]});
-  return fan;
+  return fan(polygon);
 }
 
 }  // namespace vd::io::detail

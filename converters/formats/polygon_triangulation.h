@@ -24,5 +24,7 @@ std::vector<std::array<int, 3>> triangulate_facet(const std::vector<Vec3>& point
 // cap came out with area 4 for 3, and the solid was refused as
 // self-intersecting, until 2026-11-30.
 std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& points, const std::vector<int>& polygon);
+// The fan from the polygon's first vertex.
+std::vector<std::array<int, 3>> fan(const std::vector<int>& polygon);
 
 }  // namespace vd::io::detail

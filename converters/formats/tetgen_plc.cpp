@@ -6,7 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "mesh/number_text.h"
+#include "surface/validate_surface.h"
 
 #include "surface/orient_surface.h"
 #include "formats.h"
@@ -118,12 +118,11 @@ Mesh read_plc(const std::string& path) {
     for (uint64_t r = 0; r < nr; ++r) {
       const Vec3 p = point("a region number");
       const double attribute = in.real("a region attribute");
-      // Attribute 0 is TetGen's "none given": the region keeps the number
-      // vdmesh finds for it.
-      if (attribute != 0 && (attribute != std::floor(attribute) || attribute < 1 || attribute > 1e6))
-        in.fail("region attribute " + number_text(attribute, "%g") +
-                ": vdmesh takes it as the region id, a whole number from 1 to 1000000 (or 0: none)");
-      if (attribute != 0) m.region_points.push_back({p, static_cast<int>(attribute)});
+      // A whole number from 1 up is the region's id; TetGen takes any real
+      // (0 is its "none"), which names no region here: the region keeps the
+      // number vdmesh finds for it.
+      if (attribute == std::floor(attribute) && attribute >= 1 && attribute <= kLargestRegionId)
+        m.region_points.push_back({p, static_cast<int>(attribute)});
       in.skip_line();  // a volume bound may follow
     }
   }

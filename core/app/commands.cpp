@@ -101,8 +101,9 @@ void write_text(const std::string& path, const std::string& text) {
 
 // A file the run is to write must have a folder it can be written in, and
 // must not be a folder itself: found after the whole run, and called bad
-// input (exit 3), until 2026-11-30.
-void check_can_write(const std::string& path, const std::string& option) {
+// input (exit 3), until 2026-11-30. `renamed`: written beside and renamed
+// into place (write_result), so a read-only file there is replaced.
+void check_can_write(const std::string& path, const std::string& option, bool renamed) {
   namespace fs = std::filesystem;
   if (path == "-") return;
   std::error_code error;
@@ -111,7 +112,8 @@ void check_can_write(const std::string& path, const std::string& option) {
   if (fs::is_directory(path, error)) throw UsageError(named + "is a folder");
   if (!fs::is_directory(folder, error)) throw UsageError(named + "the folder " + folder.string() + " does not exist");
   if (::access(folder.c_str(), W_OK) != 0) throw UsageError(named + "the folder " + folder.string() + " is not writable");
-  if (fs::exists(path, error) && ::access(path.c_str(), W_OK) != 0) throw UsageError(named + "the file is not writable");
+  if (!renamed && fs::exists(path, error) && ::access(path.c_str(), W_OK) != 0)
+    throw UsageError(named + "the file is not writable");
 }
 
 // Writes into a staging folder beside the output, then moves what the
@@ -282,8 +284,8 @@ int mesh_command(const std::vector<std::string>& raw) {
   if (max_added_given && opt.delaunayzation.max_added_vertices < 0) throw UsageError("--max-added must not be negative");
   // Unknown output format: a usage error before any work; so is second order
   // to Medit, whose writer refuses it (after the whole run, until 2026-11-29).
-  check_can_write(output, "-o");
-  if (!report_path.empty()) check_can_write(report_path, "--report");
+  check_can_write(output, "-o", true);
+  if (!report_path.empty()) check_can_write(report_path, "--report", false);
   if (io::format_for(output).name == "medit" && opt.order == 2)
     throw UsageError(output + ": the Medit .mesh writer writes first-order elements only; write second order to " +
                      ".msh, .vtu, .vtk, .inp or .node");
@@ -343,7 +345,7 @@ int convert_command(const std::vector<std::string>& raw) {
         "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--quiet] [--size H] [--deflection D] "
         "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G] [--no-smoothing] [--no-face-remesh]");
   io::format_for(pos[1], to);
-  check_can_write(pos[1], "OUT");
+  check_can_write(pos[1], "OUT", false);
   if (from.empty() && cad::is_cad_file_name(pos[0])) {
     // CAD to a surface format: the tagged tessellation the mesher would start from.
     const Mesh surface = cad_plugin().tessellate_file(pos[0], topt);

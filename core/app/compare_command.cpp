@@ -322,7 +322,10 @@ int compare_command(const std::vector<std::string>& raw) {
   cmp.face_patches = patches;
 
   const InputSurface surface(input);
-  const std::vector<RegionPoint> regions = region_points(surface);
+  // Without region tags, the input's own region points (a TetGen PLC's hole
+  // and region lists, which vdmesh applies too), so that both mesh the
+  // same regions.
+  const std::vector<RegionPoint> regions = surface.region_tags() ? region_points(surface) : input.region_points;
   cmp.region_tags = surface.region_tags();
   cmp.region_points = static_cast<int>(regions.size());
   const std::string dir = s.dir;

@@ -143,7 +143,7 @@ TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& c
     cancel.check();
     if (roots == 0)
       throw InputError(path + ": the STEP file has no shape OpenCASCADE could transfer (none, or broken ones: "
-                              "a reference to a missing entity, say)");
+                              "a reference to a missing entity, say)" + messages.said());
     shape = reader.OneShape();
     units = "mm";  // OpenCASCADE converts STEP lengths to millimetres
   } else if (ext == ".iges" || ext == ".igs") {
@@ -153,7 +153,8 @@ TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& c
     const int roots = reader.TransferRoots(cancel.range());
     cancel.check();
     if (roots == 0)
-      throw InputError(path + ": the IGES file has no shape OpenCASCADE could transfer (none, or broken ones)");
+      throw InputError(path + ": the IGES file has no shape OpenCASCADE could transfer (none, or broken ones)" +
+                       messages.said());
     shape = reader.OneShape();
     units = "mm";
   } else if (ext == ".brep" || ext == ".brp") {
@@ -161,12 +162,12 @@ TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& c
     const bool read = BRepTools::Read(shape, path.c_str(), builder, cancel.range());
     cancel.check();
     if (!read)
-      throw InputError(path + ": not a readable BREP file (OpenCASCADE's BREP reader failed)");
+      throw InputError(path + ": not a readable BREP file (OpenCASCADE's BREP reader failed)" + messages.said());
     units = "as given (BREP has no units)";
   } else {
     throw InputError(path + ": not a CAD file (expected .step .stp .iges .igs .brep .brp)");
   }
-  if (shape.IsNull()) throw InputError(path + ": the file holds no shape");
+  if (shape.IsNull()) throw InputError(path + ": the file holds no shape" + messages.said());
   return shape;
 }
 

@@ -320,7 +320,8 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     accumulate(report.delaunayzation, pass);
     report.oracle_stats = oracle->stats();
     report.added_surface_vertices = report.delaunayzation.added_vertices;
-    report.added_surface_facets = static_cast<int>(m.triangles.size()) - report.input_facets;
+    report.added_surface_facets =
+        static_cast<int>(m.triangles.size()) + report.hole_facets_dropped - report.input_facets;
     report.delaunayzation.added_facets = report.added_surface_facets;
     report.output_vertices = static_cast<int>(m.points.size());
     report.output_facets = static_cast<int>(m.triangles.size());
@@ -368,7 +369,11 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   timer.start("volume");
   try {
     report.regions = build_region_tetrahedra(m, dt);
+    const int facets = static_cast<int>(m.triangles.size());
     if (!report.regions.regions_from_tags && apply_region_points(m, dt)) {
+      report.hole_facets_dropped = facets - static_cast<int>(m.triangles.size());
+      if (m.triangles.empty())
+        throw InputError("the hole points leave no region: every region of the surface holds a hole point");
       report.regions = build_region_tetrahedra(m, dt);
       report.regions.regions_from_tags = false;  // the points named them, not the input's tags
     }
@@ -614,6 +619,12 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     ++report.tets_per_region[t.region];
   }
 
+  // The vertices of facets a hole dropped are in no element now: a solver
+  // would take them for loose nodes.
+  if (report.hole_facets_dropped > 0) {
+    drop_unused_points(m);
+    report.output_vertices = static_cast<int>(m.points.size());
+  }
   if (options.order == 2) {
     // After the quality figures: they are those of the straight elements.
     timer.start("second order");

@@ -111,6 +111,7 @@ struct MeshReport {
   int welded_input_vertices = 0;  // repeats of another input vertex's coordinates, made one with it
   int output_vertices = 0, output_facets = 0;
   int added_surface_vertices = 0, added_surface_facets = 0;
+  int hole_facets_dropped = 0;       // facets left between two exteriors by region points' holes
   int face_patches_assigned = 0;     // > 0 when face ids came from sharp edges
   int size_splits = 0;               // surface edges split down to the given or graded size
   int size_flips = 0;                // flips inside faces between those splits

@@ -41,6 +41,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"output_vertices\": " << r.output_vertices << ", \"output_facets\": " << r.output_facets
     << ", \"added_surface_vertices\": " << r.added_surface_vertices
     << ", \"added_surface_facets\": " << r.added_surface_facets
+    << ", \"hole_facets_dropped\": " << r.hole_facets_dropped
     << ", \"face_patches_assigned\": " << r.face_patches_assigned << ", \"size_splits\": " << r.size_splits << ", \"size_flips\": " << r.size_flips << ", \"tetrahedra\": " << q.tets
     << ", \"tets_per_region\": " << json_array(r.tets_per_region) << ", \"regions\": " << r.regions.regions
     << ", \"regions_from_tags\": " << (r.regions.regions_from_tags ? "true" : "false") << "},\n";

@@ -157,7 +157,7 @@ const Snippet kSnippets[] = {
     // *INCLUDE: a file that is not there, a folder, a deck that includes itself.
     {"include_missing.inp", 2, "*NODE\n*INCLUDE, INPUT=no-such-nodes.inp\n"},
     {"include_folder.inp", 1, "*INCLUDE, INPUT=.\n"},
-    {"include_self.inp", 0, "** again\n*INCLUDE, INPUT=include_self.inp\n"},
+    {"include_self.inp", 2, "** again\n*INCLUDE, INPUT=include_self.inp\n"},
     {"mixed_order.inp", 9,
      "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n"
      "*ELEMENT, TYPE=C3D10\n2, 1, 2, 3, 4, 1, 2, 3, 4, 1, 2\n"},

@@ -440,14 +440,26 @@ TEST(ConvertersRoundTrip, AbaqusSetNamesStayApartAndShort) {
     m.tets[i].region = static_cast<int>(i) + 1;
     m.region_names[static_cast<int>(i) + 1] = wanted[i];
   }
-  m.triangles.clear();
+  ASSERT_FALSE(m.triangles.empty());
+  for (Triangle& t : m.triangles) {
+    t.front = 0;
+    t.back = m.tets[0].region;
+    m.face_names[t.face] = longest + "face" + std::to_string(t.face);
+  }
   const std::string path = test::temp_path("names.inp");
   io::write_mesh(m, path);
   std::ifstream in(path);
-  for (std::string line; std::getline(in, line);) {
-    const size_t at = line.find("ELSET=");
-    if (at != std::string::npos) EXPECT_LE(line.size() - at - 6, 80u) << line;
-  }
+  int nsets = 0;
+  for (std::string line; std::getline(in, line);)
+    for (const char* key : {"ELSET=", "NSET=", "NAME="}) {
+      const size_t at = line.find(key);
+      if (at == std::string::npos) continue;
+      const size_t start = at + std::string(key).size();
+      const size_t end = line.find(',', start);
+      EXPECT_LE((end == std::string::npos ? line.size() : end) - start, 80u) << line;
+      nsets += std::string(key) == "NSET=" && line.find("NALL") == std::string::npos;
+    }
+  EXPECT_GT(nsets, 0);
   const Mesh back = io::read_mesh(path);
   std::set<int> regions;
   for (const Tetrahedron& t : back.tets) regions.insert(t.region);

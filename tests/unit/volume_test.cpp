@@ -10,6 +10,7 @@
 #include <set>
 
 #include "delaunay/delaunay_tetrahedralization.h"
+#include "mesh/error.h"
 #include "mesh/progress.h"
 #include "mesh/shapes.h"
 #include "mesh/tet_faces.h"
@@ -144,6 +145,21 @@ TEST(Volume, RegionPointsNameRegionsAndHolesEmptyThem) {
       EXPECT_EQ(std::min(t.front, t.back), 0);
       EXPECT_EQ(std::max(t.front, t.back), 1);
       for (int v : t.v) EXPECT_GE(r.mesh.points[v].x, 1.0 - 1e-12);
+    }
+    // The dropped walls' corners are no loose nodes in the output.
+    for (const Vec3& p : r.mesh.points) EXPECT_GE(p.x, 1.0 - 1e-12);
+    EXPECT_EQ(r.report.hole_facets_dropped, static_cast<int>(in.triangles.size() - r.mesh.triangles.size()) -
+                                                r.report.added_surface_facets);
+  }
+  {
+    // Every region a hole: nothing to mesh, said so.
+    Mesh in = untagged(test::box_in_box());
+    in.region_points = {{{0.5, 0.5, 0.5}, 0}, {{1.5, 1.5, 1.5}, 0}};
+    try {
+      mesh_with_interior(in);
+      ADD_FAILURE() << "a surface whose every region holds a hole point was meshed";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("hole points leave no region"), std::string::npos) << e.what();
     }
   }
   {
