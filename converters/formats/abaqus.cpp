@@ -594,15 +594,15 @@ void InpReader::include(const Keyword& k, size_t line) {
   if (file.empty()) throw InputError(where + "*INCLUDE without INPUT=");
   // Deeper than any deck nests its files: a file including itself, or two each other.
   constexpr size_t kDeepest = 32;
+  if (sources_.size() > kDeepest)
+    throw InputError(where + "*INCLUDE nested more than " + std::to_string(kDeepest) +
+                     " files deep (a file that includes itself?)");
   // And no more files in all: two files each including the next twice
   // would be read 2^32 times within that depth.
   constexpr int kMostIncludes = 1000;
   if (++includes_ > kMostIncludes)
     throw InputError(where + "more than " + std::to_string(kMostIncludes) + " *INCLUDEs read (files including each "
                      "other over and over?)");
-  if (sources_.size() > kDeepest)
-    throw InputError(where + "*INCLUDE nested more than " + std::to_string(kDeepest) +
-                     " files deep (a file that includes itself?)");
   std::filesystem::path path(file);
   if (path.is_relative()) path = std::filesystem::path(in_->name()).parent_path() / path;
   std::error_code error;

@@ -111,7 +111,8 @@ void check_can_write(const std::string& path, const std::string& option, bool re
   const std::string named = option + " " + path + ": ";
   if (fs::is_directory(path, error)) throw UsageError(named + "is a folder");
   if (!fs::is_directory(folder, error)) throw UsageError(named + "the folder " + folder.string() + " does not exist");
-  if (::access(folder.c_str(), W_OK) != 0) throw UsageError(named + "the folder " + folder.string() + " is not writable");
+  if (::access(folder.c_str(), W_OK) != 0)
+    throw UsageError(named + "the folder " + folder.string() + " is not writable");
   if (!renamed && fs::exists(path, error) && ::access(path.c_str(), W_OK) != 0)
     throw UsageError(named + "the file is not writable");
 }

@@ -1083,7 +1083,8 @@ RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::v
       face_grown += grown;
     }
   }
-  const double budget = std::max(kMaxSurfaceGrowth * static_cast<double>(s.mesh.triangles.size()), kSmallestSurfaceBudget);
+  const double budget =
+      std::max(kMaxSurfaceGrowth * static_cast<double>(s.mesh.triangles.size()), kSmallestSurfaceBudget);
   plan.growth_limit = total <= budget ? kMaxFaceGrowth : kMaxFaceGrowthOverBudget;
   // Past the growth limit, while the surface stays within its budget: the
   // faces that ask for the fewest new facets first. A face's facets are

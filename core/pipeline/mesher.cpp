@@ -624,6 +624,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   if (report.hole_facets_dropped > 0) {
     drop_unused_points(m);
     report.output_vertices = static_cast<int>(m.points.size());
+    report.output_facets = static_cast<int>(m.triangles.size());
   }
   if (options.order == 2) {
     // After the quality figures: they are those of the straight elements.
