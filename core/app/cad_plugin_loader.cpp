@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "cad/header_fingerprint.h"
+
 namespace vd::app {
 
 const cad::CadEntryPoints& cad_plugin() {
@@ -26,6 +28,10 @@ const cad::CadEntryPoints& cad_plugin() {
   if (found->abi != cad::kCadPluginAbi)
     throw std::runtime_error("CAD input: " + path + " is of another build (interface " + std::to_string(found->abi) +
                              ", the program's " + std::to_string(cad::kCadPluginAbi) + ")");
+  if (std::string(found->header_fingerprint) != kCoreHeaderFingerprint)
+    throw std::runtime_error("CAD input: " + path +
+                             " is of another build (built against other core headers than the program); "
+                             "install the program and lib/vdmesh/libvdmesh_cad.so of one build together");
   entry = found;
   return *entry;
 }

@@ -3,6 +3,7 @@
 #include <Standard_Version.hxx>
 
 #include "cad/cad_model.h"
+#include "cad/header_fingerprint.h"
 
 namespace vd::cad {
 
@@ -20,7 +21,7 @@ Mesh tessellate_file(const std::string& path, const TessellationOptions& options
 }  // namespace vd::cad
 
 extern "C" const vd::cad::CadEntryPoints* vdmesh_cad_entry_points() {
-  static const vd::cad::CadEntryPoints entry{vd::cad::kCadPluginAbi, vd::cad::mesh_file, vd::cad::tessellate_file,
-                                             OCC_VERSION_COMPLETE};
+  static const vd::cad::CadEntryPoints entry{vd::cad::kCadPluginAbi, kCoreHeaderFingerprint, vd::cad::mesh_file,
+                                             vd::cad::tessellate_file, OCC_VERSION_COMPLETE};
   return &entry;
 }

@@ -17,14 +17,18 @@ namespace vd::cad {
 // CadModel::read + tessellate.
 struct CadEntryPoints {
   int abi = 0;  // kCadPluginAbi of the plugin's build
+  // kCoreHeaderFingerprint of the plugin's build: the program refuses a
+  // plugin built against other core headers (the ABI number is bumped by
+  // hand and was not, when Mesh gained a field).
+  const char* header_fingerprint = "";
   MeshResult (*mesh_file)(const std::string& path, const CadMeshOptions& options, MeshResult* partial) = nullptr;
   Mesh (*tessellate_file)(const std::string& path, const TessellationOptions& options) = nullptr;
   const char* opencascade_version = "";  // OCC_VERSION_COMPLETE of the plugin's build, for `vdmesh --version`
 };
 
-// Bumped when CadEntryPoints or the option structs change shape, so that a
-// stale plugin beside a newer program is refused rather than misread.
-constexpr int kCadPluginAbi = 3;
+// Bumped when CadEntryPoints changes shape, so that a stale plugin beside a
+// newer program is refused before its fields are misread.
+constexpr int kCadPluginAbi = 4;
 
 }  // namespace vd::cad
 

@@ -302,6 +302,24 @@ alone = os.path.join(lonely, os.path.basename(BIN))
 p = subprocess.run([alone, "mesh", boxhole, "-o", os.path.join(out, "alone.vtu")], capture_output=True, text=True)
 check(p.returncode == 1 and "libvdmesh_cad.so" in p.stderr and not os.path.exists(os.path.join(out, "alone.vtu")),
       "no plugin: CAD input refused, exit 1, the file named (%d: %s)" % (p.returncode, p.stderr.strip()[:300]))
+# A plugin of another build beside the program is refused before its entry
+# points are called: an older ABI number, or the same number built against
+# other core headers (a stale plugin crashed once Mesh had gained a field).
+fake_dir = os.path.join(out, "alone", "lib", "vdmesh")
+os.makedirs(fake_dir)
+for abi, fingerprint, says in ((3, "", "interface 3"), (4, "0" * 64, "other core headers")):
+    src = os.path.join(out, "fake_plugin.c")
+    with open(src, "w") as f:
+        f.write("struct Entry { int abi; const char* fingerprint; void* mesh; void* tessellate; const char* occ; };\n"
+                "static const struct Entry entry = {%d, \"%s\", 0, 0, \"\"};\n"
+                "const struct Entry* vdmesh_cad_entry_points(void) { return &entry; }\n" % (abi, fingerprint))
+    so = os.path.join(fake_dir, "libvdmesh_cad.so")
+    subprocess.run(["gcc", "-shared", "-fPIC", "-o", so, src], check=True)
+    p = subprocess.run([alone, "mesh", boxhole, "-o", os.path.join(out, "alone.vtu")], capture_output=True, text=True)
+    check(p.returncode == 1 and "another build" in p.stderr and says in p.stderr
+          and not os.path.exists(os.path.join(out, "alone.vtu")),
+          "plugin of another build (ABI %d): refused, exit 1 (%d: %s)" % (abi, p.returncode, p.stderr.strip()[:300]))
+shutil.rmtree(fake_dir)
 tet = os.path.join(out, "tet.off")
 with open(tet, "w") as f:
     f.write("OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")
