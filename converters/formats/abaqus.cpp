@@ -156,6 +156,24 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
         out << '\n';
       }
     }
+    // A node set per region too: *BOUNDARY or *INITIAL CONDITIONS on a solid
+    // want its nodes, and CalculiX cannot take them from an element set.
+    std::vector<int> seen(m.points.size(), 0);
+    int stamp = 0;
+    for (const auto& [r, tets] : by_region) {
+      ++stamp;
+      std::vector<int> nodes;
+      for (size_t i : tets) {
+        for (int v : m.tets[i].v)
+          if (seen[v] != stamp) seen[v] = stamp, nodes.push_back(v);
+        if (quad)
+          for (int v : m.tet_mid[i])
+            if (seen[v] != stamp) seen[v] = stamp, nodes.push_back(v);
+      }
+      std::sort(nodes.begin(), nodes.end());
+      out << "*NSET, NSET=" << region_set.at(r) << "_Nodes\n";
+      node_list(out, nodes);
+    }
     const auto owner = triangle_owners(m);
     for (const auto& [f, tris] : by_face) {
       bool any = false;

@@ -60,8 +60,9 @@ def write_bar_obj(path, cuts):
                 f.write("f %d %d %d\nf %d %d %d\n" % (q[0], q[1], q[2], q[0], q[2], q[3]))
 
 
-def read_deck(path):
-    """Nodes {id: (x,y,z)} and element sets {ELSET: [(id, nodes...)]} of a deck."""
+def read_deck(path, nsets=None):
+    """Nodes {id: (x,y,z)} and element sets {ELSET: [(id, nodes...)]} of a deck;
+    node sets into `nsets` ({NSET: set of ids}) when given."""
     nodes, elsets, mode, current = {}, {}, None, None
     for line in open(path):
         s = line.strip()
@@ -75,6 +76,10 @@ def read_deck(path):
                 mode = "element"
                 current = re.search(r"ELSET=([A-Za-z0-9_]+)", s, re.I).group(1)
                 elsets.setdefault(current, [])
+            elif key.startswith("*NSET") and nsets is not None:
+                mode = "nset"
+                current = re.search(r"NSET=([A-Za-z0-9_]+)", s, re.I).group(1)
+                nsets.setdefault(current, set())
             else:
                 mode = None
             continue
@@ -83,6 +88,8 @@ def read_deck(path):
             nodes[int(parts[0])] = tuple(float(p) for p in parts[1:4])
         elif mode == "element":
             elsets[current].append(tuple(int(p) for p in parts))
+        elif mode == "nset":
+            nsets[current].update(int(p) for p in parts)
     return nodes, elsets
 
 
@@ -193,6 +200,15 @@ def main():
         if len(elsets) != 2:
             continue
         left, right = region_sets_by_x(nodes, elsets)
+        # Each region's node set holds its nodes: x <= L1 on the left, x >= L1
+        # on the right (ccx reads them in the run below).
+        nsets = {}
+        read_deck(inp, nsets)
+        for name, side in ((left, lambda x: x <= L1 + 1e-9), (right, lambda x: x >= L1 - 1e-9)):
+            want = {n for n, p in nodes.items() if side(p[0])}
+            got = nsets.get(name + "_Nodes", set())
+            check(got == want, "series bar C3D%d: %s_Nodes holds the region's %d nodes (%d, %d missing, %d extra)"
+                  % (10 if order == 2 else 4, name, len(want), len(got), len(want - got), len(got - want)))
         u = run_ccx(tmp, "series_run%d" % order, inp, {left: (E1, 0.0), right: (E2, 0.0)}, axial_step(nodes, F))
         if u:
             exact = F * (L1 / E1 + (L - L1) / E2) / (B * H)

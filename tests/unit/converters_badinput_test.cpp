@@ -198,7 +198,8 @@ Mesh two_tets() {
 }
 
 // Every prefix length of a valid file (sampled) either reads or throws
-// InputError; half the file always fails.
+// InputError; half the file always fails (an Abaqus deck: cut inside an
+// element line).
 TEST(ConvertersBadInput, TruncatedFilesFailCleanly) {
   const Mesh m = two_tets();
   struct Case {
@@ -227,7 +228,13 @@ TEST(ConvertersBadInput, TruncatedFilesFailCleanly) {
         EXPECT_EQ(std::string(e.what()).rfind(cut, 0), 0u) << e.what();
       }
     }
-    write_text(cut, full.substr(0, full.size() / 2));
+    // An Abaqus deck has no counts and no end: cut after a line of its
+    // trailing sets it is a valid deck (half of this one ends in a node set
+    // since the writer gives each region one). What must fail there is an
+    // element line cut short.
+    size_t half = full.size() / 2;
+    if (std::string(c.file) == "t.inp") half = full.find('\n', full.find("*ELEMENT")) + 4;
+    write_text(cut, full.substr(0, half));
     EXPECT_FALSE(input_error(cut).empty()) << "half a file read without error";
   }
 }
