@@ -91,11 +91,13 @@ class MshReader {
   void read_nodes22(bool parametric);
   void read_nodes41();
   void read_elements22();
+  void read_elements10();
   void read_elements41();
   void read_block41_binary(int type, int entity, uint64_t count, int k);
   bool plan_tet_places41(uint64_t blocks, uint64_t min_tag, uint64_t max_tag);
   void skip_section(std::string_view name);
   void expect_end(std::string_view name);
+  void expect_token(std::string_view end);
   void add_node(uint64_t tag, Vec3 p);
   void add_element(int type, uint64_t tag, const uint64_t* nodes, int entity, int physical);
   void refuse_lost(int type, uint64_t tag);
@@ -146,10 +148,12 @@ double MshReader::real_value(const char* what) {
   return v;
 }
 
-void MshReader::expect_end(std::string_view name) {
-  const std::string end = "$End" + std::string(name.substr(1));
-  const std::string_view t = in_.token(end.c_str());
-  if (t != end) in_.fail("expected " + end + ", found '" + std::string(t.substr(0, 40)) + "'");
+void MshReader::expect_end(std::string_view name) { expect_token("$End" + std::string(name.substr(1))); }
+
+void MshReader::expect_token(std::string_view end) {
+  const std::string want(end);
+  const std::string_view t = in_.token(want.c_str());
+  if (t != end) in_.fail("expected " + want + ", found '" + std::string(t.substr(0, 40)) + "'");
 }
 
 void MshReader::skip_section(std::string_view name) {
@@ -292,7 +296,10 @@ void MshReader::read_nodes22(bool parametric) {
     }
     add_node(tag, p);
   }
-  expect_end(parametric ? "$ParametricNodes" : "$Nodes");
+  if (version_ < 2)
+    expect_token("$ENDNOD");
+  else
+    expect_end(parametric ? "$ParametricNodes" : "$Nodes");
 }
 
 void MshReader::read_nodes41() {
@@ -433,6 +440,28 @@ void MshReader::read_elements22() {
     }
   }
   expect_end("$Elements");
+}
+
+// MSH 1.0 (Gmsh before 2.0, 2006): each element as `tag type physical
+// elementary node-count nodes...`, ASCII only.
+void MshReader::read_elements10() {
+  const uint64_t n = in_.count("the number of elements");
+  uint64_t nodes[64];
+  for (uint64_t i = 0; i < n; ++i) {
+    const uint64_t tag = in_.count("an element tag");
+    const int type = in_.int32("an element type");
+    const int physical = in_.int32("a physical region");
+    const int elementary = in_.int32("an elementary region");
+    const uint64_t count = in_.count("the number of nodes", 64);
+    const int k = msh_nodes_per_element(type);
+    if (k < 0) in_.fail("unknown element type " + std::to_string(type));
+    if (count != static_cast<uint64_t>(k))
+      in_.fail("element " + std::to_string(tag) + " of type " + std::to_string(type) + " has " + std::to_string(k) +
+               " nodes, not " + std::to_string(count));
+    for (int j = 0; j < k; ++j) nodes[j] = in_.count("an element node");
+    add_element(type, tag, nodes, elementary, physical);
+  }
+  expect_token("$ENDELM");
 }
 
 // Looks ahead through the binary element blocks (headers and tag columns
@@ -688,12 +717,21 @@ Mesh MshReader::read() {
     const std::string_view section = in_.token("a section");
     if (section.empty() || section[0] != '$') in_.fail("expected a $Section, found '" +
                                                        std::string(section.substr(0, 40)) + "'");
-    if (!have_format && section != "$MeshFormat") in_.fail("the file does not start with $MeshFormat");
+    // MSH 1.0 has no $MeshFormat: it starts with its nodes.
+    if (!have_format && section == "$NOD") version_ = 1.0, have_format = true;
+    if (!have_format && section != "$MeshFormat") in_.fail("the file does not start with $MeshFormat (nor $NOD, MSH 1.0)");
     // Binary 4.1 sections start right after the line of their name.
     if (binary_ && version_ >= 4 &&
         (section == "$Entities" || section == "$PartitionedEntities" || section == "$Nodes" || section == "$Elements"))
       in_.skip_line();
-    if (section == "$MeshFormat") {
+    const bool msh1 = have_format && version_ < 2;
+    if (msh1 && (section == "$NOD" || section == "$ELM")) {
+      if (section == "$NOD" ? !m_.points.empty() : (!m_.triangles.empty() || !m_.tets.empty()))
+        in_.fail("a second " + std::string(section) + " section");
+      section == "$NOD" ? read_nodes22(false) : read_elements10();
+    } else if (msh1 && section == "$MeshFormat") {
+      in_.fail("$MeshFormat after the nodes of an MSH 1.0 file");
+    } else if (section == "$MeshFormat") {
       read_format();
       have_format = true;
     } else if (section == "$PhysicalNames") {

@@ -373,6 +373,15 @@ def check_reads_gmsh_and_meshio_files(binary, tmp):
                   (os.path.basename(path), tets, whole, volumes, err))
         gmsh.option.setNumber("Mesh.SaveParametric", 0)
         gmsh.option.setNumber("Mesh.Binary", 0)
+        # MSH 1.0 ($NOD/$ELM, no $MeshFormat): refused as "does not start
+        # with $MeshFormat" until 2026-11-30.
+        gmsh.option.setNumber("Mesh.MshFileVersion", 1.0)
+        path = os.path.join(tmp, "parts_1.0.msh")
+        gmsh.write(path)
+        code, tets, volumes, err = vdmesh_info(binary, path)
+        check(code == 0 and tets == whole and set(volumes) == {11, 22} and abs(volumes[11] - 1) < 1e-9 and
+              abs(volumes[22] - 2) < 1e-9, "vdmesh info %s (Gmsh 1.0): %s tetrahedra of %d, volumes %s %s" %
+              (os.path.basename(path), tets, whole, volumes, err))
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         surfaces = []
         gmsh.model.add("two")
