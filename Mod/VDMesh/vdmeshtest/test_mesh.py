@@ -7,9 +7,11 @@ checks the FemMesh: tetrahedra with FemMesh's orientation, Solid<i>_Volumes/_Nod
 Face<j>_Faces/_Nodes per face, volume per solid within 1 % of FreeCAD's, the face numbering against
 FreeCAD's Face<j> (vdmesh's per-face CAD areas, and the nodes of each face group lying on that face);
 the analysis; recompute with another size; export through `vdmesh convert`; bad geometry (an open
-shell made a solid: vdmesh exit 3) gives a VDMeshError and leaves the document unchanged.
+shell made a solid: vdmesh exit 3) gives a VDMeshError and leaves the document unchanged; the
+materials' groups (References, none); undo and redo of a Size change; save, reopen and recompute.
 """
 import os
+import shutil
 import tempfile
 import time
 import unittest
@@ -233,6 +235,33 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         self.assertEqual(obj.OutputFile, deck)  # not meshed again
         figure("  materials swapped: groups renewed on recompute, mesh kept (%d tetrahedra)" % obj.FemMesh.VolumeCount)
 
+    def test_2d_material_without_references_takes_the_rest(self):
+        # FreeCAD reads a solid material without References beside others as "the rest": it gave
+        # Steel every tetrahedron, Alu's too, and the CalculiX writer's count check failed.
+        import ObjectsFem
+        doc = self.doc
+        bf = boolean_fragments(doc, "SteelAndAlu", ("SteelBox", 10, Vector(0, 30, 0)), ("AluBox", 10, Vector(10, 30, 0)))
+        analysis = ObjectsFem.makeAnalysis(doc, "RestAnalysis")
+        steel = ObjectsFem.makeMaterialSolid(doc, "RestSteel")
+        analysis.addObject(steel)
+        obj, info, report, text = meshobject.create_mesh(bf, engine.Parameters(size=3.0), analysis=analysis)
+
+        def volumes(group):
+            return set(obj.FemMesh.getGroupElements(femmesh.group_ids(obj.FemMesh)[group]))
+
+        self.assertEqual(volumes(steel.Name + "_Volumes"), set(obj.FemMesh.Volumes))  # the only material
+        alu = ObjectsFem.makeMaterialSolid(doc, "RestAlu")
+        alu.References = [(bf, "Solid2")]
+        analysis.addObject(alu)
+        obj.touch()
+        doc.recompute()
+        steel_set, alu_set = volumes(steel.Name + "_Volumes"), volumes(alu.Name + "_Volumes")
+        self.assertEqual(alu_set, volumes("Solid2_Volumes"))
+        self.assertEqual(steel_set, volumes("Solid1_Volumes"))
+        self.assertFalse(steel_set & alu_set)
+        figure("  a material without References beside one on Solid2: %d + %d of %d tetrahedra"
+               % (len(steel_set), len(alu_set), obj.FemMesh.VolumeCount))
+
     def test_4_module_and_program_give_the_same_mesh(self):
         # ctest says which engine this build must use: the module (Release) or the program.
         core = engine.core_module()
@@ -312,3 +341,62 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         with self.assertRaises(engine.VDMeshError):
             meshobject.create_mesh(sheet)
         self.assertEqual(sorted(o.Name for o in doc.Objects), names)
+
+    def test_6_undo_gives_back_the_mesh_of_the_properties(self):
+        # Undo restores Size and MeshInputs but not the FemMesh: the undone mesh stayed through
+        # recompute, touch and save; redo brings back a deck that is not the FemMesh's.
+        doc = FreeCAD.newDocument("VDMeshUndo")
+        self.addCleanup(FreeCAD.closeDocument, doc.Name)
+        doc.UndoMode = 1
+        box = doc.addObject("Part::Box", "Box")
+        box.Length, box.Width, box.Height = 20, 10, 10
+        doc.recompute()
+        obj, info, report, text = meshobject.create_mesh(box, engine.Parameters(size=3.0))
+        at3 = obj.FemMesh.VolumeCount
+        doc.openTransaction("Size 5")
+        obj.Size = 5.0
+        doc.recompute()
+        doc.commitTransaction()
+        at5 = obj.FemMesh.VolumeCount
+        self.assertLess(at5, at3)
+        doc.undo()
+        self.assertAlmostEqual(obj.Size.Value, 3.0)
+        self.assertIsNone(meshobject.kept_deck(obj))  # its folder is gone: Export writes the FemMesh
+        doc.recompute()
+        self.assertEqual(obj.FemMesh.VolumeCount, at3)
+        self.assertIsNotNone(meshobject.kept_deck(obj))
+        doc.redo()
+        self.assertAlmostEqual(obj.Size.Value, 5.0)
+        self.assertEqual(obj.FemMesh.VolumeCount, at3)
+        self.assertIsNone(meshobject.kept_deck(obj))  # the size-5 deck is there, but not the FemMesh's
+        doc.recompute()
+        self.assertEqual(obj.FemMesh.VolumeCount, at5)
+        figure("undo of Size 3 -> 5: %d -> %d tetrahedra, undo + recompute %d, redo + recompute %d"
+               % (at3, at5, at3, at5))
+
+    def test_7_reopened_document_keeps_its_mesh(self):
+        # The part's BREP text changes on save and reload (-7.3478807948841188e-16 comes back as
+        # -7.3000000000000003e-16): every recompute of a reopened document meshed again.
+        doc = FreeCAD.newDocument("VDMeshReopen")
+        cut = add_box_with_hole(doc)
+        obj, info, report, text = meshobject.create_mesh(cut, engine.Parameters(size=2.0))
+        name, deck, count = obj.Name, obj.OutputFile, obj.FemMesh.VolumeCount
+        folder = tempfile.mkdtemp(prefix="vdmesh-fc-reopen-")
+        self.addCleanup(shutil.rmtree, folder, True)
+        doc.saveAs(os.path.join(folder, "reopen.FCStd"))
+        FreeCAD.closeDocument(doc.Name)
+        doc = FreeCAD.openDocument(os.path.join(folder, "reopen.FCStd"))
+        self.addCleanup(FreeCAD.closeDocument, doc.Name)
+        obj, cut = doc.getObject(name), doc.getObject("BoxWithHole")
+        doc.recompute()
+        self.assertEqual(obj.OutputFile, deck)  # not meshed again
+        cut.touch()  # the part's shape made again, not the one read back
+        doc.recompute()
+        self.assertEqual(obj.OutputFile, deck)
+        self.assertEqual(obj.FemMesh.VolumeCount, count)
+        doc.getObject("Box").Length = 12  # a real change of the part meshes again
+        doc.recompute()
+        self.assertNotEqual(obj.OutputFile, deck)
+        self.assertNotEqual(obj.FemMesh.VolumeCount, count)
+        figure("saved, reopened, recomputed (part too): mesh kept (%d tetrahedra); box 12 long: %d"
+               % (count, obj.FemMesh.VolumeCount))

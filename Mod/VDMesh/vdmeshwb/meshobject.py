@@ -6,7 +6,9 @@ Recompute re-runs vdmesh with the current properties.
 """
 import hashlib
 import json
+import math
 import os
+import re
 import shutil
 import tempfile
 
@@ -93,7 +95,8 @@ class VDMeshObject:
         _add(obj, "App::PropertyString", "OutputDigest", "VDMesh", "SHA-256 of OutputFile as the last run wrote it")
         _add(obj, "App::PropertyLinkList", "Materials", "VDMesh",
              "The analysis's solid materials: a change of theirs renews the <Material>_Volumes groups")
-        _add(obj, "App::PropertyString", "MeshInputs", "VDMesh", "What the last mesh was made from (shape, options)")
+        _add(obj, "App::PropertyString", "MeshInputs", "VDMesh",
+             "What the last mesh was made from (shape, options), and what it was (counts, node checksum)")
         obj.setEditorMode("Report", 1)
         for hidden in ("OutputDigest", "Materials", "MeshInputs"):
             obj.setEditorMode(hidden, 2)
@@ -104,7 +107,8 @@ class VDMeshObject:
             return
         try:
             key = mesh_inputs(obj.Part, params_of(obj))
-            if key != obj.MeshInputs or obj.FemMesh.VolumeCount == 0:
+            # The FemMesh counts too: undo restores the properties and MeshInputs but not the FemMesh.
+            if not mesh_is_current(obj, key) or obj.FemMesh.VolumeCount == 0:
                 fm, info, inp, report, text = run_mesh(obj.Part, params_of(obj))
                 adopt_result(obj, fm, inp, report, key)
             else:
@@ -139,10 +143,71 @@ def file_digest(path):
     return h.hexdigest()
 
 
+# a number in BREP text; a line of the seven 0/1 flags of a TShape (Free Modified Checked Orientable ...)
+BREP_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+BREP_FLAGS = re.compile(r"^[01]{7}$", re.M)
+
+
+def brep_quantum(shape):
+    """The step BREP numbers are rounded to: a power of ten near 1e-9 of the bounding-box diagonal
+    (a power of ten, so that the diagonal's own last digits cannot move every rounded number)."""
+    diagonal = shape.BoundBox.DiagonalLength or 1.0
+    return 10.0 ** math.floor(math.log10(1e-9 * diagonal))
+
+
+def stable_brep(shape):
+    """The shape's BREP text in a form that survives save and reload: FreeCAD saves numbers with 17
+    decimals (-7.3478807948841188e-16 comes back as -7.3000000000000003e-16, -0 as 0) and the
+    flags' Checked bit changes, so every number is rounded to brep_quantum and the flag lines left
+    out. Copied without the triangulation the 3D view may store in the shape: not the geometry."""
+    shape = shape.copy(True, False)
+    quantum = brep_quantum(shape)
+
+    def rounded(m):
+        steps = float(m.group()) / quantum
+        return "%d" % round(steps) if math.isfinite(steps) else m.group()
+
+    return BREP_NUMBER.sub(rounded, BREP_FLAGS.sub("", shape.exportBrepToString()))
+
+
 def mesh_inputs(part, params):
-    """What a mesh is made from: the part's shape (its BREP text) and the options."""
-    brep = shape_of(part).exportBrepToString()
+    """What a mesh is made from: the part's shape (its BREP text, see stable_brep) and the options.
+    Until 2026-11-30 the raw BREP text was hashed, and every recompute after reopening a document
+    meshed again."""
+    brep = stable_brep(shape_of(part))
     return hashlib.sha256(brep.encode()).hexdigest() + " " + json.dumps(sorted(vars(params).items()))
+
+
+def mesh_signature(fm):
+    """What a FemMesh is: node and tetrahedron counts and a checksum of the node coordinates
+    (0.2 s for 71,000 nodes, against 10 s to mesh them). The groups are left out: materials renew
+    theirs without a new mesh. 12 digits, so that the UNV a document keeps the mesh in may round."""
+    h = hashlib.sha256()
+    nodes = fm.Nodes
+    for n in sorted(nodes):
+        v = nodes[n]
+        h.update(b"%d %.12g %.12g %.12g\n" % (n, v.x, v.y, v.z))
+    return "mesh %d %d %s" % (fm.NodeCount, fm.VolumeCount, h.hexdigest()[:32])
+
+
+def mesh_record(key, fm):
+    """MeshInputs: what the mesh was made from (mesh_inputs) and what it is (mesh_signature)."""
+    return "%s | %s" % (key, mesh_signature(fm))
+
+
+def mesh_is_current(obj, key):
+    """Whether obj's FemMesh is the one its last run made from key (the part and the properties now).
+
+    Undo restores the properties, MeshInputs and OutputFile but not the FemMesh: until 2026-11-30 a
+    box meshed at Size 3 (1,556 tetrahedra), set to 5 (437) and undone kept the 437 through
+    recompute, touch and save."""
+    return obj.MeshInputs == mesh_record(key, obj.FemMesh)
+
+
+def deck_is_of_femmesh(obj):
+    """Whether the run that wrote OutputFile made the FemMesh the object holds (after an undo or redo
+    OutputFile and MeshInputs are another run's, the FemMesh is not)."""
+    return obj.MeshInputs.endswith(" | " + mesh_signature(obj.FemMesh))
 
 
 def apply_result(obj, fm, inp, report):
@@ -166,10 +231,13 @@ def apply_result(obj, fm, inp, report):
 
 
 def kept_deck(obj):
-    """The deck of the object's last run when it is still the one that run wrote, else None."""
+    """The deck of the object's last run when it is still the one that run wrote and that run made
+    the FemMesh, else None (Export then writes the FemMesh)."""
     src = getattr(obj, "OutputFile", "")
     digest = getattr(obj, "OutputDigest", "")
     if not src or not digest or not os.path.isfile(src):
+        return None
+    if not deck_is_of_femmesh(obj):
         return None
     return src if file_digest(src) == digest else None
 
@@ -179,8 +247,10 @@ def analyses_of(obj):
 
 
 def add_material_groups(obj, analysis):
-    """Adds a volume group <Material>_Volumes for each solid material object of the analysis, the
-    union of the Solid<i>_Volumes groups its References name (all tetrahedra when it names none).
+    """Adds a volume group <Material>_Volumes for each solid material object of the analysis: the
+    union of the Solid<i>_Volumes groups its References name; for a material without References the
+    tetrahedra no other material claims (all of them when it is the only material), as FreeCAD
+    reads a material without references beside others.
 
     FreeCAD's CalculiX writer takes a material's elements from the group named <Material>_...;
     without one it searches the mesh geometrically, which is slow and misses elements whose nodes
@@ -191,26 +261,40 @@ def add_material_groups(obj, analysis):
                  if m.isDerivedFrom("App::MaterialObjectPython") and getattr(m, "Category", "Solid") == "Solid"]
     changed = False
     for m in materials:
-        name = m.Name + "_Volumes"
-        if name in groups:
-            fm.removeGroup(groups[name])
+        if m.Name + "_Volumes" in groups:
+            fm.removeGroup(groups[m.Name + "_Volumes"])
             changed = True
-        solids = [sub for o, subs in m.References if o == obj.Part for sub in subs if sub.startswith("Solid")]
-        if m.References and not solids:
+    claims = referenced_volumes(obj, fm, groups, materials)
+    claimed = set().union(*claims.values())
+    rest = [e for e in fm.Volumes if e not in claimed]
+    for m in materials:
+        elems = claims.get(m.Name, rest if not m.References else None)
+        if elems is None:
             continue  # refers to another part or to faces: not ours to say
-        if solids:
-            missing = [s for s in solids if s + "_Volumes" not in groups]
-            if missing:
-                raise engine.VDMeshError("%s refers to %s, which the mesh does not have" % (m.Label, ", ".join(missing)))
-            elems = sorted({e for s in solids for e in fm.getGroupElements(groups[s + "_Volumes"])})
-        else:
-            elems = list(fm.Volumes)
-        g = fm.addGroup(name, "Volume")
+        g = fm.addGroup(m.Name + "_Volumes", "Volume")
         fm.addGroupElements(g, elems)
         changed = True
     if changed:
         obj.FemMesh = fm
     return materials
+
+
+def referenced_volumes(obj, fm, groups, materials):
+    """{material's Name: its tetrahedra} for the materials whose References name solids of obj's part.
+
+    Until 2026-11-30 a material without References took every tetrahedron even beside one that
+    named Solid2: Steel_Volumes held all 7,741 of two boxes, Alu_Volumes 3,903 of them too, and
+    FreeCAD's CalculiX writer said femelements_count_ok() failed."""
+    claims = {}
+    for m in materials:
+        solids = [sub for o, subs in m.References if o == obj.Part for sub in subs if sub.startswith("Solid")]
+        if not solids:
+            continue
+        missing = [s for s in solids if s + "_Volumes" not in groups]
+        if missing:
+            raise engine.VDMeshError("%s refers to %s, which the mesh does not have" % (m.Label, ", ".join(missing)))
+        claims[m.Name] = sorted({e for s in solids for e in fm.getGroupElements(groups[s + "_Volumes"])})
+    return claims
 
 
 def renew_material_groups(obj):
@@ -231,7 +315,7 @@ def adopt_result(obj, fm, inp, report, key=None):
     """The mesh of a run made from the object's part and properties, with what goes with it.
     key: mesh_inputs of that part and those properties, when the caller has it already."""
     apply_result(obj, fm, inp, report)
-    obj.MeshInputs = key or mesh_inputs(obj.Part, params_of(obj))
+    obj.MeshInputs = mesh_record(key or mesh_inputs(obj.Part, params_of(obj)), obj.FemMesh)
     print_warnings(obj, report)
     renew_material_groups(obj)
 
