@@ -119,13 +119,23 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
   }
   std::map<int, std::vector<size_t>> by_face;
   for (size_t i = 0; i < m.triangles.size(); ++i) by_face[m.triangles[i].face].push_back(i);
+  // The named groups of faces: a facet on two CAD faces is in both
+  // (Mesh::face_groups); the shells' element blocks below stay one per face.
+  std::map<int, std::vector<size_t>> by_group;
+  for (const auto& [f, tris] : by_face)
+    for (const int g : face_groups_of(m, f)) {
+      std::vector<size_t>& into = by_group[g];
+      into.insert(into.end(), tris.begin(), tris.end());
+    }
+  for (auto& [g, tris] : by_group) std::sort(tris.begin(), tris.end());
   std::map<int, std::vector<size_t>> by_region;
   for (size_t i = 0; i < m.tets.size(); ++i) by_region[m.tets[i].region].push_back(i);
   SetNames names;
   std::map<int, std::string> region_set, face_set_name;
   for (const auto& [r, tets] : by_region)
     region_set[r] = names.unique(r == kUnknownRegion ? "RegionUnknown" : detail::region_name(m, r));
-  for (const auto& [f, tris] : by_face)
+  const auto& named_faces = m.tets.empty() ? by_face : by_group;
+  for (const auto& [f, tris] : named_faces)
     face_set_name[f] = names.unique(f == kNoFace ? "FaceNone" : detail::face_name(m, f));
   auto face_set = [&](int f) { return face_set_name.at(f); };
 
@@ -175,7 +185,7 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
       node_list(out, nodes);
     }
     const auto owner = triangle_owners(m);
-    for (const auto& [f, tris] : by_face) {
+    for (const auto& [f, tris] : by_group) {
       bool any = false;
       for (size_t i : tris) any |= owner[i].first >= 0;
       if (!any) continue;
@@ -184,7 +194,7 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
         if (owner[i].first >= 0) out << owner[i].first + 1 << ", S" << owner[i].second + 1 << '\n';
     }
   }
-  for (const auto& [f, tris] : by_face) {
+  for (const auto& [f, tris] : named_faces) {
     std::set<int> nodes;
     for (size_t i : tris) {
       nodes.insert(m.triangles[i].v.begin(), m.triangles[i].v.end());
@@ -721,11 +731,25 @@ Mesh InpReader::read() {
     if (detail::id_from_name(name, "Face") >= 1) face_id(name);
   for (const Shell& s : shells_)
     if (detail::id_from_name(s.set, "Face") >= 1) face_id(s.set);
+  // A tetrahedron side in several surfaces is one facet on several faces
+  // (vdmesh writes an interface of two CAD faces into both; it was read as
+  // a facet per surface, duplicates the mesher refuses).
+  std::map<std::pair<int, int>, size_t> facet_of_side;  // (tetrahedron, side) -> facet
+  std::vector<std::vector<int>> facet_faces;           // of facets on several faces: every face, in order
   for (const auto& [name, entries] : surface_sets_) {
     const int face = face_id(name);
     auto add = [&](int64_t eid, int f) {
       const int at = tet_index_.find(eid);
       if (at < 0) return false;
+      const auto [known, added] = facet_of_side.emplace(std::pair{at, f}, m_.triangles.size());
+      if (!added) {
+        const size_t i = known->second;
+        if (facet_faces.size() <= i) facet_faces.resize(m_.triangles.size());
+        std::vector<int>& faces = facet_faces[i];
+        if (faces.empty()) faces.push_back(m_.triangles[i].face);
+        if (std::find(faces.begin(), faces.end(), face) == faces.end()) faces.push_back(face);
+        return true;
+      }
       const Tetrahedron& t = m_.tets[static_cast<size_t>(at)];
       const int* c = kFaces[f];
       // Abaqus faces point into a positive tetrahedron: turn them outward.
@@ -756,6 +780,13 @@ Mesh InpReader::read() {
           for (int64_t id : it->second.ids) add(id, f);
       }
     }
+  }
+  if (!facet_faces.empty()) {
+    facet_faces.resize(m_.triangles.size());
+    std::vector<int> ids;
+    for (const Triangle& t : m_.triangles) ids.push_back(t.face);
+    m_.face_groups = number_shared_pieces(ids, facet_faces, next_face - 1);
+    for (size_t i = 0; i < ids.size(); ++i) m_.triangles[i].face = ids[i];
   }
   // Shell elements are the boundary of a mesh without tetrahedra, and beside
   // tetrahedra when no *SURFACE gives it (Gmsh writes its physical surfaces

@@ -1,8 +1,11 @@
 // Writes Gmsh MSH 2.2 and 4.1, ASCII and binary. Regions become physical
 // volumes, face ids physical surfaces; in 4.1 one volume entity per region
 // and one surface entity per face id, each volume listing its bounding
-// surfaces (+s when the surface's normal points out of it). Element tags
-// are the elements' positions, so the reader restores the order.
+// surfaces (+s when the surface's normal points out of it). A face on
+// several faces' groups (Mesh::face_groups) is in each physical surface:
+// its entity lists them all (4.1), its elements are written once per group
+// (2.2, as Gmsh does). Element tags follow the elements' positions, so the
+// reader restores the order.
 #include <algorithm>
 #include <cstdlib>
 #include <map>
@@ -21,7 +24,7 @@ using detail::Out;
 // a spare tag without a physical group.
 struct Tags {
   std::vector<int> tet_tag, tri_tag;
-  std::set<int> regions, faces;  // with a physical group
+  std::set<int> regions, faces;  // physical groups
   int spare_region = 0, spare_face = 0;
 };
 
@@ -41,7 +44,8 @@ Tags make_tags(const Mesh& m) {
   }
   for (const Triangle& e : m.triangles) {
     t.tri_tag.push_back(e.face > 0 ? e.face : t.spare_face);
-    if (e.face > 0) t.faces.insert(e.face);
+    if (e.face > 0)
+      for (const int g : face_groups_of(m, e.face)) t.faces.insert(g);
     // Regions seen only beside triangles (a surface mesh) still get volumes.
     if (e.front > 0) t.regions.insert(e.front);
     if (e.back > 0) t.regions.insert(e.back);
@@ -109,7 +113,17 @@ void write22(const Mesh& m, Out& out, bool binary) {
     }
   }
   out << (binary ? "\n$EndNodes\n" : "$EndNodes\n");
-  out << "$Elements\n" << m.triangles.size() + m.tets.size() << '\n';
+  // The physical surfaces of each face id (none for the spare).
+  std::map<int, std::vector<int>> physicals;
+  size_t written_triangles = 0;
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    auto it = physicals.find(t.tri_tag[i]);
+    if (it == physicals.end())
+      it = physicals.emplace(t.tri_tag[i], t.tri_tag[i] == t.spare_face ? std::vector<int>{0}
+                                                                          : face_groups_of(m, t.tri_tag[i])).first;
+    written_triangles += it->second.size();
+  }
+  out << "$Elements\n" << written_triangles + m.tets.size() << '\n';
   int n[10];
   size_t tag = 0;
   auto element = [&](int type, int physical, int entity, int k) {
@@ -128,11 +142,11 @@ void write22(const Mesh& m, Out& out, bool binary) {
     if (!binary || count == 0) return;
     out.raw(static_cast<int32_t>(type)), out.raw(static_cast<int32_t>(count)), out.raw(int32_t{2});
   };
-  block_header(tri_type(m), m.triangles.size());
+  block_header(tri_type(m), written_triangles);
   for (size_t i = 0; i < m.triangles.size(); ++i) {
     const int k = tri_nodes_written(m, i, n, m.tets.empty());
     const int entity = t.tri_tag[i];
-    element(tri_type(m), t.faces.count(entity) ? entity : 0, entity, k);
+    for (const int physical : physicals.at(entity)) element(tri_type(m), physical, entity, k);
   }
   block_header(tet_type(m), m.tets.size());
   for (size_t i = 0; i < m.tets.size(); ++i) {
@@ -209,21 +223,21 @@ void write41(const Mesh& m, Out& out, bool binary) {
   w.size(surf_elems.size());
   w.size(vol_elems.size());
   w.end_line();
-  auto entity = [&](int tag, const Box& b, bool physical) {
+  auto entity = [&](int tag, const Box& b, const std::vector<int>& physicals) {
     const Box box = b.empty() ? Box{{0, 0, 0}, {0, 0, 0}} : b;
     w.integer(tag);
     for (int k = 0; k < 3; ++k) w.real(box.lo[k]);
     for (int k = 0; k < 3; ++k) w.real(box.hi[k]);
-    w.size(physical ? 1 : 0);
-    if (physical) w.integer(tag);
+    w.size(physicals.size());
+    for (const int p : physicals) w.integer(p);
   };
   for (const auto& [s, elems] : surf_elems) {
-    entity(s, surf_box[s], t.faces.count(s) > 0);
+    entity(s, surf_box[s], s == t.spare_face ? std::vector<int>{} : face_groups_of(m, s));
     w.size(0);
     w.end_line();
   }
   for (const auto& [r, elems] : vol_elems) {
-    entity(r, vol_box[r], t.regions.count(r) > 0);
+    entity(r, vol_box[r], t.regions.count(r) ? std::vector<int>{r} : std::vector<int>{});
     const std::set<int>& b = bounding[r];
     w.size(b.size());
     for (int s : b) w.integer(s);

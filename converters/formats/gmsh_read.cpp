@@ -70,7 +70,8 @@ int parent_or_self(const std::map<int, int>& parent, int entity) {
 struct Element {
   uint64_t tag;
   int entity;
-  int physical;  // 2.2 only; 0 when none
+  int physical;   // 2.2 only; 0 when none
+  int more = -1;  // 2.2: its further physical groups, an index into more_physicals_
 };
 
 class MshReader {
@@ -119,6 +120,7 @@ class MshReader {
   std::map<int, int> surface_parent_, volume_parent_;
   std::set<int> partition_cuts_;
   std::vector<Element> tri_info_;
+  std::vector<std::vector<int>> more_physicals_;
   TagList tet_tags_;  // the tetrahedra's entities wait in their region field
   // Binary 4.1 whose tetrahedron tags are lo..lo+n-1, each once (what vdmesh
   // and Gmsh write): each tetrahedron goes straight to index tag - lo, so
@@ -357,7 +359,16 @@ void MshReader::add_element(int type, uint64_t tag, const uint64_t* nodes, int e
     last_.entity = entity;
     last_.physical = physical;
     std::copy(nodes, nodes + k, last_.nodes);
-    if (repeat) return;
+    if (repeat) {
+      // A triangle in two physical surfaces lies on both faces
+      // (Mesh::face_groups; vdmesh writes a CAD interface so).
+      if (tri && !tri_info_.empty()) {
+        Element& e = tri_info_.back();
+        if (e.more < 0) e.more = static_cast<int>(more_physicals_.size()), more_physicals_.emplace_back();
+        more_physicals_[static_cast<size_t>(e.more)].push_back(physical);
+      }
+      return;
+    }
   }
   int idx[10];
   for (int j = 0; j < k; ++j) {
@@ -653,11 +664,35 @@ void MshReader::finish() {
       tri_info_.resize(kept);
     }
     auto physical = [&](const Element& e) { return version_ < 4 ? e.physical : physical_of(e.entity, surfaces_); };
+    // Every physical surface of a triangle: 2.2's repeats, 4.1's entity's list.
+    const std::vector<int> none;
+    auto all_physicals = [&](const Element& e) -> const std::vector<int>& {
+      if (version_ < 4) return e.more >= 0 ? more_physicals_[static_cast<size_t>(e.more)] : none;
+      const auto it = surfaces_.find(e.entity);
+      return it != surfaces_.end() && it->second.physicals.size() > 1 ? it->second.physicals : none;
+    };
     int largest = 0;
-    for (const Element& e : tri_info_) largest = std::max(largest, physical(e));
-    for (size_t i = 0; i < m_.triangles.size(); ++i)
-      m_.triangles[i].face = numbered(
-          group_number(physical(tri_info_[i]), parent_or_self(surface_parent_, tri_info_[i].entity), largest));
+    for (const Element& e : tri_info_) {
+      largest = std::max(largest, physical(e));
+      for (const int p : all_physicals(e)) largest = std::max(largest, p);
+    }
+    std::vector<int> ids(m_.triangles.size());
+    std::vector<std::vector<int>> groups(m_.triangles.size());
+    int last_id = 0;
+    for (size_t i = 0; i < m_.triangles.size(); ++i) {
+      const Element& e = tri_info_[i];
+      const int entity = parent_or_self(surface_parent_, e.entity);
+      ids[i] = numbered(group_number(physical(e), entity, largest));
+      last_id = std::max(last_id, ids[i]);
+      for (const int p : all_physicals(e)) {
+        if (groups[i].empty()) groups[i].push_back(ids[i]);
+        const int g = numbered(group_number(p, entity, largest));
+        if (std::find(groups[i].begin(), groups[i].end(), g) == groups[i].end()) groups[i].push_back(g);
+        last_id = std::max(last_id, g);
+      }
+    }
+    if (!more_physicals_.empty() || version_ >= 4) m_.face_groups = number_shared_pieces(ids, groups, last_id);
+    for (size_t i = 0; i < m_.triangles.size(); ++i) m_.triangles[i].face = ids[i];
   }
   if (!m_.tets.empty()) {
     require_valid(m_, in_.name());

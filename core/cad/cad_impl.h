@@ -45,6 +45,9 @@ struct CadModel::Impl {
   std::vector<std::vector<int>> solid_origins;
   std::vector<TopoDS_Face> faces; // the faces of the solids
   std::vector<int> face_number;   // Face<n> of faces[i]
+  // Numbers of faces that lie on two or more input faces -> those faces'
+  // numbers (Mesh::face_groups).
+  std::map<int, std::vector<int>> face_groups;
   TopTools_IndexedMapOfShape face_index;  // face -> 1 + index into faces
   TopTools_IndexedMapOfShape edge_index;  // every edge of the solids
   double diagonal = 0;

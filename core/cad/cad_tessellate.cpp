@@ -267,8 +267,18 @@ CadSurface tessellate_faces(const CadModel::Impl& cad, const std::vector<double>
   compact_surface(out, folded_pairs(out, stats));
   for (size_t s = 0; s < cad.solids.size(); ++s)
     out.mesh.region_names[cad.solid_number[s]] = "Solid" + std::to_string(cad.solid_number[s]);
-  for (size_t f = 0; f < cad.faces.size(); ++f)
-    out.mesh.face_names[cad.face_number[f]] = "Face" + std::to_string(cad.face_number[f]);
+  // A face of its own on two input faces is named by the faces it lies
+  // on (face_groups), not by its number past the input's.
+  for (size_t f = 0; f < cad.faces.size(); ++f) {
+    const int n = cad.face_number[f];
+    const auto shared = cad.face_groups.find(n);
+    if (shared == cad.face_groups.end()) {
+      out.mesh.face_names[n] = "Face" + std::to_string(n);
+      continue;
+    }
+    out.mesh.face_groups[n] = shared->second;
+    for (const int g : shared->second) out.mesh.face_names[g] = "Face" + std::to_string(g);
+  }
   stats.seconds_tessellate = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

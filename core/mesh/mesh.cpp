@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <set>
 #include <unordered_map>
 
 namespace vd {
@@ -17,6 +18,30 @@ bool Mesh::has_face_tags() const {
   for (const Triangle& t : triangles)
     if (t.face == kNoFace) return false;
   return !triangles.empty();
+}
+
+std::vector<int> face_groups_of(const Mesh& m, int face) {
+  const auto it = m.face_groups.find(face);
+  return it != m.face_groups.end() ? it->second : std::vector<int>{face};
+}
+
+std::map<int, std::vector<int>> number_shared_pieces(std::vector<int>& ids, const std::vector<std::vector<int>>& groups,
+                                                     int last_id) {
+  std::map<int, std::set<std::vector<int>>> kinds;  // id -> the face lists of its pieces
+  for (size_t i = 0; i < ids.size(); ++i)
+    kinds[ids[i]].insert(groups[i].size() > 1 ? groups[i] : std::vector<int>{ids[i]});
+  std::map<std::vector<int>, int> own;  // face list -> its id of its own
+  std::map<int, std::vector<int>> shared;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (groups[i].size() < 2) continue;
+    if (kinds[ids[i]].size() > 1) {
+      const auto [it, added] = own.emplace(groups[i], last_id + 1);
+      if (added) ++last_id;
+      ids[i] = it->second;
+    }
+    shared[ids[i]] = groups[i];
+  }
+  return shared;
 }
 
 namespace {

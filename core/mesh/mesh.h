@@ -112,6 +112,14 @@ struct Mesh {
   // Optional names, e.g. from Gmsh physical groups or CAD ("Solid1", "Face3").
   std::map<int, std::string> region_names;
   std::map<int, std::string> face_names;
+  // Faces whose facets belong to more than their own face's group: where
+  // touching CAD solids are fused, one face of the result lies on two input
+  // faces (caxif's Face67 on its Face82), and its facets carry one id.
+  // Maps such an id to every face (group) its facets are part of, itself
+  // among them only when it is an input face. Writers of named groups
+  // (Abaqus surfaces and node sets, Gmsh physical groups) put the facets
+  // into each; other formats keep the id (face_groups_of).
+  std::map<int, std::vector<int>> face_groups;
   // Holes win over region points in the same region, as TetGen carves
   // holes before it labels regions.
   std::vector<RegionPoint> region_points;
@@ -120,6 +128,18 @@ struct Mesh {
   bool has_region_tags() const;
   bool has_face_tags() const;
 };
+
+// The groups the facets of face `face` belong to: face_groups' entry, else
+// the face alone.
+std::vector<int> face_groups_of(const Mesh& m, int face);
+
+// Face ids for pieces that may lie on several faces: piece i has id ids[i]
+// (its first face) and lies on the faces groups[i] (empty or one: its own
+// only). A piece on several faces keeps its id when every piece of that id
+// lies on the same faces, else it gets an id of its own past `last_id`
+// (one per list of faces). Returns Mesh::face_groups for the ids given.
+std::map<int, std::vector<int>> number_shared_pieces(std::vector<int>& ids, const std::vector<std::vector<int>>& groups,
+                                                     int last_id);
 
 // Removes the points no triangle or tetrahedron uses and renumbers the rest
 // in order. Returns the old -> new id map (-1: removed); empty when nothing

@@ -220,6 +220,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   m.triangles = input.triangles;
   m.region_names = input.region_names;
   m.face_names = input.face_names;
+  m.face_groups = input.face_groups;
   m.region_points = input.region_points;
   const std::vector<int> kept = drop_unused_points(m);
   report.unused_input_vertices = static_cast<int>(std::count(kept.begin(), kept.end(), -1));

@@ -187,6 +187,16 @@ void check_indices(const Mesh& m) {
   for (const Tetrahedron& t : m.tets) tet.push_back(t.v);
   check(tri, "triangles");
   check(tet, "tets");
+  // Mid-edge nodes are rows beside the corners: new corners (a region
+  // picked out of a second-order mesh) left them stale, and the writers
+  // read past their end (node ids of -4e8 in the file).
+  auto same_rows = [](size_t mids, size_t corners, const char* name, const char* of) {
+    if (mids != 0 && mids != corners)
+      throw py::value_error(std::string(name) + " has " + std::to_string(mids) + " rows for " + std::to_string(corners) +
+                            " " + of + ": give " + name + " again after " + of + " (an empty array for first order)");
+  };
+  same_rows(m.triangle_mid.size(), m.triangles.size(), "triangle_mid", "triangles");
+  same_rows(m.tet_mid.size(), m.tets.size(), "tet_mid", "tets");
   check(m.triangle_mid, "triangle_mid");
   check(m.tet_mid, "tet_mid");
   if (!m.point_size.empty() && m.point_size.size() != m.points.size())

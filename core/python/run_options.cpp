@@ -249,6 +249,9 @@ MeshResult run_interruptible(RunOptions& run, const std::function<MeshResult(con
   auto stop = std::make_shared<std::atomic<bool>>(false);
   MeshOptions opt = run.cad.mesh;
   opt.cancel = stop.get();
+  // A token set before the call stops the run at its first look (short
+  // runs ended before the loop below first looked at the token, 20 of 20).
+  if (run.token && run.token->load()) stop->store(true);
   if (run.progress && !run.progress.is_none()) {
     // A borrowed pointer (run.progress keeps it alive for the call): the core
     // copies its options, and copying a py::object would touch reference
@@ -306,6 +309,9 @@ MeshResult run_interruptible(RunOptions& run, const std::function<MeshResult(con
   if (state->callback_error) throw *state->callback_error;
   if (interrupt) throw *interrupt;
   if (state->error) std::rethrow_exception(state->error);  // CancelledError here: the token
+  // A run that ended anyway after its token was set (in a phase that does
+  // not look, such as the sliver pass) still raises: the caller asked to stop.
+  if (run.token && run.token->load()) throw CancelledError();
   return std::move(*state->result);
 }
 

@@ -267,6 +267,9 @@ region_names and face_names dicts.)")
                     "(T, 6) int32 mid-edge nodes of second-order tetrahedra (edges 01, 12, 20, 03, 13, 23), or (0, 6)")
       .def_readwrite("region_names", &Mesh::region_names, "dict region id -> name (e.g. 'Solid1'); a copy")
       .def_readwrite("face_names", &Mesh::face_names, "dict face id -> name (e.g. 'Face3'); a copy")
+      .def_readwrite("face_groups", &Mesh::face_groups,
+                     "dict face id -> the face ids whose groups its facets belong to, for facets on several "
+                     "faces (an interface of two touching CAD solids lies on a face of each); a copy")
       .def_property_readonly("second_order", &Mesh::second_order, "True when mid-edge nodes are present")
       .def("__repr__", [](const Mesh& mesh) {
         return "<vdmesh.Mesh: " + std::to_string(mesh.points.size()) + " points, " +

@@ -107,8 +107,16 @@ namespace {
 // acos per tetrahedron.
 struct BinEdges {
   double cosine[17];
+  // The cosines of 60, 90 and 120 degrees exactly (0.5, 0, -0.5): cos of
+  // 90 degrees in radians is 6.1e-17, and a cube's right angles, whose
+  // cosine comes out 0, fell into 80-90 instead of 90-100 (48 of a unit
+  // cube's mesh against numpy's histogram of the angles).
   BinEdges() {
-    for (int k = 1; k <= 17; ++k) cosine[k - 1] = std::cos((180.0 - 10.0 * k) * M_PI / 180.0);
+    for (int k = 1; k <= 17; ++k) {
+      const double c = std::cos((180.0 - 10.0 * k) * M_PI / 180.0);
+      const double half = std::round(2 * c) / 2;
+      cosine[k - 1] = std::abs(c - half) < 1e-12 ? half : c;
+    }
   }
   int bin(double c) const { return static_cast<int>(std::upper_bound(cosine, cosine + 17, c) - cosine); }
 };

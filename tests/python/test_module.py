@@ -125,6 +125,19 @@ class MeshFromArrays(unittest.TestCase):
         self.assertAlmostEqual(region_volumes(mesh)[1], 1.0, delta=1e-12)
         with self.assertRaisesRegex(ValueError, "order"):
             vdmesh.mesh_surface(pts, tris, order=3)
+        # New corners with the old mid-edge nodes (half the tetrahedra picked
+        # out) are refused by write, naming the arrays: the writers read the
+        # stale rows, and past their end when tets grew (node ids of -4e8).
+        count = len(mesh.tets)
+        half = count // 2
+        mesh.tets = mesh.tets[:half]
+        path = os.path.join(tempfile.mkdtemp(), "half.vtu")
+        with self.assertRaisesRegex(ValueError, "tet_mid has %d rows for %d tets" % (count, half)):
+            vdmesh.write(mesh, path)
+        self.assertFalse(os.path.exists(path))
+        mesh.tet_mid = mesh.tet_mid[:half]
+        vdmesh.write(mesh, path)
+        self.assertEqual(len(vdmesh.read(path).tets), half)
 
     def test_two_regions_with_interface(self):
         # Two unit boxes side by side; the shared square x = 1 is one interface
@@ -570,6 +583,16 @@ class Interrupt(unittest.TestCase):
             vdmesh.mesh_cad(path=path, progress=progress, cancel=token)
         self.assertEqual(sent and phases, ["read CAD"], "stopped while reading or fusing, not after")
         self.assertLess(time.monotonic() - sent[0], 2.0)
+
+    def test_cancel_token_set_before_the_call(self):
+        # A short run ended before the token was first looked at and gave its
+        # mesh back (20 of 20) until 2026-11-30.
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        token = vdmesh.CancelToken()
+        token.set()
+        for _ in range(5):
+            with self.assertRaises(vdmesh.Cancelled):
+                vdmesh.mesh_surface(pts, tris, ids, cancel=token)
 
     def test_exception_in_progress_stops_the_run(self):
         p, t = icosphere(2)

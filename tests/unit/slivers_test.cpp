@@ -124,6 +124,21 @@ TEST(Slivers, SmallestDihedralAgreesWithTheQualityModule) {
   EXPECT_GT(positive, 500);
 }
 
+// The histogram's bins hold their lower edge: a corner tetrahedron's three
+// right angles are in 90-100 degrees (they were in 80-90: cos 90 degrees in
+// radians is 6.1e-17, above the cosine 0 a right angle gives), and its
+// three angles of 54.7 degrees in 50-60.
+TEST(Slivers, HistogramBinsHoldTheirLowerEdge) {
+  Mesh m;
+  m.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  m.tets = {{{0, 1, 2, 3}, 1}};
+  const QualitySummary q = summarize_quality(m);
+  std::vector<long> want(q.dihedral_histogram.size(), 0);
+  want[5] = 3;
+  want[9] = 3;
+  EXPECT_EQ(std::vector<long>(q.dihedral_histogram.begin(), q.dihedral_histogram.end()), want);
+}
+
 TEST(Slivers, CubeWithInteriorVertices) {
   const Mesh before = mesh_before_flips_and_moves(shapes::box({0, 0, 0}, {1, 1, 1}, 8), 0.125);
   const SliverStats s = check_pass_helps("cube h=1/8", before);
