@@ -127,9 +127,22 @@ class OccMessagesCollected {
   std::vector<Handle(Message_Printer)> saved_;
 };
 
+// Whether a BREP text has the line of its format's version, which
+// OpenCASCADE's reader looks for anywhere in the text; without it the reader
+// prints "File was not written with this version of the topology" on
+// standard output, past the collected messages, and fails.
+bool has_brep_version_line(std::istream& in) {
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("CASCADE Topology V", 0) == 0) return true;
+  return false;
+}
+
 TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& cancel) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": a folder, not a CAD file");
+  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": not a regular file");
   if (std::filesystem::file_size(path, ec) == 0) throw InputError(path + ": empty file");
   const std::string ext = lower_extension(path);
   TopoDS_Shape shape;
@@ -158,6 +171,9 @@ TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& c
     shape = reader.OneShape();
     units = "mm";
   } else if (ext == ".brep" || ext == ".brp") {
+    std::ifstream text(path);
+    if (!has_brep_version_line(text))
+      throw InputError(path + ": not a BREP file (no line \"CASCADE Topology V1/V2/V3\", which starts the shapes)");
     BRep_Builder builder;
     const bool read = BRepTools::Read(shape, path.c_str(), builder, cancel.range());
     cancel.check();
@@ -440,6 +456,9 @@ CadModel CadModel::from_brep_string(const std::string& brep, const std::string& 
                                     const std::atomic<bool>* cancel_flag, Fuse fuse) {
   OccCancel cancel(cancel_flag);
   try {
+    std::istringstream check(brep);
+    if (!has_brep_version_line(check))
+      throw InputError(name + ": not a BREP shape (no line \"CASCADE Topology V1/V2/V3\", which starts the shapes)");
     std::istringstream in(brep);
     BRep_Builder builder;
     TopoDS_Shape shape;

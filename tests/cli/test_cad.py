@@ -1080,7 +1080,15 @@ def bad(name, content, needle):
 bad("missing.step", None, "no such file")
 bad("empty.step", "", "empty file")
 bad("text.step", "this is not a STEP file\n", "not a readable STEP file")
-bad("text.brep", "hello\n", "not a readable BREP file")
+bad("text.brep", "hello\n", "not a BREP file")
+os.makedirs(os.path.join(out, "folder.step"))
+bad("folder.step", None, "a folder, not a CAD file")
+# A BREP text without its version line made OpenCASCADE print "File was not
+# written with this version of the topology" on standard output, under
+# --quiet and from Python too, until 2026-11-30.
+code, stdout, err = run("mesh", os.path.join(out, "text.brep"), "-o", os.path.join(out, "text2.vtu"), "--quiet")
+check(code == 3 and stdout == "" and "CASCADE Topology" in err,
+      "text.brep --quiet: nothing on standard output, the missing line named (%r, %s)" % (stdout[:200], err.strip()[:300]))
 # OpenCASCADE's syntax error goes into the message, not to standard output
 # (printed there in colour, under --quiet too, until 2026-11-30).
 text_step = os.path.join(out, "text.step")
