@@ -37,6 +37,14 @@ std::vector<long long> read_integers(py::handle obj, int cols, const char* name,
   if (any.size() > 0 && kind != 'i' && kind != 'u')
     throw py::type_error(std::string(name) + ": expected integers, got dtype " +
                          py::str(any.dtype()).cast<std::string>());
+  // Unsigned 64-bit values past 2^63 would wrap to negatives in the cast
+  // below (2^64 - 1 was taken as region -1, "unknown").
+  if (kind == 'u' && any.itemsize() == 8) {
+    const auto u = py::array_t<unsigned long long, py::array::c_style | py::array::forcecast>::ensure(any);
+    for (py::ssize_t i = 0; i < u.size(); ++i)
+      if (u.data()[i] > static_cast<unsigned long long>(INT_MAX))
+        throw py::value_error(std::string(name) + ": value " + std::to_string(u.data()[i]) + " out of range");
+  }
   const auto a = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(any);
   std::vector<long long> out(a.data(), a.data() + a.size());
   for (long long x : out)

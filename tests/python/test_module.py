@@ -450,6 +450,11 @@ class BadInput(unittest.TestCase):
             vdmesh.mesh_surface(p, tris)
         with self.assertRaisesRegex(ValueError, "rows for 12 triangles"):
             vdmesh.mesh_surface(pts, tris, ids[:5])
+        # Unsigned values past 2^63 wrapped: region 2^64 - 1 was -1, "unknown".
+        regions = np.tile(np.array([0, 1], dtype=np.uint64), (len(tris), 1))
+        regions[0, 1] = 2 ** 64 - 1
+        with self.assertRaisesRegex(ValueError, "regions: value 18446744073709551615 out of range"):
+            vdmesh.mesh_surface(pts, tris, ids, regions)
 
     def test_bad_options(self):
         pts, tris, _ = box_surface((0, 0, 0), (1, 1, 1))
