@@ -271,6 +271,39 @@ region_names and face_names dicts.)")
                      "dict face id -> the face ids whose groups its facets belong to, for facets on several "
                      "faces (an interface of two touching CAD solids lies on a face of each); a copy")
       .def_property_readonly("second_order", &Mesh::second_order, "True when mid-edge nodes are present")
+      // Pickled as its arrays and names: multiprocessing hands results back
+      // so, and copy.copy / copy.deepcopy go the same way.
+      .def(py::pickle(
+          [](const Mesh& mesh) {
+            py::list region_points;
+            for (const RegionPoint& r : mesh.region_points)
+              region_points.append(py::make_tuple(r.at.x, r.at.y, r.at.z, r.region));
+            return py::make_tuple(points_array(mesh), point_size_array(mesh), triangles_array(mesh),
+                                  triangle_faces_array(mesh), triangle_regions_array(mesh), tets_array(mesh),
+                                  tet_regions_array(mesh), triangle_mid_array(mesh), tet_mid_array(mesh),
+                                  mesh.region_names, mesh.face_names, mesh.face_groups, region_points);
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 13) throw py::value_error("vdmesh.Mesh: a pickled state of 13 items expected");
+            Mesh mesh;
+            set_points(mesh, t[0]);
+            set_triangles(mesh, t[2]);
+            set_triangle_faces(mesh, t[3]);
+            set_triangle_regions(mesh, t[4]);
+            set_tets(mesh, t[5]);
+            set_tet_regions(mesh, t[6]);
+            set_triangle_mid(mesh, t[7]);
+            set_tet_mid(mesh, t[8]);
+            set_point_size(mesh, t[1]);
+            mesh.region_names = t[9].cast<std::map<int, std::string>>();
+            mesh.face_names = t[10].cast<std::map<int, std::string>>();
+            mesh.face_groups = t[11].cast<std::map<int, std::vector<int>>>();
+            for (const py::handle r : t[12].cast<py::list>()) {
+              const auto [x, y, z, region] = r.cast<std::tuple<double, double, double, int>>();
+              mesh.region_points.push_back({{x, y, z}, region});
+            }
+            return mesh;
+          }))
       .def("__repr__", [](const Mesh& mesh) {
         return "<vdmesh.Mesh: " + std::to_string(mesh.points.size()) + " points, " +
                std::to_string(mesh.triangles.size()) + " triangles, " + std::to_string(mesh.tets.size()) +

@@ -589,6 +589,23 @@ class Interrupt(unittest.TestCase):
         self.assertEqual(sent and phases, ["read CAD"], "stopped while reading or fusing, not after")
         self.assertLess(time.monotonic() - sent[0], 2.0)
 
+    def test_mesh_pickles_and_copies(self):
+        # multiprocessing hands results back pickled; a Mesh could not be
+        # pickled, copied or deep-copied until 2026-11-30.
+        import copy
+        import pickle
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        mesh, _ = vdmesh.mesh_surface(pts, tris, ids, size=0.5, order=2)
+        mesh.region_names = {1: "Steel"}
+        mesh.face_groups = {3: [3, 7]}
+        arrays = ("points", "point_size", "triangles", "triangle_faces", "triangle_regions", "tets", "tet_regions",
+                  "triangle_mid", "tet_mid")
+        for other in (pickle.loads(pickle.dumps(mesh)), copy.copy(mesh), copy.deepcopy(mesh)):
+            for name in arrays:
+                self.assertTrue(np.array_equal(getattr(other, name), getattr(mesh, name)), name)
+            self.assertEqual((other.region_names, other.face_names, other.face_groups),
+                             (mesh.region_names, mesh.face_names, mesh.face_groups))
+
     def test_cancel_token_set_before_the_call(self):
         # A short run ended before the token was first looked at and gave its
         # mesh back (20 of 20) until 2026-11-30.
