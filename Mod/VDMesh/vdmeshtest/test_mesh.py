@@ -8,7 +8,11 @@ Face<j>_Faces/_Nodes per face, volume per solid within 1 % of FreeCAD's, the fac
 FreeCAD's Face<j> (vdmesh's per-face CAD areas, and the nodes of each face group lying on that face);
 the analysis; recompute with another size; export through `vdmesh convert`; bad geometry (an open
 shell made a solid: vdmesh exit 3) gives a VDMeshError and leaves the document unchanged; the
-materials' groups (References, none); undo and redo of a Size change; save, reopen and recompute.
+materials' groups (References, none); undo and redo of a Size change; save, reopen and recompute;
+(3) a plain Part.makeCompound of a 20x20x10 box and a 10x10x5 block on its top overhanging by half
+(vdmesh fuses them): all 12 Face<j>_Faces groups have FreeCAD's Face<j>.Area (1e-9 relative), so the
+contact patch is in both the box's top and the block's bottom, and all Face<j>_Nodes lie on Face<j>
+(within 1e-9).
 """
 import os
 import shutil
@@ -261,6 +265,48 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         self.assertFalse(steel_set & alu_set)
         figure("  a material without References beside one on Solid2: %d + %d of %d tetrahedra"
                % (len(steel_set), len(alu_set), obj.FemMesh.VolumeCount))
+
+    def test_2e_plain_compound_contact_in_both_faces_groups(self):
+        # Touching solids as a plain compound: vdmesh fuses them, and the contact patch (half the
+        # block's bottom, 10 x 5 on the big box's top) lies on two FreeCAD faces. Its facets went to
+        # the lower face number alone (the big box's top, Face6): Face11_Faces, the block's bottom,
+        # had 50 of its 100 mm2. Now the patch is in both faces' groups.
+        doc = self.doc
+        part = doc.addObject("Part::Feature", "Overhang")
+        part.Shape = Part.makeCompound([Part.makeBox(20, 20, 10), Part.makeBox(10, 10, 5, Vector(15, 5, 10))])
+        doc.recompute()
+        shape = part.Shape
+        self.assertEqual((len(shape.Solids), len(shape.Faces)), (2, 12))
+        t = time.time()
+        obj, info, report, text = meshobject.create_mesh(part, engine.Parameters(size=2.0))
+        seconds = time.time() - t
+        fm = obj.FemMesh
+        groups = femmesh.group_ids(fm)
+        nodes = fm.Nodes
+        self.assertNotIn("Face13_Faces", groups)
+        worst_area = worst_node = 0.0
+        for j, f in enumerate(shape.Faces, 1):
+            self.assertIn("Face%d_Faces" % j, groups)
+            a = 0.0
+            for e in fm.getGroupElements(groups["Face%d_Faces" % j]):
+                p = [nodes[n] for n in fm.getElementNodes(e)[:3]]
+                a += (p[1] - p[0]).cross(p[2] - p[0]).Length / 2
+            rel = abs(a - f.Area) / f.Area
+            worst_area = max(worst_area, rel)
+            self.assertLess(rel, 1e-9, "Face%d_Faces: %.9g mm2, FreeCAD's Face%d %.9g" % (j, a, j, f.Area))
+            ids = fm.getGroupElements(groups["Face%d_Nodes" % j])
+            self.assertGreaterEqual(len(ids), 3)
+            d = max(f.distToShape(Part.Vertex(nodes[n]))[0] for n in ids)
+            worst_node = max(worst_node, d)
+            self.assertLess(d, 1e-9, "Face%d_Nodes off FreeCAD's Face%d by %g" % (j, j, d))
+        # the contact patch: nodes in both the big box's top and the block's bottom
+        top, bottom = (set(fm.getGroupElements(groups["Face%d_Nodes" % j])) for j in (6, 11))
+        both = [nodes[n] for n in top & bottom]
+        self.assertTrue(both and all(15 - 1e-9 <= p.x <= 20 + 1e-9 and 5 - 1e-9 <= p.y <= 15 + 1e-9 for p in both))
+        self.assertAlmostEqual(min(p.x for p in both), 15, places=9)  # the whole patch, not only x = 20
+        figure("plain compound, block overhanging by half (size 2, %.2f s): %d tetrahedra; 12 face groups, "
+               "areas within %.2g of FreeCAD's, nodes within %.2g; contact patch: %d nodes in Face6 and Face11"
+               % (seconds, fm.VolumeCount, worst_area, worst_node, len(both)))
 
     def test_4_module_and_program_give_the_same_mesh(self):
         # ctest says which engine this build must use: the module (Release) or the program.
