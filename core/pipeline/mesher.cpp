@@ -396,6 +396,10 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   // fraction of a degree (slivers_test).
   SliverOptions sliver_options = options.slivers;
   sliver_options.ridge_angle_deg = std::min(sliver_options.ridge_angle_deg, options.delaunayzation.flip_angle_deg);
+  // --no-flips keeps the input's shape: case A then replaces only facets of
+  // one plane (over a ridge of 0.1 deg it took 6.4 % off a slab 0.003 thick
+  // until 2026-11-30).
+  if (!options.delaunayzation.flips) sliver_options.ridge_angle_deg = 0;
   sliver_options.face_chord_height = options.delaunayzation.face_flip_offset;
   sliver_options.chord_height = options.delaunayzation.max_flip_offset;
   sliver_options.flip_ridge_deg = options.delaunayzation.flip_angle_deg;

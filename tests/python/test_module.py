@@ -589,6 +589,28 @@ class Interrupt(unittest.TestCase):
         self.assertEqual(sent and phases, ["read CAD"], "stopped while reading or fusing, not after")
         self.assertLess(time.monotonic() - sent[0], 2.0)
 
+    def test_no_flips_keeps_a_thin_slab(self):
+        # A convex slab 0.003 thick and 4 wide, without face ids: case A of
+        # the sliver pass replaced facet pairs over ridges under 0.1 deg and
+        # took 6.4 % of its volume with flips=False, which keeps the input's
+        # shape (2026-11-30). Now only facets of one plane are replaced.
+        pts = np.array([
+            [0.44679516497993094, 1.198705929048254, 0.00031609039157959025],
+            [0.20337071953821506, 1.6586636008151843, -0.0010079779989284939],
+            [-1.8009658486555078, 0.9187788841678789, 0.00093414441879128771],
+            [-1.7779053892097485, -0.36896464665875151, -0.0022109122000117821],
+            [-0.26794576356836253, -2.1513502701959788, -0.00026883960143728793],
+            [1.4845112605106796, -0.30069522576579089, 0.00073523858186494168],
+            [-0.67707674475846213, -0.92848303910641883, -0.0015350783740320315],
+            [1.0023084628535774, -0.096979730581030071, 0.0015823182677789085],
+            [1.3681716986013837, 1.7769346512604225, -0.00069459335754991629],
+            [-1.180283911849588, -1.7838454781954174, 0.0012887231687245125]])
+        tris = np.array([[9, 2, 3], [9, 3, 4], [0, 8, 2], [1, 3, 2], [1, 2, 8], [1, 8, 3], [6, 4, 3], [6, 3, 8], [6, 5, 4], [6, 8, 5], [7, 4, 5], [7, 9, 4], [7, 2, 9], [7, 0, 2], [7, 5, 8], [7, 8, 0]])
+        a, b, c = (pts[tris[:, k]] for k in range(3))
+        enclosed = np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6
+        mesh, report = vdmesh.mesh_surface(pts, tris, flips=False, seed=1)
+        self.assertLess(abs(region_volumes(mesh)[1:].sum() / enclosed - 1), 1e-3)
+
     def test_mesh_pickles_and_copies(self):
         # multiprocessing hands results back pickled; a Mesh could not be
         # pickled, copied or deep-copied until 2026-11-30.
