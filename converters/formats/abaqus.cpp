@@ -731,17 +731,23 @@ Mesh InpReader::read() {
     if (detail::id_from_name(name, "Face") >= 1) face_id(name);
   for (const Shell& s : shells_)
     if (detail::id_from_name(s.set, "Face") >= 1) face_id(s.set);
-  // A tetrahedron side in several surfaces is one facet on several faces
-  // (vdmesh writes an interface of two CAD faces into both; it was read as
-  // a facet per surface, duplicates the mesher refuses).
-  std::map<std::pair<int, int>, size_t> facet_of_side;  // (tetrahedron, side) -> facet
+  // A triangle in several surfaces is one facet on several faces, whichever
+  // tetrahedron each names it by (vdmesh writes an interface of two CAD
+  // faces into both; a deck may give each solid's face by its own
+  // elements). It was read as a facet per surface, duplicates the mesher
+  // refuses.
+  std::map<std::array<int, 3>, size_t> facet_of_side;  // sorted corners -> facet
   std::vector<std::vector<int>> facet_faces;           // of facets on several faces: every face, in order
   for (const auto& [name, entries] : surface_sets_) {
     const int face = face_id(name);
     auto add = [&](int64_t eid, int f) {
       const int at = tet_index_.find(eid);
       if (at < 0) return false;
-      const auto [known, added] = facet_of_side.emplace(std::pair{at, f}, m_.triangles.size());
+      const int* corners = kFaces[f];
+      std::array<int, 3> key{};
+      for (int k = 0; k < 3; ++k) key[k] = m_.tets[static_cast<size_t>(at)].v[corners[k]];
+      std::sort(key.begin(), key.end());
+      const auto [known, added] = facet_of_side.emplace(key, m_.triangles.size());
       if (!added) {
         const size_t i = known->second;
         if (facet_faces.size() <= i) facet_faces.resize(m_.triangles.size());

@@ -691,6 +691,9 @@ void MshReader::finish() {
         last_id = std::max(last_id, g);
       }
     }
+    // Past every named group too, those without elements among them (an
+    // empty "Outlet" group's tag was given to a shared piece).
+    for (const auto& [id, name] : m_.face_names) last_id = std::max(last_id, id);
     if (!more_physicals_.empty() || version_ >= 4) m_.face_groups = number_shared_pieces(ids, groups, last_id);
     for (size_t i = 0; i < m_.triangles.size(); ++i) m_.triangles[i].face = ids[i];
   }

@@ -132,9 +132,15 @@ class OccMessagesCollected {
 // prints "File was not written with this version of the topology" on
 // standard output, past the collected messages, and fails.
 bool has_brep_version_line(std::istream& in) {
+  static const char* const kVersions[] = {"CASCADE Topology V1, (c) Matra-Datavision",
+                                          "CASCADE Topology V2, (c) Matra-Datavision",
+                                          "CASCADE Topology V3, (c) Open Cascade"};
   std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("CASCADE Topology V", 0) == 0) return true;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    for (const char* v : kVersions)
+      if (line == v) return true;
+  }
   return false;
 }
 

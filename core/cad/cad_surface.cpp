@@ -405,10 +405,10 @@ class CadGeometry : public SurfaceGeometry {
       double nearest = -1;
       for (auto a = distinct.begin(); a != distinct.end(); ++a)
         for (auto b = std::next(a); b != distinct.end(); ++b) {
-          if (!border_edges_.count({*a, *b})) continue;
-          const Vec3 on = on_border(*a, *b, chord);
+          bool found = false;
+          const Vec3 on = on_border(*a, *b, chord, &found);
           const double d = norm(on - chord);
-          if (nearest < 0 || d < nearest) best = on, nearest = d;
+          if (found && (nearest < 0 || d < nearest)) best = on, nearest = d;
         }
       return best;
     } catch (const Standard_Failure&) {
@@ -445,7 +445,9 @@ class CadGeometry : public SurfaceGeometry {
     return it->second;
   }
 
-  Vec3 on_border(int a, int b, const Vec3& p) const {
+  // `found` (optional): whether a point of the border was found (else p).
+  Vec3 on_border(int a, int b, const Vec3& p, bool* found = nullptr) const {
+    if (found) *found = false;
     auto it = border_edges_.find({a, b});
     if (it == border_edges_.end()) return p;
     const gp_Pnt q(p.x, p.y, p.z);
@@ -461,6 +463,7 @@ class CadGeometry : public SurfaceGeometry {
         if (best < 0 || d < best) best = d, out = to_vec(ext.Point(i).Value());
       }
     }
+    if (found) *found = best >= 0;
     return out;
   }
 

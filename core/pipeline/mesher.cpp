@@ -242,7 +242,13 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       open_edges.push_back({0.5 * (m.points[a] + m.points[b]), edges->facets(a, b)[0]});
     crossings.start(m, thread_count() > 1);
   }
-  if (!m.has_face_tags()) report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
+  if (!m.has_face_tags()) {
+    // Every facet gets its patch's number: the input's face names and
+    // groups name other faces.
+    report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
+    m.face_names.clear();
+    m.face_groups.clear();
+  }
   if (options.size.uniform > 0) {
     // Before the refinement makes them: a size far below the model's (a unit
     // mix-up) is refused, not run out of memory.

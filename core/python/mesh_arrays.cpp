@@ -1,5 +1,6 @@
 #include "python/mesh_arrays.h"
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <string>
@@ -204,6 +205,17 @@ void check_indices(const Mesh& m) {
                             " " + of + ": give " + name + " again after " + of + " (an empty array for first order)");
   };
   same_rows(m.triangle_mid.size(), m.triangles.size(), "triangle_mid", "triangles");
+  // Writers put a facet into each group listed: an empty list dropped its
+  // facets from the Abaqus deck and MSH 2.2, a repeated one wrote them twice.
+  for (const auto& [face, groups] : m.face_groups) {
+    std::vector<int> sorted = groups;
+    std::sort(sorted.begin(), sorted.end());
+    if (face < 1 || groups.empty() || sorted.front() < 1 ||
+        std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+      throw py::value_error("face_groups[" + std::to_string(face) +
+                            "]: keys and their lists must be face ids of 1 or more, each list not empty and "
+                            "without repeats");
+  }
   same_rows(m.tet_mid.size(), m.tets.size(), "tet_mid", "tets");
   check(m.triangle_mid, "triangle_mid");
   check(m.tet_mid, "tet_mid");

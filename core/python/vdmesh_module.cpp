@@ -275,6 +275,9 @@ region_names and face_names dicts.)")
       // so, and copy.copy / copy.deepcopy go the same way.
       .def(py::pickle(
           [](const Mesh& mesh) {
+            // As write does: a state that would not load again (stale
+            // mid-edge rows) is refused here, not at loads.
+            check_indices(mesh);
             py::list region_points;
             for (const RegionPoint& r : mesh.region_points)
               region_points.append(py::make_tuple(r.at.x, r.at.y, r.at.z, r.region));
@@ -286,6 +289,7 @@ region_names and face_names dicts.)")
           [](const py::tuple& t) {
             if (t.size() != 13) throw py::value_error("vdmesh.Mesh: a pickled state of 13 items expected");
             Mesh mesh;
+            try {
             set_points(mesh, t[0]);
             set_triangles(mesh, t[2]);
             set_triangle_faces(mesh, t[3]);
@@ -302,6 +306,10 @@ region_names and face_names dicts.)")
               const auto [x, y, z, region] = r.cast<std::tuple<double, double, double, int>>();
               mesh.region_points.push_back({{x, y, z}, region});
             }
+            } catch (const std::exception& e) {  // a cast, or an array of the wrong kind
+              throw py::value_error(std::string("vdmesh.Mesh: a pickled state of another form: ") + e.what());
+            }
+            check_indices(mesh);
             return mesh;
           }))
       .def("__repr__", [](const Mesh& mesh) {

@@ -627,6 +627,27 @@ class Interrupt(unittest.TestCase):
                 self.assertTrue(np.array_equal(getattr(other, name), getattr(mesh, name)), name)
             self.assertEqual((other.region_names, other.face_names, other.face_groups),
                              (mesh.region_names, mesh.face_names, mesh.face_groups))
+        # A state that would not load again is refused when pickled.
+        mesh.tets = mesh.tets[:3]
+        with self.assertRaisesRegex(ValueError, "tet_mid has"):
+            pickle.dumps(mesh)
+        with self.assertRaisesRegex(ValueError, "pickled state"):
+            vdmesh.Mesh.__new__(vdmesh.Mesh).__setstate__(("points",) * 13)
+
+    def test_face_groups_are_checked(self):
+        # An empty list dropped its facets from the Abaqus deck and MSH 2.2,
+        # a repeated group wrote them twice (2026-11-30).
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        mesh, _ = vdmesh.mesh_surface(pts, tris, ids, size=0.5)
+        path = os.path.join(tempfile.mkdtemp(), "groups.inp")
+        for bad in ({1: []}, {1: [1, 1, 7]}, {1: [1, 0]}, {-1: [3]}):
+            mesh.face_groups = bad
+            with self.assertRaisesRegex(ValueError, "face_groups"):
+                vdmesh.write(mesh, path)
+        mesh.face_groups = {1: [1, 7]}
+        vdmesh.write(mesh, path)
+        back = vdmesh.read(path)
+        self.assertEqual(back.face_groups, {1: [1, 7]})
 
     def test_cancel_token_set_before_the_call(self):
         # A short run ended before the token was first looked at and gave its

@@ -489,6 +489,36 @@ std::map<std::string, double> volumes_by_name(const std::string& deck, const std
 }
 }  // namespace abaqus_decks
 
+// A facet in two faces' groups (an interface of two CAD faces) is one
+// facet on both, however a file lists it: an Abaqus deck through each
+// solid's own element (two facets, duplicates, until 2026-11-30), a Gmsh
+// 4.1 entity with two physical surfaces beside a named group without
+// elements (the shared piece took that group's number, 3 "Outlet").
+TEST(ConvertersRoundTrip, FacetsInTwoFaceGroupsAreReadOnce) {
+  const std::string deck = test::temp_path("shared_sides.inp");
+  std::ofstream(deck) << abaqus_decks::kNodes
+                      << "*ELEMENT, TYPE=C3D4, ELSET=Solid1\n1, 1, 2, 3, 4\n*ELEMENT, TYPE=C3D4, ELSET=Solid2\n"
+                         "2, 2, 3, 4, 5\n*SURFACE, NAME=Face1, TYPE=ELEMENT\n1, S3\n"
+                         "*SURFACE, NAME=Face2, TYPE=ELEMENT\n2, S1\n*SURFACE, NAME=Face3, TYPE=ELEMENT\n1, S1\n";
+  const Mesh a = io::read_mesh(deck);
+  ASSERT_EQ(a.triangles.size(), 2u);
+  const std::map<int, std::vector<int>> shared{{1, {1, 2}}};
+  EXPECT_EQ(a.face_groups, shared);
+  const std::string msh = test::temp_path("shared_entity.msh");
+  std::ofstream(msh) << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n2 1 \"A\"\n2 2 \"B\"\n"
+                        "2 3 \"Outlet\"\n3 1 \"Region1\"\n$EndPhysicalNames\n$Entities\n0 0 3 1\n"
+                        "1 0 0 0 1 1 1 1 1 0\n2 0 0 0 1 1 1 1 2 0\n3 0 0 0 1 1 1 2 2 1 0\n"
+                        "1 0 0 0 1 1 1 1 1 0\n$EndEntities\n$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n"
+                        "0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n$Elements\n4 4 1 4\n2 1 2 1\n1 1 3 2\n"
+                        "2 2 2 1\n2 1 2 4\n2 3 2 1\n3 1 4 3\n3 1 4 1\n4 1 2 3 4\n$EndElements\n";
+  const Mesh g = io::read_mesh(msh);
+  ASSERT_EQ(g.triangles.size(), 3u);
+  const Triangle& piece = g.triangles[2];
+  EXPECT_TRUE(piece.face != 1 && piece.face != 2 && piece.face != 3) << piece.face;
+  const std::map<int, std::vector<int>> entity{{piece.face, {2, 1}}};
+  EXPECT_EQ(g.face_groups, entity);
+}
+
 TEST(ConvertersRoundTrip, AbaqusRegionsFromSolidSectionsAndElementSets) {
   using abaqus_decks::volumes_by_name;
   const auto calculix = volumes_by_name(
