@@ -462,10 +462,11 @@ CadModel CadModel::from_brep_string(const std::string& brep, const std::string& 
                                     const std::atomic<bool>* cancel_flag, Fuse fuse) {
   OccCancel cancel(cancel_flag);
   try {
-    std::istringstream check(brep);
-    if (!has_brep_version_line(check))
-      throw InputError(name + ": not a BREP shape (no line \"CASCADE Topology V1/V2/V3\", which starts the shapes)");
     std::istringstream in(brep);
+    if (!has_brep_version_line(in))
+      throw InputError(name + ": not a BREP shape (no line \"CASCADE Topology V1/V2/V3\", which starts the shapes)");
+    in.clear();
+    in.seekg(0);
     BRep_Builder builder;
     TopoDS_Shape shape;
     BRepTools::Read(shape, in, builder, cancel.range());

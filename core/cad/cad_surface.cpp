@@ -516,15 +516,8 @@ std::vector<GeometryCheck> CadModel::area_checks(const Mesh& mesh) const {
     for (const int g : face_groups_of(mesh, face)) group_area[g] += a;
   area.swap(group_area);
   std::map<int, double> cad_area;
-  for (size_t f = 0; f < impl_->faces.size(); ++f) {
-    const int n = impl_->face_number[f];
-    const auto shared = impl_->face_groups.find(n);
-    if (shared == impl_->face_groups.end()) {
-      cad_area[n] += face_area(*impl_, f);
-      continue;
-    }
-    for (const int g : shared->second) cad_area[g] += face_area(*impl_, f);
-  }
+  for (size_t f = 0; f < impl_->faces.size(); ++f)
+    for (const int g : face_groups_of(mesh, impl_->face_number[f])) cad_area[g] += face_area(*impl_, f);
   std::vector<GeometryCheck> out;
   for (const auto& [n, a] : cad_area) out.push_back({"Face" + std::to_string(n), a, area.count(n) ? area[n] : 0.0});
   return out;

@@ -290,22 +290,22 @@ region_names and face_names dicts.)")
             if (t.size() != 13) throw py::value_error("vdmesh.Mesh: a pickled state of 13 items expected");
             Mesh mesh;
             try {
-            set_points(mesh, t[0]);
-            set_triangles(mesh, t[2]);
-            set_triangle_faces(mesh, t[3]);
-            set_triangle_regions(mesh, t[4]);
-            set_tets(mesh, t[5]);
-            set_tet_regions(mesh, t[6]);
-            set_triangle_mid(mesh, t[7]);
-            set_tet_mid(mesh, t[8]);
-            set_point_size(mesh, t[1]);
-            mesh.region_names = t[9].cast<std::map<int, std::string>>();
-            mesh.face_names = t[10].cast<std::map<int, std::string>>();
-            mesh.face_groups = t[11].cast<std::map<int, std::vector<int>>>();
-            for (const py::handle r : t[12].cast<py::list>()) {
-              const auto [x, y, z, region] = r.cast<std::tuple<double, double, double, int>>();
-              mesh.region_points.push_back({{x, y, z}, region});
-            }
+              set_points(mesh, t[0]);
+              set_triangles(mesh, t[2]);
+              set_triangle_faces(mesh, t[3]);
+              set_triangle_regions(mesh, t[4]);
+              set_tets(mesh, t[5]);
+              set_tet_regions(mesh, t[6]);
+              set_triangle_mid(mesh, t[7]);
+              set_tet_mid(mesh, t[8]);
+              set_point_size(mesh, t[1]);
+              mesh.region_names = t[9].cast<std::map<int, std::string>>();
+              mesh.face_names = t[10].cast<std::map<int, std::string>>();
+              mesh.face_groups = t[11].cast<std::map<int, std::vector<int>>>();
+              for (const py::handle r : t[12].cast<py::list>()) {
+                const auto [x, y, z, region] = r.cast<std::tuple<double, double, double, int>>();
+                mesh.region_points.push_back({{x, y, z}, region});
+              }
             } catch (const std::exception& e) {  // a cast, or an array of the wrong kind
               throw py::value_error(std::string("vdmesh.Mesh: a pickled state of another form: ") + e.what());
             }
