@@ -39,3 +39,35 @@ def data(relative):
 def finish():
     print("%d checks failed" % len(failures) if failures else "all checks passed")
     sys.exit(1 if failures else 0)
+
+
+def read_abaqus_deck(path):
+    """A vdmesh Abaqus deck as (nodes, elsets, nsets, surfaces): {id: (x, y, z)},
+    {ELSET: [(id, node, ...)]} of its *ELEMENT blocks, {NSET: set of ids}, and
+    {*SURFACE name: [(element, side 1..4)]}."""
+    import re
+    nodes, elsets, nsets, surfaces, mode, current = {}, {}, {}, {}, None, None
+    for line in open(path):
+        s = line.strip()
+        if not s or s.startswith("**"):
+            continue
+        if s.startswith("*"):
+            key = s.upper()
+            mode = next((k for k in ("*NODE", "*ELEMENT", "*NSET", "*SURFACE") if key.startswith(k)), None)
+            named = {"*ELEMENT": ("ELSET", elsets), "*NSET": ("NSET", nsets), "*SURFACE": ("NAME", surfaces)}
+            if mode in named:
+                option, into = named[mode]
+                current = re.search(option + r"=([A-Za-z0-9_]+)", s, re.I).group(1)
+                into.setdefault(current, set() if mode == "*NSET" else [])
+            continue
+        f = [x.strip() for x in s.split(",") if x.strip()]
+        if mode == "*NODE":
+            nodes[int(f[0])] = tuple(float(x) for x in f[1:4])
+        elif mode == "*ELEMENT":
+            elsets[current].append(tuple(int(x) for x in f))
+        elif mode == "*NSET":
+            nsets[current].update(int(x) for x in f)
+        elif mode == "*SURFACE":
+            surfaces[current].append((int(f[0]), int(f[1][1:])))
+    return nodes, elsets, nsets, surfaces
+

@@ -9,7 +9,7 @@ import subprocess
 import numpy as np
 
 from cad_support import mesh_as, out, tet_volumes, tets_in_solids
-from cli_support import BIN, check, data, finish, run
+from cli_support import BIN, check, data, finish, read_abaqus_deck, run
 
 
 
@@ -360,26 +360,9 @@ if code == 0:
 # by its *SURFACE's element sides.
 def deck_surface_areas(path):
     """{*SURFACE name: (area, set of facet planes' z when flat in z, else None)} of a C3D4 deck."""
-    nodes, tets, surfaces, mode, name = {}, {}, {}, None, None
-    for line in open(path):
-        s = line.strip()
-        if not s or s.startswith("**"):
-            continue
-        if s.startswith("*"):
-            key = s.upper()
-            mode = ("node" if key.startswith("*NODE") else "element" if key.startswith("*ELEMENT")
-                    else "surface" if key.startswith("*SURFACE") else None)
-            if mode == "surface":
-                name = [o.split("=")[1].strip() for o in s.split(",") if o.strip().upper().startswith("NAME=")][0]
-                surfaces[name] = []
-            continue
-        f = [x.strip() for x in s.split(",") if x.strip()]
-        if mode == "node":
-            nodes[int(f[0])] = np.array([float(x) for x in f[1:4]])
-        elif mode == "element":
-            tets[int(f[0])] = [int(x) for x in f[1:5]]
-        elif mode == "surface":
-            surfaces[name].append((int(f[0]), int(f[1][1:])))
+    points, elsets, _, surfaces = read_abaqus_deck(path)
+    nodes = {k: np.array(p) for k, p in points.items()}
+    tets = {e[0]: list(e[1:5]) for es in elsets.values() for e in es}
     sides = {1: (0, 1, 2), 2: (0, 3, 1), 3: (1, 3, 2), 4: (2, 3, 0)}  # Abaqus C3D4 faces S1..S4
     areas = {}
     for name, entries in surfaces.items():

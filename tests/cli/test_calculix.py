@@ -13,11 +13,10 @@ CalculiX (ccx) and give the displacements of beam theory.
   second order.
 """
 import os
-import re
 import shutil
 import subprocess
 
-from cli_support import check, finish, run, tmpdir
+from cli_support import check, finish, read_abaqus_deck, run, tmpdir
 
 L, B, H = 10.0, 1.0, 1.0
 
@@ -60,39 +59,6 @@ def write_bar_obj(path, cuts):
                 f.write("f %d %d %d\nf %d %d %d\n" % (q[0], q[1], q[2], q[0], q[2], q[3]))
 
 
-def read_deck(path, nsets=None):
-    """Nodes {id: (x,y,z)} and element sets {ELSET: [(id, nodes...)]} of a deck;
-    node sets into `nsets` ({NSET: set of ids}) when given."""
-    nodes, elsets, mode, current = {}, {}, None, None
-    for line in open(path):
-        s = line.strip()
-        if not s or s.startswith("**"):
-            continue
-        if s.startswith("*"):
-            key = s.upper()
-            if key.startswith("*NODE"):
-                mode = "node"
-            elif key.startswith("*ELEMENT"):
-                mode = "element"
-                current = re.search(r"ELSET=([A-Za-z0-9_]+)", s, re.I).group(1)
-                elsets.setdefault(current, [])
-            elif key.startswith("*NSET") and nsets is not None:
-                mode = "nset"
-                current = re.search(r"NSET=([A-Za-z0-9_]+)", s, re.I).group(1)
-                nsets.setdefault(current, set())
-            else:
-                mode = None
-            continue
-        parts = [p for p in s.split(",") if p.strip()]
-        if mode == "node":
-            nodes[int(parts[0])] = tuple(float(p) for p in parts[1:4])
-        elif mode == "element":
-            elsets[current].append(tuple(int(p) for p in parts))
-        elif mode == "nset":
-            nsets[current].update(int(p) for p in parts)
-    return nodes, elsets
-
-
 def nearest_node(nodes, p):
     return min(nodes, key=lambda n: sum((a - b) ** 2 for a, b in zip(nodes[n], p)))
 
@@ -130,7 +96,7 @@ def mesh_bar(tmp, name, cuts, order, size):
     check(code == 0, "vdmesh mesh %s --order %d (exit %d) %s" % (name, order, code, err.strip()[-300:]))
     if code != 0:
         return None
-    nodes, elsets = read_deck(inp)
+    nodes, elsets, _, _ = read_abaqus_deck(inp)
     want = 10 if order == 2 else 4
     counts = {len(e) - 1 for es in elsets.values() for e in es}
     check(counts == {want}, "%s: every element has %d nodes (%s)" % (name, want, sorted(counts)))
@@ -202,8 +168,7 @@ def main():
         left, right = region_sets_by_x(nodes, elsets)
         # Each region's node set holds its nodes: x <= L1 on the left, x >= L1
         # on the right (ccx reads them in the run below).
-        nsets = {}
-        read_deck(inp, nsets)
+        _, _, nsets, _ = read_abaqus_deck(inp)
         for name, side in ((left, lambda x: x <= L1 + 1e-9), (right, lambda x: x >= L1 - 1e-9)):
             want = {n for n, p in nodes.items() if side(p[0])}
             got = nsets.get(name + "_Nodes", set())
