@@ -1,5 +1,6 @@
-"""`cmake --install` into a temporary DESTDIR: the program, the Python module
-and the FreeCAD workbench land where the README says, and work from there.
+"""`cmake --install` into a temporary DESTDIR: the program, the Python module,
+the C++ library (find_package(vdmesh)) and the FreeCAD workbench land where the
+README says, and work from there.
 
 ctest python.install passes the build's settings through the environment:
 VDMESH_BUILD_DIR, VDMESH_INSTALL_PREFIX, VDMESH_PYTHON_INSTALL_DIR,
@@ -60,6 +61,50 @@ class Install(unittest.TestCase):
         volume = re.search(r"region 1: volume ([0-9.e+-]+)", p.stdout)
         self.assertTrue(volume, p.stdout)
         self.assertAlmostEqual(float(volume.group(1)), 2.0, places=9)
+
+    def test_cpp_library_builds_and_runs_the_example(self):
+        # Resources/examples/cpp, configured against the installed package only
+        # (CMAKE_PREFIX_PATH = the DESTDIR's prefix; the build tree is not seen).
+        import gmsh
+        work = tempfile.mkdtemp(prefix="vdmesh-install-cpp-")
+        example = os.path.join(ENV["VDMESH_SOURCE_DIR"], "Resources", "examples", "cpp")
+        prefix = under(self.destdir, ENV["VDMESH_INSTALL_PREFIX"])
+        build = os.path.join(work, "build")
+        p = subprocess.run([ENV["CMAKE_COMMAND"], "-S", example, "-B", build, "-DCMAKE_BUILD_TYPE=Release",
+                            "-DCMAKE_PREFIX_PATH=" + prefix], capture_output=True, text=True, timeout=600)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        p = subprocess.run([ENV["CMAKE_COMMAND"], "--build", build], capture_output=True, text=True, timeout=1200)
+        self.assertEqual(p.returncode, 0, p.stdout[-4000:] + p.stderr[-4000:])
+        with open(os.path.join(build, "CMakeCache.txt")) as f:
+            cache = f.read()
+        self.assertIn("vdmesh_DIR:PATH=" + os.path.join(prefix, "lib", "cmake", "vdmesh"), cache)
+        brep = os.path.join(work, "cylinder.brep")
+        gmsh.initialize()
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.occ.addCylinder(0, 0, 0, 0, 0, 3, 1)
+        gmsh.model.occ.synchronize()
+        gmsh.write(brep)
+        gmsh.finalize()
+        box_out, part_out = os.path.join(work, "box.vtu"), os.path.join(work, "cylinder.inp")
+        p = subprocess.run([os.path.join(build, "mesh_box_and_part"), box_out, brep, part_out], capture_output=True,
+                           text=True, timeout=600)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertRegex(p.stdout, r"box: \d+ points, \d+ tetrahedra")
+        cad = re.search(r"Solid1: CAD volume ([0-9.e+-]+), mesh ([0-9.e+-]+)", p.stdout)
+        self.assertTrue(cad, p.stdout)
+        self.assertAlmostEqual(float(cad.group(1)), 3 * 3.141592653589793, places=4)
+        # The files the program wrote, measured by the installed vdmesh
+        # command: the box's volume exactly, the cylinder's within 0.5 %.
+        for out, volume, tolerance in ((box_out, 1.0, 1e-9), (part_out, float(cad.group(1)), 0.005)):
+            q = subprocess.run([self.bin, "info", out], capture_output=True, text=True, timeout=60)
+            self.assertEqual(q.returncode, 0, q.stderr)
+            measured = re.search(r"region 1: volume ([0-9.e+-]+)", q.stdout)
+            self.assertTrue(measured, q.stdout)
+            self.assertLess(abs(float(measured.group(1)) / volume - 1), tolerance, (out, q.stdout))
+        with open(part_out) as f:
+            deck = f.read()
+        self.assertIn("ELSET=Solid1", deck)
+        self.assertRegex(deck, r"\*SURFACE, NAME=Face1")
 
     def test_module_imports_from_the_site_dir(self):
         modules = [f for f in os.listdir(self.pydir) if f.startswith("vdmesh.") and f.endswith(".so")]
