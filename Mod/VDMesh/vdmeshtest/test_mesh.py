@@ -13,6 +13,9 @@ materials' groups (References, none); undo and redo of a Size change; save, reop
 (vdmesh fuses them): all 12 Face<j>_Faces groups have FreeCAD's Face<j>.Area (1e-9 relative), so the
 contact patch is in both the box's top and the block's bottom, and all Face<j>_Nodes lie on Face<j>
 (within 1e-9).
+Export without the kept deck (its folder removed, the document reopened) writes the same *SURFACE,
+*NSET and *ELSET sets as the kept deck, and vdmesh reads them back as Gmsh physical groups; the
+vdmesh-keep-* folders do not pile up (undo, redo, remesh, delete, close), nor do failed runs' folders.
 """
 import os
 import shutil
@@ -147,6 +150,7 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
 
         # export through vdmesh convert, from the kept deck and from the FemMesh alone
         out = tempfile.mkdtemp(prefix="vdmesh-fc-export-")
+        self.addCleanup(shutil.rmtree, out, True)
         for ext in (".vtu", ".msh", ".inp"):
             path = meshobject.export_mesh(obj, os.path.join(out, "m" + ext))
             self.assertGreater(os.path.getsize(path), 1000)
@@ -319,10 +323,12 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         shape = Part.makeCylinder(2, 5)
         params = engine.Parameters(size=1.0, seed=7)
         inp_module, report_module, _ = engine.mesh_shape(shape, params)
+        self.addCleanup(shutil.rmtree, os.path.dirname(inp_module), True)
         os.environ["VDMESH_ENGINE"] = "program"
         try:
             self.assertIsNone(engine.core_module())
             inp_program, report_program, _ = engine.mesh_shape(shape, params)
+            self.addCleanup(shutil.rmtree, os.path.dirname(inp_program), True)
         finally:
             del os.environ["VDMESH_ENGINE"]
         a, b = inpreader.read_inp(inp_module), inpreader.read_inp(inp_program)
@@ -446,3 +452,171 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         self.assertNotEqual(obj.FemMesh.VolumeCount, count)
         figure("saved, reopened, recomputed (part too): mesh kept (%d tetrahedra); box 12 long: %d"
                % (count, obj.FemMesh.VolumeCount))
+
+    def test_8_export_without_the_kept_deck_keeps_the_face_sets(self):
+        # Without the kept deck (undo or redo, its temporary folder removed, the document reopened)
+        # Export writes the FemMesh, and wrote its regions only: no *SURFACE or face node set was
+        # left for a *DSLOAD or *BOUNDARY to name. The part of test_2e (a contact patch in two
+        # faces' groups, listed through one solid's elements) in an analysis with a material on
+        # Solid2 and one without References (their <Material>_Volumes groups beside the regions').
+        import ObjectsFem
+        doc = FreeCAD.newDocument("VDMeshExport")
+        self.addCleanup(close_if_open, doc.Name)
+        part = doc.addObject("Part::Feature", "Overhang")
+        part.Shape = Part.makeCompound([Part.makeBox(20, 20, 10), Part.makeBox(10, 10, 5, Vector(15, 5, 10))])
+        analysis = ObjectsFem.makeAnalysis(doc, "Analysis")
+        steel, alu = (ObjectsFem.makeMaterialSolid(doc, n) for n in ("Steel", "Alu"))
+        alu.References = [(part, "Solid2")]
+        analysis.addObject(steel)
+        analysis.addObject(alu)
+        doc.recompute()
+        obj, info, report, text = meshobject.create_mesh(part, engine.Parameters(size=2.0), analysis=analysis)
+        out = tempfile.mkdtemp(prefix="vdmesh-fc-export-")
+        self.addCleanup(shutil.rmtree, out, True)
+        self.assertIsNotNone(meshobject.kept_deck(obj))
+        kept_path = meshobject.export_mesh(obj, os.path.join(out, "kept.inp"))
+        kept = inpreader.read_inp(kept_path)
+        self.assertEqual(len(kept.surfaces), 12)
+
+        shutil.rmtree(os.path.dirname(obj.OutputFile))  # the temporary folder was cleaned
+        self.assertIsNone(meshobject.kept_deck(obj))
+        removed_path = meshobject.export_mesh(obj, os.path.join(out, "removed.inp"))
+        self.check_same_deck(kept, inpreader.read_inp(removed_path), "kept deck removed")
+
+        # reopened: the FemMesh read back from the UNV the document keeps it in
+        name = obj.Name
+        doc.saveAs(os.path.join(out, "export.FCStd"))
+        FreeCAD.closeDocument(doc.Name)
+        doc = FreeCAD.openDocument(os.path.join(out, "export.FCStd"))
+        self.addCleanup(close_if_open, doc.Name)
+        obj = doc.getObject(name)
+        self.assertIsNone(meshobject.kept_deck(obj))
+        reopened_path = meshobject.export_mesh(obj, os.path.join(out, "reopened.inp"))
+        self.check_same_deck(kept, inpreader.read_inp(reopened_path), "reopened document")
+
+        # vdmesh reads the surfaces back: the Gmsh file has the same physical names from either deck
+        names = {}
+        for label, path in (("kept", kept_path), ("removed", removed_path)):
+            msh = os.path.join(out, label + ".msh")
+            proc = engine._run([engine.find_binary(), "convert", path, msh])
+            self.assertEqual(proc.returncode, 0, proc.stderr)
+            names[label] = physical_names(msh)
+        self.assertEqual(names["removed"], names["kept"])
+        faces = sorted((n for d, n in names["removed"] if d == 2), key=femmesh._natural)
+        self.assertEqual(faces, ["Face%d" % j for j in range(1, 13)])
+        self.assertEqual(sorted(n for d, n in names["removed"] if d == 3), ["Solid1", "Solid2"])
+        figure("export without the kept deck (removed, and the document reopened): the same %d *SURFACEs "
+               "(%d element sides, Face6 %d and Face11 %d of them) and %d node sets as the kept deck; "
+               "vdmesh convert to .msh: %d physical surfaces, %d volumes"
+               % (len(kept.surfaces), sum(len(s) for s in kept.surfaces.values()), len(kept.surfaces["Face6"]),
+                  len(kept.surfaces["Face11"]), len(kept.nsets), len(faces), len(names["removed"]) - len(faces)))
+
+    def check_same_deck(self, kept, other, what):
+        """other (Export from the FemMesh) has the kept deck's surfaces, each side of a tetrahedron
+        the same, node sets, element sets, nodes and elements."""
+        self.assertEqual(sorted(other.surfaces, key=femmesh._natural), sorted(kept.surfaces, key=femmesh._natural),
+                         what)
+        for name, sides in kept.surfaces.items():
+            self.assertEqual(len(other.surfaces[name]), len(sides), "%s: %s" % (what, name))
+            self.assertEqual(sorted(other.surfaces[name]), sorted(sides), "%s: %s" % (what, name))
+        self.assertEqual({k: sorted(v) for k, v in other.nsets.items()},
+                         {k: sorted(v) for k, v in kept.nsets.items()}, what)
+        self.assertEqual({k: sorted(v) for k, v in other.elsets.items()},
+                         {k: sorted(v) for k, v in kept.elsets.items()}, what)
+        self.assertEqual(sorted(other.nodes), sorted(kept.nodes), what)
+        worst = max(max(abs(a - b) for a, b in zip(kept.nodes[n], other.nodes[n])) for n in kept.nodes)
+        self.assertLess(worst, 1e-9, what)
+        self.assertEqual(other.elements, kept.elements, what)
+
+    def test_9_keep_folders_do_not_pile_up(self):
+        # Each run keeps its deck in a vdmesh-keep-* folder. Only the previous run's was removed:
+        # after undo or redo (OutputFile an older run's) the newer one stayed, and a deleted
+        # object's and a closed document's stayed too (a session of tests left over 200 in /tmp).
+        # A temporary folder of this test's own, so that nobody else's runs count.
+        tmp = tempfile.mkdtemp(prefix="vdmesh-fc-tmpdir-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        self.addCleanup(setattr, tempfile, "tempdir", tempfile.tempdir)
+        tempfile.tempdir = tmp
+
+        def keep_folders():
+            return len([n for n in os.listdir(tmp) if n.startswith("vdmesh-keep-")])
+
+        counts = []
+        doc = FreeCAD.newDocument("VDMeshKeep")
+        self.addCleanup(close_if_open, doc.Name)
+        doc.UndoMode = 1
+        box = doc.addObject("Part::Box", "Box")
+        box.Length, box.Width, box.Height = 20, 10, 10
+        doc.recompute()
+        obj, info, report, text = meshobject.create_mesh(box, engine.Parameters(size=3.0))
+        at3 = obj.FemMesh.VolumeCount
+        counts.append(("mesh", keep_folders()))
+        doc.openTransaction("Size 5")
+        obj.Size = 5.0
+        doc.recompute()
+        doc.commitTransaction()
+        at5 = obj.FemMesh.VolumeCount
+        counts.append(("Size 5", keep_folders()))
+        doc.undo()
+        counts.append(("undo", keep_folders()))
+        doc.recompute()
+        self.assertEqual(obj.FemMesh.VolumeCount, at3)  # undo works as before
+        self.assertIsNotNone(meshobject.kept_deck(obj))
+        counts.append(("recompute", keep_folders()))
+        doc.redo()
+        counts.append(("redo", keep_folders()))
+        self.assertIsNone(meshobject.kept_deck(obj))  # the FemMesh is not the size-5 run's: Export writes it
+        doc.recompute()
+        self.assertEqual(obj.FemMesh.VolumeCount, at5)
+        self.assertIsNotNone(meshobject.kept_deck(obj))
+        counts.append(("recompute", keep_folders()))
+        # As after reopening a document: the proxy lists no folder, OutputFile names one.
+        obj.Proxy.keep_folders = []
+        obj.Seed = 2
+        doc.recompute()
+        counts.append(("reopened and remeshed", keep_folders()))
+        doc.removeObject(obj.Name)
+        counts.append(("deleted", keep_folders()))
+        # closing a document removes its objects' folders (FreeCAD closes them all on exit)
+        meshobject.create_mesh(box, engine.Parameters(size=4.0))
+        meshobject.create_mesh(box, engine.Parameters(size=5.0))
+        counts.append(("two more objects", keep_folders()))
+        FreeCAD.closeDocument(doc.Name)
+        counts.append(("document closed", keep_folders()))
+
+        # a refused part and a stopped run leave no folder either
+        doc = FreeCAD.newDocument("VDMeshKeepFailures")
+        self.addCleanup(close_if_open, doc.Name)
+        bad = doc.addObject("Part::Feature", "OpenSolid")
+        bad.Shape = Part.Solid(Part.Shell(Part.makeBox(1, 1, 1).Faces[:5]))
+        doc.recompute()
+        with self.assertRaises(engine.VDMeshError):
+            meshobject.create_mesh(bad)
+        cancel = engine.CancelRequest()
+        cancel.set()
+        with self.assertRaises(engine.VDMeshCancelled):
+            meshobject.create_mesh(box_shape_object(doc), engine.Parameters(size=0.5), cancel=cancel)
+        left = sorted(os.listdir(tmp))
+        figure("vdmesh-keep-* folders after each step: %s; then a refused part and a stopped run: %d entries "
+               "left in the temporary folder" % (", ".join("%s %d" % c for c in counts), len(left)))
+        expected = {"deleted": 0, "document closed": 0, "two more objects": 2}  # else the current run's 1
+        self.assertEqual(counts, [(step, expected.get(step, 1)) for step, _ in counts])
+        self.assertEqual(left, [])
+
+
+def close_if_open(name):
+    if name in FreeCAD.listDocuments():
+        FreeCAD.closeDocument(name)
+
+
+def box_shape_object(doc):
+    box = doc.addObject("Part::Box", "StoppedBox")
+    doc.recompute()
+    return box
+
+
+def physical_names(msh):
+    """{(dimension, name)} of a Gmsh file's $PhysicalNames."""
+    with open(msh) as f:
+        lines = f.read().split("$PhysicalNames\n", 1)[1].split("$EndPhysicalNames", 1)[0].splitlines()
+    return {(int(l.split()[0]), l.split(None, 2)[2].strip('"')) for l in lines[1:]}

@@ -7,6 +7,7 @@ SMESH's order to Abaqus' independently of our code, and the volume against FemMe
 FreeCAD sums for 10-node tetrahedra only.
 """
 import os
+import shutil
 import tempfile
 import time
 import unittest
@@ -59,6 +60,7 @@ class TestVDMeshSecondOrder(unittest.TestCase):
 
     def test_1_tet10_deck_into_femmesh(self):
         d = tempfile.mkdtemp(prefix="vdmesh-tet10-")
+        self.addCleanup(shutil.rmtree, d, True)
         deck_path = os.path.join(d, "tet10.inp")
         nodes = tet10_deck(deck_path)
         deck = inpreader.read_inp(deck_path)
@@ -73,8 +75,11 @@ class TestVDMeshSecondOrder(unittest.TestCase):
         fm.writeABAQUS(out, 1, False)
         self.assertEqual(abaqus_elements(out), {7: C3D10})
         # our writer (export from a FemMesh alone) does too
-        ours = meshobject.write_inp_from_femmesh(fm, os.path.join(d, "ours.inp"))
-        self.assertEqual(inpreader.read_inp(ours).elements, {7: C3D10})
+        ours = inpreader.read_inp(meshobject.write_inp_from_femmesh(fm, os.path.join(d, "ours.inp")))
+        self.assertEqual(ours.elements, {7: C3D10})
+        # with the deck's face set: the same side of the element, and the face's nodes mid-edge ones too
+        self.assertEqual(ours.surfaces, {"Face1": [(7, 0)]})
+        self.assertEqual(ours.nsets["Face1_Nodes"], [11, 12, 13, 21, 22, 23])
         # the face element of Face1 (S1: corners 0 1 2, normal out of the tetrahedron, i.e. -z) is a
         # 6-node triangle whose mid-edge nodes sit between its corners
         groups = femmesh.group_ids(fm)

@@ -262,7 +262,20 @@ def mesh_shape(shape, params, workdir=None, cancel=None, idle=None):
     if not shape.Solids:
         raise VDMeshError("the selected shape has no solid (%d faces, %d shells): vdmesh meshes solids"
                           % (len(shape.Faces), len(shape.Shells)))
+    own = workdir is None
     workdir = workdir or tempfile.mkdtemp(prefix="vdmesh-")
+    try:
+        return _mesh_in(workdir, shape, params, cancel, idle)
+    except BaseException:
+        # A failed or stopped run's folder is nobody's: each Stop and each refused part left one
+        # in the temporary folder.
+        if own:
+            shutil.rmtree(workdir, ignore_errors=True)
+        raise
+
+
+def _mesh_in(workdir, shape, params, cancel, idle):
+    """mesh_shape's run, its files in workdir."""
     inp = os.path.join(workdir, "mesh.inp")
     core = core_module()
     if core is not None:
@@ -297,16 +310,20 @@ def convert(input_path, output_path, extra=()):
 def compare_shape(shape, size=0.0, timeout=120):
     """`vdmesh compare part.brep --json`: returns (table text, result dict or None, exit code)."""
     workdir = tempfile.mkdtemp(prefix="vdmesh-compare-")
-    brep = export_shape(shape, os.path.join(workdir, "part.brep"))
-    out_json = os.path.join(workdir, "compare.json")
-    args = [find_binary(), "compare", brep, "--json", out_json, "--timeout", str(timeout)]
-    if size and size > 0:
-        args += ["--size", repr(float(size))]
-    proc = _run(args)
-    result = None
-    if os.path.isfile(out_json):
-        with open(out_json) as f:
-            result = json.load(f)
+    try:
+        brep = export_shape(shape, os.path.join(workdir, "part.brep"))
+        out_json = os.path.join(workdir, "compare.json")
+        args = [find_binary(), "compare", brep, "--json", out_json, "--timeout", str(timeout)]
+        if size and size > 0:
+            args += ["--size", repr(float(size))]
+        proc = _run(args)
+        result = None
+        if os.path.isfile(out_json):
+            with open(out_json) as f:
+                result = json.load(f)
+    finally:
+        # the table and the result are returned: nothing in the folder is wanted after
+        shutil.rmtree(workdir, ignore_errors=True)
     if proc.returncode not in (0, 5) and result is None:
         raise _failure(proc, "vdmesh compare")
     return proc.stdout, result, proc.returncode

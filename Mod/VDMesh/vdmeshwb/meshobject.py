@@ -20,6 +20,8 @@ TYPE = "Fem::FemMeshObjectPython"
 ORACLES = ["dt", "lp", "sphere"]
 # the values of FreeCAD's Gmsh mesh object's ElementOrder, so that both objects read alike
 ELEMENT_ORDERS = ["1st", "2nd"]
+# the temporary folders that keep each run's deck for Export (apply_result)
+KEEP_PREFIX = "vdmesh-keep-"
 
 
 def _add(obj, ptype, name, group, doc, value=None):
@@ -69,6 +71,7 @@ class VDMeshObject:
     def __init__(self, obj, params=None):
         obj.Proxy = self
         self.Type = "Fem::VDMesh"
+        self.keep_folders = []  # see folders_made
         self.add_properties(obj, params or engine.Parameters())
 
     @staticmethod
@@ -126,6 +129,7 @@ class VDMeshObject:
 
     def __setstate__(self, state):
         self.Type = (state or {}).get("Type", "Fem::VDMesh")
+        self.keep_folders = []  # not saved: an earlier session's folder is found through OutputFile
 
     # FreeCAD 0.20 uses these names for Python < 3.11 compatibility shims
     def dumps(self):
@@ -215,19 +219,97 @@ def apply_result(obj, fm, inp, report):
     # A folder of its own for each run: one named after the document and the
     # object was shared by every document of the same name (all new ones are
     # "Unnamed"), and Export wrote another document's mesh.
-    previous = os.path.dirname(getattr(obj, "OutputFile", "") or "")
-    keep = tempfile.mkdtemp(prefix="vdmesh-keep-")
+    keep = make_keep_folder(obj)
     kept = os.path.join(keep, "mesh.inp")
     try:
         shutil.copyfile(inp, kept)
         shutil.rmtree(os.path.dirname(inp), ignore_errors=True)
     except OSError:
         kept = inp
-    if os.path.basename(previous).startswith("vdmesh-keep-") and previous != keep:
-        shutil.rmtree(previous, ignore_errors=True)
+    remove_keep_folders(obj, but=keep)
     obj.OutputFile = kept
     obj.OutputDigest = file_digest(kept)
     obj.Report = json.dumps(report or {})
+
+
+def is_vdmesh_object(obj):
+    # by the proxy's Type, not its class: a reload of this module makes another class
+    return getattr(getattr(obj, "Proxy", None), "Type", None) == "Fem::VDMesh"
+
+
+def folders_made(obj):
+    """The list of keep folders obj's runs made in this session (kept in its proxy, which undo does
+    not touch: undo gives OutputFile an older run's path, and the newer run's folder is known only
+    here). Empty for an object that is not a VDMesh object."""
+    if not is_vdmesh_object(obj):
+        return []
+    return obj.Proxy.__dict__.setdefault("keep_folders", [])
+
+
+def make_keep_folder(obj):
+    """A new temporary folder for a run's deck, listed as obj's."""
+    folder = tempfile.mkdtemp(prefix=KEEP_PREFIX)
+    folders_made(obj).append(folder)
+    return folder
+
+
+def is_keep_folder(folder):
+    """Whether folder is one make_keep_folder makes: vdmesh-keep-* right in the temporary folder.
+    A document says what its OutputFile is, and nothing else is removed on its word."""
+    return (os.path.basename(folder).startswith(KEEP_PREFIX)
+            and os.path.realpath(os.path.dirname(folder)) == os.path.realpath(tempfile.gettempdir()))
+
+
+def keep_folders_of(obj):
+    """obj's keep folders: those its runs made in this session, and its OutputFile's (a run of an
+    earlier session, when the document was reopened)."""
+    folders = list(folders_made(obj))
+    current = os.path.dirname(getattr(obj, "OutputFile", "") or "")
+    if current and current not in folders and is_keep_folder(current):
+        folders.append(current)
+    return folders
+
+
+def remove_keep_folders(obj, but=None):
+    """Removes obj's keep folders except `but`. The previous run's folder alone was removed: after
+    an undo or redo OutputFile names an older run's, and the newer run's folder stayed, as did every
+    folder of a deleted object or a closed document (a session of tests left over 200 in /tmp).
+    No deck is lost that Export needs: it takes the kept deck only while that run made the
+    FemMesh (kept_deck), else it writes the FemMesh."""
+    for folder in keep_folders_of(obj):
+        if folder != but:
+            shutil.rmtree(folder, ignore_errors=True)
+    made = folders_made(obj)
+    made[:] = [f for f in made if f == but]
+
+
+class KeepFolderJanitor:
+    """A document observer that removes a mesh object's keep folders when it leaves its document
+    (deleted, or its creation undone: redo brings it back without them, and Export writes its
+    FemMesh) and when its document closes (FreeCAD closes every document on exit, headless too).
+    FreeCAD 0.20 tells a Python feature's proxy of neither: only the GUI's view provider has an
+    onDelete, and it is not called when a document closes."""
+
+    def slotDeletedObject(self, obj):
+        if is_vdmesh_object(obj):
+            remove_keep_folders(obj)
+
+    def slotDeletedDocument(self, doc):
+        for obj in doc.Objects:
+            if is_vdmesh_object(obj):
+                remove_keep_folders(obj)
+
+
+_janitor = None
+
+
+def watch_documents():
+    """Registers the KeepFolderJanitor once (on import: any mesh object, made or restored, imports
+    this module first)."""
+    global _janitor
+    if _janitor is None:
+        _janitor = KeepFolderJanitor()
+        FreeCAD.addDocumentObserver(_janitor)
 
 
 def kept_deck(obj):
@@ -418,35 +500,146 @@ EXPORT_FILTERS = [
 ]
 
 
+def abaqus_number(v):
+    """v as the deck's text: CalculiX reads each field through 20 characters, and a longer number
+    stops it ("ERROR reading *NODE"); vdmesh's writer does the same (abaqus_number in
+    converters/formats/abaqus.cpp). repr writes up to 17 digits: -4.8502286207676093e-05 is 23
+    characters."""
+    text = repr(v)
+    digits = 16
+    while len(text) > 20 and digits > 0:
+        text = "%.*g" % (digits, v)
+        digits -= 1
+    return text
+
+
+def node_lines(ids):
+    """Node ids 16 to a line, as vdmesh writes its node sets."""
+    ids = list(ids)
+    return "".join(", ".join(str(n) for n in ids[i:i + 16]) + "\n" for i in range(0, len(ids), 16))
+
+
+def region_sets(fm, groups):
+    """[(region name, its tetrahedra)] from the FemMesh's region groups: each <Name>_Volumes that
+    to_femmesh made beside a <Name>_Nodes. A material's <Material>_Volumes has no _Nodes group and is
+    not a region: taken as one, it named the deck's element sets after the analysis's materials
+    (sorted first, "Alu" before "Solid1") instead of the Solid<i> the kept deck has. Tetrahedra in
+    no region group go into one more region."""
+    names = [n[:-len("_Volumes")] for n in groups
+             if n.endswith("_Volumes") and fm.getGroupElementType(groups[n]) == "Volume"]
+    regions = [n for n in names if n + "_Nodes" in groups] or names
+    out, seen = [], set()
+    for name in sorted(regions, key=femmesh._natural):
+        elems = sorted(e for e in fm.getGroupElements(groups[name + "_Volumes"]) if e not in seen)
+        seen.update(elems)
+        out.append((name, elems))
+    rest = [e for e in sorted(fm.Volumes) if e not in seen]
+    if rest:
+        out.append(("Solid%d" % (len(out) + 1), rest))
+    return [(name, elems) for name, elems in out if elems]
+
+
+def face_sets(fm, groups):
+    """[(face name, its face element ids)] from the FemMesh's <Name>_Faces groups, in vdmesh's order
+    (Face1, Face2, ... Face10). A facet on two CAD faces is a face element in each group."""
+    names = [n[:-len("_Faces")] for n in groups
+             if n.endswith("_Faces") and fm.getGroupElementType(groups[n]) == "Face"]
+    return [(name, sorted(fm.getGroupElements(groups[name + "_Faces"])))
+            for name in sorted(names, key=femmesh._natural)]
+
+
+def tetrahedra_in_abaqus_order(fm, elems):
+    """{element id: node ids in Abaqus order} (FemMesh keeps tetrahedra negative, see femmesh)."""
+    return {e: femmesh.swap_orientation(fm.getElementNodes(e)) for e in elems}
+
+
+def element_sides(fm, tets, faces):
+    """{face element id: (tetrahedron id, side 0..3)}: the side of a tetrahedron a face element is.
+
+    to_femmesh added each face element with its normal out of the tetrahedron whose side vdmesh's
+    deck named (inpreader.InpMesh.face_nodes), so of the two tetrahedra at an interface the one
+    whose outward corner order is the face element's is that side: the kept deck's choice, found
+    by the node order alone. A face element whose order matches neither (not one to_femmesh made)
+    takes the first tetrahedron that has it."""
+    wanted = {}
+    for _, elems in faces:
+        for fe in elems:
+            wanted.setdefault(tuple(sorted(fm.getElementNodes(fe)[:3])), [])
+    for e, c in tets.items():
+        for k, (i, j, l) in enumerate(inpreader.TET_FACES):
+            key = tuple(sorted((c[i], c[j], c[l])))
+            if key in wanted:
+                wanted[key].append((e, k))
+    sides = {}
+    for _, elems in faces:
+        for fe in elems:
+            corners = tuple(fm.getElementNodes(fe)[:3])
+            candidates = wanted[tuple(sorted(corners))]
+            outward = [(e, k) for e, k in candidates if is_rotation(corners, outward_corners(tets[e], k))]
+            if outward or candidates:
+                sides[fe] = (outward or candidates)[0]
+    return sides
+
+
+def outward_corners(tet, side):
+    """The corners of a side of a tetrahedron (Abaqus order) with the normal pointing out of it."""
+    i, j, k = inpreader.TET_FACES[side]
+    return (tet[i], tet[k], tet[j])
+
+
+def is_rotation(a, b):
+    return any(tuple(b[m:] + b[:m]) == tuple(a) for m in range(3))
+
+
+def face_nodes_of(fm, groups, name, elems):
+    """The nodes of face group name: its <Name>_Nodes group (vdmesh's node set, read into the FemMesh),
+    else the nodes of its face elements."""
+    if name + "_Nodes" in groups:
+        return sorted(fm.getGroupElements(groups[name + "_Nodes"]))
+    return sorted({n for fe in elems for n in fm.getElementNodes(fe)})
+
+
 def write_inp_from_femmesh(fm, path):
-    """Our deck from a FemMesh alone (the mesh object's OutputFile is gone, e.g. after a reload):
-    nodes, tetrahedra (4 or 10 nodes) back in Abaqus order, one ELSET per <Name>_Volumes group. Face
-    tags are not written (the regions are)."""
+    """Our deck from a FemMesh alone (the kept deck is gone: undo or redo, a removed temporary
+    folder, a reopened document), laid out and named as vdmesh writes it: nodes, one *ELEMENT block
+    (4 or 10 nodes, back in Abaqus order) and one *NSET <Name>_Nodes per region, then an element
+    *SURFACE and an *NSET <Face>_Nodes per face group.
+
+    The face groups come from the FemMesh's <Face>_Faces groups, which hold vdmesh's face sets as
+    they were (a facet on two CAD faces in both, each with the side the deck named): the boundary
+    of the tetrahedra alone would not say which CAD face a facet is on, nor give the interfaces
+    between solids. Until 2026-11-30 the faces were left out, and an exported deck had no surface
+    for a *DSLOAD or a *BOUNDARY to name."""
     nodes = fm.Nodes
     groups = femmesh.group_ids(fm)
-    by_set, seen = [], set()
-    for name in sorted(groups, key=femmesh._natural):
-        if name.endswith("_Volumes") and fm.getGroupElementType(groups[name]) == "Volume":
-            elems = [e for e in fm.getGroupElements(groups[name]) if e not in seen]
-            seen.update(elems)
-            by_set.append((name[:-len("_Volumes")], elems))
-    rest = [e for e in fm.Volumes if e not in seen]
-    if rest:
-        by_set.append(("Solid%d" % (len(by_set) + 1), rest))
+    regions = region_sets(fm, groups)
+    tets = tetrahedra_in_abaqus_order(fm, fm.Volumes)
+    faces = face_sets(fm, groups)
+    sides = element_sides(fm, tets, faces)
     with open(path, "w") as f:
         f.write("** Mesh written by the vdmesh FreeCAD workbench from a FemMesh\n*NODE, NSET=NALL\n")
         for n in sorted(nodes):
             v = nodes[n]
-            f.write("%d, %r, %r, %r\n" % (n, v.x, v.y, v.z))
-        for name, elems in by_set:
+            f.write("%d, %s, %s, %s\n" % (n, abaqus_number(v.x), abaqus_number(v.y), abaqus_number(v.z)))
+        for name, elems in regions:
             for n_nodes, etype in ((4, "C3D4"), (10, "C3D10")):
-                block = [e for e in elems if len(fm.getElementNodes(e)) == n_nodes]
+                block = [e for e in elems if len(tets[e]) == n_nodes]
                 if not block:
                     continue
                 f.write("*ELEMENT, TYPE=%s, ELSET=%s\n" % (etype, name))
                 for e in block:
-                    c = femmesh.swap_orientation(fm.getElementNodes(e))
-                    f.write("%d, %s\n" % (e, ", ".join(str(n) for n in c)))
+                    f.write("%d, %s\n" % (e, ", ".join(str(n) for n in tets[e])))
+        for name, elems in regions:
+            f.write("*NSET, NSET=%s_Nodes\n" % name)
+            f.write(node_lines(sorted({n for e in elems for n in tets[e]})))
+        for name, elems in faces:
+            listed = [sides[fe] for fe in elems if fe in sides]
+            if listed:
+                f.write("*SURFACE, NAME=%s, TYPE=ELEMENT\n" % name)
+                f.write("".join("%d, S%d\n" % (e, k + 1) for e, k in listed))
+        for name, elems in faces:
+            f.write("*NSET, NSET=%s_Nodes\n" % name)
+            f.write(node_lines(face_nodes_of(fm, groups, name, elems)))
     return path
 
 
@@ -465,3 +658,6 @@ def export_mesh(obj, path, extra=()):
     finally:
         if tmpdir:
             shutil.rmtree(tmpdir, ignore_errors=True)
+
+
+watch_documents()
