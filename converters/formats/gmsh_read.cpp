@@ -62,6 +62,20 @@ long long group_number(int physical, int entity, int largest_physical) {
   return static_cast<long long>(largest_physical) + entity;
 }
 
+// Of the physical groups an element is in, the one that holds the fewest
+// (`size`: its entities, or its elements), the first listed of those: a
+// volume in "all" and in "left" is in the region "left". Gmsh lists an
+// entity's groups in its own order (the left box "11 100", the right one
+// "100 22"), and the first listed was taken until 2026-11-30: "right"
+// vanished and "all" held the right box alone, exit 0.
+template <typename Size>
+int most_specific_group(const std::vector<int>& groups, Size size) {
+  int best = 0;
+  for (const int g : groups)
+    if (best == 0 || size(g) < size(best)) best = g;
+  return best;
+}
+
 int parent_or_self(const std::map<int, int>& parent, int entity) {
   const auto it = parent.find(entity);
   return it == parent.end() ? entity : it->second;
@@ -106,6 +120,8 @@ class MshReader {
   int int_value(const char* what);        // int in binary
   double real_value(const char* what);
   void finish();
+  void choose_tet_groups22();
+  int volume_group(const Entity& volume) const;
 
   Cursor in_;
   Mesh m_;
@@ -121,6 +137,11 @@ class MshReader {
   std::set<int> partition_cuts_;
   std::vector<Element> tri_info_;
   std::vector<std::vector<int>> more_physicals_;
+  // 2.2: each tetrahedron's further physical groups (index into m_.tets,
+  // group), and every group's count of tetrahedra, to choose among them.
+  std::vector<std::pair<size_t, int>> tet_more_physicals_;
+  std::map<int, uint64_t> tets_in_group_;
+  std::map<int, size_t> volumes_in_group_;  // 4.1: each group's volumes (volume_group)
   TagList tet_tags_;  // the tetrahedra's entities wait in their region field
   // Binary 4.1 whose tetrahedron tags are lo..lo+n-1, each once (what vdmesh
   // and Gmsh write): each tetrahedron goes straight to index tag - lo, so
@@ -359,6 +380,7 @@ void MshReader::add_element(int type, uint64_t tag, const uint64_t* nodes, int e
     last_.entity = entity;
     last_.physical = physical;
     std::copy(nodes, nodes + k, last_.nodes);
+    if (tet && physical > 0) ++tets_in_group_[physical];
     if (repeat) {
       // A triangle in two physical surfaces lies on both faces
       // (Mesh::face_groups; vdmesh writes a CAD interface so).
@@ -367,6 +389,8 @@ void MshReader::add_element(int type, uint64_t tag, const uint64_t* nodes, int e
         if (e.more < 0) e.more = static_cast<int>(more_physicals_.size()), more_physicals_.emplace_back();
         more_physicals_[static_cast<size_t>(e.more)].push_back(physical);
       }
+      // A tetrahedron has one region: chosen among its groups in finish().
+      if (tet && !m_.tets.empty()) tet_more_physicals_.push_back({m_.tets.size() - 1, physical});
       return;
     }
   }
@@ -602,7 +626,36 @@ void MshReader::read_elements41() {
   expect_end("$Elements");
 }
 
+// 2.2: a tetrahedron in several physical groups takes the one of fewest
+// tetrahedra (most_specific_group); its region field holds its first group
+// until here.
+void MshReader::choose_tet_groups22() {
+  auto size = [this](int g) { return tets_in_group_[g]; };
+  for (size_t k = 0; k < tet_more_physicals_.size();) {
+    const size_t tet = tet_more_physicals_[k].first;
+    std::vector<int> groups{m_.tets[tet].region};
+    for (; k < tet_more_physicals_.size() && tet_more_physicals_[k].first == tet; ++k)
+      groups.push_back(tet_more_physicals_[k].second);
+    m_.tets[tet].region = most_specific_group(groups, size);
+  }
+  tet_more_physicals_ = {};
+}
+
+// 4.1: a volume's region among its physical groups (most_specific_group,
+// a group's size being the volumes it holds); 0 for none.
+int MshReader::volume_group(const Entity& volume) const {
+  if (volume.physicals.size() < 2) return volume.physicals.empty() ? 0 : volume.physicals.front();
+  auto size = [this](int g) {
+    const auto it = volumes_in_group_.find(g);
+    return it == volumes_in_group_.end() ? size_t{0} : it->second;
+  };
+  return most_specific_group(volume.physicals, size);
+}
+
 void MshReader::finish() {
+  choose_tet_groups22();
+  for (const auto& [tag, v] : volumes_)
+    for (const int g : v.physicals) ++volumes_in_group_[g];
   // Elements in tag order (stable, so untagged duplicates keep file order).
   const bool tri_mids = m_.triangle_mid.size() == m_.triangles.size();
   sort_in_place(
@@ -628,7 +681,8 @@ void MshReader::finish() {
     // Blocks share entities: look each one up once per run.
     auto physical_and_entity = [&](const Tetrahedron& t) {
       if (version_ < 4) return t.region > 0 ? std::pair{t.region, 0} : std::pair{0, kEntityCode - t.region};
-      return std::pair{physical_of(t.region, volumes_), parent_or_self(volume_parent_, t.region)};
+      const auto it = volumes_.find(t.region);
+      return std::pair{it == volumes_.end() ? 0 : volume_group(it->second), parent_or_self(volume_parent_, t.region)};
     };
     int largest = 0;
     int last_region = 0, last_number = 0;
@@ -715,11 +769,11 @@ void MshReader::finish() {
   // means the surface's normal points out of the volume.
   int largest = 0;
   for (const auto& [vtag, v] : volumes_)
-    if (!v.physicals.empty()) largest = std::max(largest, v.physicals.front());
+    largest = std::max(largest, volume_group(v));
   std::map<int, std::pair<int, int>> sides;  // surface -> (front, back)
   bool contradicted = false;                  // two volumes on one side of a surface
   for (const auto& [vtag, v] : volumes_) {
-    const int region = numbered(group_number(v.physicals.empty() ? 0 : v.physicals.front(), vtag, largest));
+    const int region = numbered(group_number(volume_group(v), vtag, largest));
     for (int s : v.bounding) {
       auto& fb = sides.emplace(std::abs(s), std::make_pair(0, 0)).first->second;
       int& side = s > 0 ? fb.second : fb.first;

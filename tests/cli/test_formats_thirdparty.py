@@ -12,6 +12,7 @@ Needs VDMESH_BIN (the CLI); without it the test says so and passes.
 """
 import itertools
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -324,6 +325,42 @@ def check_reads_gmsh_and_meshio_files(binary, tmp):
                   "vdmesh info %s (Gmsh, physical group on the sphere only): 2 regions, %s %s" %
                   (os.path.basename(path), volumes, err))
         gmsh.option.setNumber("Mesh.SaveAll", 0)
+        # Two boxes in a group "all" and one group each: Gmsh lists the
+        # left box's groups as "11 100" and the right one's as "100 22", and
+        # the first listed was the region until 2026-11-30 (regions 11 and
+        # 100: "right" gone, "all" the right box alone). A tetrahedron takes
+        # the group of fewest volumes (4.1) or tetrahedra (2.2's repeats).
+        gmsh.model.add("overlapping_groups")
+        gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1, 1)
+        gmsh.model.occ.addBox(1, 0, 0, 1, 1, 1, 2)
+        gmsh.model.occ.fragment([(3, 1)], [(3, 2)])
+        gmsh.model.occ.synchronize()
+        left = [t for _, t in gmsh.model.getEntities(3) if gmsh.model.occ.getCenterOfMass(3, t)[0] < 1]
+        right = [t for _, t in gmsh.model.getEntities(3) if gmsh.model.occ.getCenterOfMass(3, t)[0] > 1]
+        gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, left + right, 100), "all")
+        gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, left, 11), "left")
+        gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, right, 22), "right")
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.3)
+        gmsh.model.mesh.generate(3)
+        for version in (4.1, 2.2):
+            for binary_file in (0, 1):
+                path = os.path.join(tmp, "overlapping_%s_%d.msh" % (version, binary_file))
+                gmsh.option.setNumber("Mesh.MshFileVersion", version)
+                gmsh.option.setNumber("Mesh.Binary", binary_file)
+                gmsh.write(path)
+                code, tets, volumes, err = vdmesh_info(binary, path)
+                check(code == 0 and sorted(volumes) == [11, 22] and
+                      all(abs(v - 1) < 1e-9 for v in volumes.values()),
+                      "vdmesh info %s (boxes in 'all' and in 'left' / 'right'): regions 11 and 22 of volume 1, "
+                      "got %s %s" % (os.path.basename(path), volumes, err))
+                deck = os.path.join(tmp, "overlapping.inp")
+                run = subprocess.run([binary, "convert", path, deck], capture_output=True, text=True)
+                with open(deck) as f:
+                    blocks = re.findall(r"^\*ELEMENT, TYPE=C3D4, ELSET=(\w+)", f.read(), re.M)
+                check(run.returncode == 0 and sorted(blocks) == ["left", "right"],
+                      "vdmesh convert %s overlapping.inp: element sets left and right, got %s" %
+                      (os.path.basename(path), blocks))
+        gmsh.option.setNumber("Mesh.Binary", 0)
         # Partitioned (gmsh -part 2), with and without ghost cells, ASCII and
         # binary: each partition's piece of a volume was a region of its
         # own and the cuts between partitions faces (4 regions, 33 triangles
