@@ -7,6 +7,7 @@
 // Reads nodes, tetrahedra, triangle shells, ELSETs and element surfaces back,
 // through *INCLUDE files too.
 #include <algorithm>
+#include <cerrno>
 #include <cctype>
 #include <charconv>
 #include <filesystem>
@@ -634,9 +635,12 @@ void InpReader::include(const Keyword& k, size_t line) {
   std::filesystem::path path(file);
   if (path.is_relative()) path = std::filesystem::path(in_->name()).parent_path() / path;
   std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error))
-    throw InputError(where + "*INCLUDE, INPUT=" + file + ": " + path.string() +
-                     (std::filesystem::exists(path, error) ? " is not a regular file" : " does not exist"));
+  if (!std::filesystem::is_regular_file(path, error)) {
+    const bool exists = std::filesystem::exists(path, error);
+    throw FileError(where + "*INCLUDE, INPUT=" + file + ": " + path.string() +
+                        (exists ? " is not a regular file" : " does not exist"),
+                    path.string(), exists ? EISDIR : ENOENT);
+  }
   auto bytes = std::make_unique<FileBytes>(path.string());
   const FileBytes& view = *bytes;
   total_bytes_ += view.size();

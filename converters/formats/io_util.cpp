@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstring>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -22,9 +23,15 @@ bool ends_with_ci(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && iequals(s.substr(s.size() - suffix.size()), suffix);
 }
 
+// "path: what: the system's reason", with the error number (taken before
+// anything else can change errno).
+FileError file_error(const std::string& path, const char* what, int error_number) {
+  return FileError(path + ": " + what + ": " + std::strerror(error_number), path, error_number);
+}
+
 std::string gunzip(const std::string& path) {
   gzFile f = gzopen(path.c_str(), "rb");
-  if (!f) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  if (!f) throw file_error(path, "cannot open", errno);
   std::string out;
   std::vector<char> chunk(1 << 16);
   for (;;) {
@@ -83,12 +90,12 @@ FileBytes::FileBytes(const std::string& path) {
     owned_ = gunzip(path);
   } else {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) throw InputError(path + ": cannot open: " + std::strerror(errno));
+    if (fd < 0) throw file_error(path, "cannot open", errno);
     struct stat st {};
     const bool have_stat = ::fstat(fd, &st) == 0;
     if (have_stat && S_ISDIR(st.st_mode)) {
       ::close(fd);
-      throw InputError(path + ": cannot open: it is a directory");
+      throw FileError(path + ": cannot open: it is a directory", path, EISDIR);
     }
     if (have_stat && S_ISREG(st.st_mode) && st.st_size > 0) {
       void* p = ::mmap(nullptr, static_cast<size_t>(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
@@ -109,7 +116,7 @@ FileBytes::FileBytes(const std::string& path) {
       if (n < 0) {
         const int err = errno;
         ::close(fd);
-        throw InputError(path + ": read error: " + std::strerror(err));
+        throw file_error(path, "read error", err);
       }
       if (n == 0) break;
       owned_.append(chunk, static_cast<size_t>(n));
@@ -314,7 +321,7 @@ struct Out::Sink {
       const size_t step = std::min<size_t>(n, 1u << 30);
       const bool ok = gz ? gzwrite(gz, data, static_cast<unsigned>(step)) == static_cast<int>(step)
                          : std::fwrite(data, 1, step, file) == step;
-      if (!ok) throw InputError(path + ": write error");
+      if (!ok) throw FileError(path + ": write error", path, errno ? errno : EIO);
       data += step;
       n -= step;
     }
@@ -336,7 +343,7 @@ Out::Out(const std::string& path) {
   sink->part = path + ".part";
   if (ends_with_ci(path, ".gz")) sink->gz = gzopen(sink->part.c_str(), "wb6");
   else sink->file = std::fopen(sink->part.c_str(), "wb");
-  if (!sink->gz && !sink->file) throw InputError(path + ": cannot write: " + std::strerror(errno));
+  if (!sink->gz && !sink->file) throw file_error(path, "cannot write", errno);
   sink_ = std::move(sink);
   buf_.reserve(kChunk + (kChunk >> 2));
 }
@@ -358,9 +365,9 @@ void Out::finish() {
   if (!sink_) return;
   sink_->write(buf_.data(), buf_.size());
   buf_.clear();
-  if (!sink_->close()) throw InputError(sink_->path + ": write error");
+  if (!sink_->close()) throw FileError(sink_->path + ": write error", sink_->path, errno ? errno : EIO);
   if (std::rename(sink_->part.c_str(), sink_->path.c_str()) != 0)
-    throw InputError(sink_->path + ": cannot write: " + std::strerror(errno));
+    throw file_error(sink_->path, "cannot write", errno);
   sink_.reset();
 }
 

@@ -129,7 +129,7 @@ void write_result(const Mesh& mesh, const std::string& path, const io::WriteOpti
   std::error_code ignored, ec;
   fs::remove_all(staging, ignored);
   auto fail_unless_ok = [&] {
-    if (ec) throw InputError(path + ": cannot write: " + ec.message());
+    if (ec) throw FileError(path + ": cannot write: " + ec.message(), path, ec.value());
   };
   try {
     fs::create_directory(staging, ec);

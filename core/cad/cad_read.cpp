@@ -33,6 +33,7 @@
 #include <TopoDS_Shell.hxx>
 
 #include <algorithm>
+#include <cerrno>
 #include <array>
 #include <csignal>
 #include <chrono>
@@ -146,8 +147,8 @@ bool has_brep_version_line(std::istream& in) {
 
 TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& cancel) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": a folder, not a CAD file");
-  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
+  if (std::filesystem::is_directory(path, ec)) throw FileError(path + ": a folder, not a CAD file", path, EISDIR);
+  if (!std::filesystem::exists(path, ec)) throw FileError(path + ": no such file", path, ENOENT);
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": not a regular file");
   if (std::filesystem::file_size(path, ec) == 0) throw InputError(path + ": empty file");
   const std::string ext = lower_extension(path);

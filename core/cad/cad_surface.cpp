@@ -152,7 +152,7 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
     // the volume is looked at by the mesher, which knows whether it fills it.
     double area = 0;
     for (size_t f = 0; f < impl_->faces.size(); ++f) area += face_area(*impl_, f);
-    check_size_budget(area, 0.0, options.size, /*interior=*/false, "--size " + number_text(options.size, "%g"));
+    check_size_budget(area, 0.0, options.size, /*interior=*/false, "size " + number_text(options.size, "%g"));
   }
   std::vector<int> front, back;
   face_sides(*impl_, front, back);

@@ -17,6 +17,21 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A file that could not be opened, read or written, with the system's
+// error number: bad input to the command line like any other (exit 3),
+// and an OSError as well as an InputError to Python (errno, filename).
+class FileError : public InputError {
+ public:
+  FileError(const std::string& message, std::string path, int error_number)
+      : InputError(message), path_(std::move(path)), error_number_(error_number) {}
+  const std::string& path() const { return path_; }
+  int error_number() const { return error_number_; }
+
+ private:
+  std::string path_;
+  int error_number_ = 0;
+};
+
 // The surface crosses itself; the crossing facet pairs (indices into the
 // surface that was checked, each pair ascending), so that a caller who knows
 // where the facets came from (CAD faces) can say more.

@@ -259,7 +259,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       volume += tet_volume(o, m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]]);
     }
     check_size_budget(area, volume, options.size.uniform, options.interior,
-                      "--size " + number_text(options.size.uniform, "%g"));
+                      "size " + number_text(options.size.uniform, "%g"));
   }
   {
     // Needles and caps on the input make every tetrahedron on them flat; the

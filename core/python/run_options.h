@@ -48,10 +48,13 @@ MeshResult run_interruptible(RunOptions& options, const std::function<MeshResult
 py::dict report_dict(const MeshReport& report);
 
 // Raised by run_interruptible for RecoveryError: carries the partial report
-// (with missing_facets), which the exception translator attaches.
+// (with missing_facets) and the surface they index (its points), which the
+// exception translator attaches.
 struct RecoveryWithReport : RecoveryError {
-  RecoveryWithReport(const RecoveryError& e, MeshReport r) : RecoveryError(e.what()), report(std::move(r)) {}
+  RecoveryWithReport(const RecoveryError& e, MeshResult&& partial)
+      : RecoveryError(e.what()), report(std::move(partial.report)), surface(std::move(partial.mesh)) {}
   MeshReport report;
+  Mesh surface;
 };
 
 }  // namespace vd::python

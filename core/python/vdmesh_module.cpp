@@ -34,6 +34,7 @@ PyObject* g_error = nullptr;
 PyObject* g_input_error = nullptr;
 PyObject* g_recovery_error = nullptr;
 PyObject* g_cancelled = nullptr;
+PyObject* g_file_error = nullptr;
 
 PyObject* add_exception(py::module_& m, const char* name, const char* doc, py::tuple bases) {
   const std::string qualified = std::string("vdmesh.") + name;
@@ -56,8 +57,13 @@ void register_exceptions(py::module_& m) {
       m, "RecoveryError",
       "Some facets could not be made Delaunay within the guards (exit code 4 of the command line). The attribute "
       "`report` holds the report of the run so far, with the vertex ids of the facets still missing in "
-      "report['missing_facets'].",
+      "report['missing_facets']; `mesh` the surface they index (its points and facets at that time).",
       py::make_tuple(py::handle(g_error), py::handle(PyExc_RuntimeError)));
+  g_file_error = add_exception(
+      m, "FileError",
+      "A file that could not be opened, read or written: an OSError (errno, filename; a missing file has errno "
+      "ENOENT) and a vdmesh.InputError.",
+      py::make_tuple(py::handle(PyExc_OSError), py::handle(g_input_error)));
   g_cancelled = add_exception(m, "Cancelled", "The run was stopped through its CancelToken; there is no result.",
                               py::make_tuple(py::handle(g_error)));
   py::register_exception_translator([](std::exception_ptr p) {
@@ -66,9 +72,17 @@ void register_exceptions(py::module_& m) {
     } catch (const RecoveryWithReport& e) {
       py::object error = py::handle(g_recovery_error)(e.what());
       error.attr("report") = report_dict(e.report);
+      error.attr("mesh") = py::cast(e.surface);
       PyErr_SetObject(g_recovery_error, error.ptr());
     } catch (const RecoveryError& e) {
       PyErr_SetString(g_recovery_error, e.what());
+    } catch (const FileError& e) {
+      // OSError's own text: "[Errno 2] cannot write: No such file or directory: 'path'".
+      std::string message = e.what();
+      const std::string named = e.path() + ": ";
+      if (message.compare(0, named.size(), named) == 0) message.erase(0, named.size());
+      py::object error = py::handle(g_file_error)(e.error_number(), message, e.path());
+      PyErr_SetObject(g_file_error, error.ptr());
     } catch (const InputError& e) {
       PyErr_SetString(g_input_error, e.what());
     } catch (const UsageError& e) {
@@ -125,7 +139,7 @@ py::tuple mesh_surface_py(py::object points, py::object triangles, py::object fa
     try {
       return mesh_surface(input, opt, &partial);
     } catch (const RecoveryError& e) {
-      throw RecoveryWithReport(e, std::move(partial.report));
+      throw RecoveryWithReport(e, std::move(partial));
     }
   };
   return result_tuple(run_interruptible(run, work));
@@ -172,7 +186,7 @@ py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs
     try {
       return cad::mesh_cad(model, copt, &partial);
     } catch (const RecoveryError& e) {
-      throw RecoveryWithReport(e, std::move(partial.report));
+      throw RecoveryWithReport(e, std::move(partial));
     }
   };
   return result_tuple(run_interruptible(run, work));

@@ -1128,7 +1128,7 @@ import time
 unit_box = make_brep("unitbox", lambda occ: occ.addBox(0, 0, 0, 1, 1, 1))
 started = time.time()
 code, _, err = run("mesh", unit_box, "-o", os.path.join(out, "unitbox_tiny.vtu"), "--size", "1e-7", timeout=120)
-check(code == 3 and "--size 1e-07 asks for about" in err and "GiB of memory" in err
+check(code == 3 and "size 1e-07 asks for about" in err and "GiB of memory" in err
       and not os.path.exists(os.path.join(out, "unitbox_tiny.vtu")) and time.time() - started < 60,
       "CAD --size 1e-7 on a unit box: exit 3 naming the size and the memory (exit %d after %.1f s: %s)"
       % (code, time.time() - started, err.strip()[:300]))

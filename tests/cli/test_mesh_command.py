@@ -459,7 +459,7 @@ for extra, needle in ((), "surface facets and "), (("--no-interior",), "surface 
     target = os.path.join(out, "tiny.vtu")
     started = time.time()
     code, _, err = run("mesh", box_path, "-o", target, "--size", "1e-9", *extra, timeout=120)
-    check(code == 3 and "--size 1e-09 asks for about" in err and needle in err and "GiB of memory" in err
+    check(code == 3 and "size 1e-09 asks for about" in err and needle in err and "GiB of memory" in err
           and not os.path.exists(target) and time.time() - started < 30,
           "--size 1e-9 %s: exit 3 naming the size and the memory (exit %d after %.1f s: %s)"
           % (" ".join(extra), code, time.time() - started, err.strip()[:300]))

@@ -486,10 +486,41 @@ class BadInput(unittest.TestCase):
         with self.assertRaises(vdmesh.InputError) as e:
             vdmesh.read(path)
         self.assertIn("broken.off", str(e.exception))
-        with self.assertRaises(vdmesh.InputError):
-            vdmesh.read(os.path.join(d, "missing.off"))
         with self.assertRaisesRegex(ValueError, "xyz"):
             vdmesh.write(vdmesh.Mesh(), os.path.join(d, "out.xyz"))
+
+    def test_file_errors_are_os_errors(self):
+        # A missing file or folder is an OSError with its errno and filename,
+        # as open() raises, and still a vdmesh.InputError; until 2026-11-30 it
+        # was an InputError (a ValueError) only.
+        import errno
+        d = tempfile.mkdtemp(prefix="vdmesh-py-bad-")
+        missing = os.path.join(d, "missing.off")
+        for call in (lambda: vdmesh.read(missing), lambda: vdmesh.mesh_cad(path=os.path.join(d, "missing.step")),
+                     lambda: vdmesh.write(self.small_mesh(), os.path.join(d, "no", "such", "folder.vtu"))):
+            with self.assertRaises(OSError) as e:
+                call()
+            self.assertIsInstance(e.exception, vdmesh.FileError)
+            self.assertIsInstance(e.exception, vdmesh.InputError)
+            self.assertEqual(e.exception.errno, errno.ENOENT)
+            self.assertTrue(e.exception.filename.startswith(d), e.exception.filename)
+        self.assertEqual(os.listdir(d), [])
+        folder = os.path.join(d, "folder.off")
+        os.mkdir(folder)
+        with self.assertRaises(OSError) as e:
+            vdmesh.read(folder)
+        self.assertEqual((e.exception.errno, e.exception.filename), (errno.EISDIR, folder))
+        self.assertIn("it is a directory", str(e.exception))
+
+    def small_mesh(self):
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        return vdmesh.mesh_surface(pts, tris, ids, size=0.5)[0]
+
+    def test_size_budget_names_the_size_not_the_command_line(self):
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        with self.assertRaises(vdmesh.InputError) as e:
+            vdmesh.mesh_surface(pts, tris, ids, size=1e-9)
+        self.assertRegex(str(e.exception), "^size 1e-09 asks for about")
 
     def test_recovery_error_carries_the_report(self):
         # The paper's two almost touching pyramids (§9.8) need vertices or
@@ -501,6 +532,14 @@ class BadInput(unittest.TestCase):
         self.assertFalse(report["complete"])
         self.assertGreater(len(report["missing_facets"]), 0)
         self.assertIn(str(len(report["missing_facets"])), str(e.exception))
+        # The facets' vertex ids index the surface the error carries: each
+        # missing facet is one of its triangles (until 2026-11-30 the points
+        # were not given).
+        surface = e.exception.mesh
+        self.assertEqual(len(surface.points), report["counts"]["output_vertices"])
+        triangles = {tuple(sorted(t)) for t in surface.triangles.tolist()}
+        for facet in report["missing_facets"]:
+            self.assertIn(tuple(sorted(facet)), triangles)
 
 
 def long_job():
