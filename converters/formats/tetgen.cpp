@@ -124,7 +124,8 @@ int face_vertex(const Cursor& in, std::string_view field, const Mesh& m, int fir
   return static_cast<int>(id - first);
 }
 
-void read_face(const std::string& path, Mesh& m, int first) {
+// Returns whether the faces have markers.
+bool read_face(const std::string& path, Mesh& m, int first) {
   const detail::FileBytes data(path);
   Cursor in(data, path);
   in.set_comment('#');
@@ -160,6 +161,7 @@ void read_face(const std::string& path, Mesh& m, int first) {
     m.triangles.push_back(t);
     in.skip_line();
   }
+  return markers;
 }
 
 bool exists(const std::string& p) {
@@ -172,6 +174,25 @@ std::string existing(const std::string& p) {
   return std::filesystem::exists(p, ec) ? p : p + ".gz";
 }
 
+// `tetgen -f` lists every face of the mesh, the inner ones with marker 0:
+// those with one region on both sides are no boundary (they were read as a
+// face "Face0" of 1,437 triangles of a 1,943-face file, and MSH 4.1 written
+// from it did not open in meshio). A face with a marker, or between two
+// regions, stays (an interface, or a sheet inside a region).
+void drop_inner_faces(Mesh& m, bool markers) {
+  const bool mids = m.triangle_mid.size() == m.triangles.size();
+  size_t kept = 0;
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const Triangle& t = m.triangles[i];
+    const bool inner = t.front == t.back && t.front > 0 && (!markers || t.face == 0);
+    if (inner) continue;
+    if (mids) m.triangle_mid[kept] = m.triangle_mid[i];
+    m.triangles[kept++] = t;
+  }
+  m.triangles.resize(kept);
+  if (mids) m.triangle_mid.resize(kept);
+}
+
 Mesh read_tetgen(const std::string& path) {
   const std::string base = detail::tetgen_base(path);
   const std::string node = base + ".node";
@@ -182,9 +203,11 @@ Mesh read_tetgen(const std::string& path) {
   in.set_comment('#');
   const int first = detail::read_tetgen_nodes(in, m);
   if (exists(base + ".ele")) read_ele(existing(base + ".ele"), m, first);
-  if (exists(base + ".face")) read_face(existing(base + ".face"), m, first);
+  bool markers = false;
+  if (exists(base + ".face")) markers = read_face(existing(base + ".face"), m, first);
   detail::require_valid(m, path);
   detail::sides_from_tets(m);
+  drop_inner_faces(m, markers);
   return m;
 }
 

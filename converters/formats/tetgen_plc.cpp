@@ -5,6 +5,9 @@
 // Writing gives one triangle per facet and the region points back.
 #include <cmath>
 #include <filesystem>
+#include <map>
+
+#include "mesh/disjoint_sets.h"
 
 #include "surface/validate_surface.h"
 
@@ -132,6 +135,85 @@ Mesh read_plc(const std::string& path) {
   return m;
 }
 
+// A point inside each region and in each cavity (region 0 enclosed by the
+// surface) for a mesh that has no region points of its own: a PLC written
+// from a volume mesh or a tagged surface had empty lists, and meshing it again
+// (TetGen, or vdmesh) filled the holes (tetgen_example.poly: +5.2 % volume)
+// and numbered the regions anew (a CAD ring's two solids came back swapped).
+// A region's point is its largest tetrahedron's centroid; without
+// tetrahedra, and for cavities, a point a hundredth of the inradius off the
+// roundest facet on that side.
+std::vector<RegionPoint> points_naming_regions(const Mesh& m) {
+  std::vector<RegionPoint> points;
+  std::map<int, std::pair<double, Vec3>> inside;  // region -> (size, point)
+  for (const Tetrahedron& t : m.tets) {
+    if (t.region <= 0) continue;
+    const double volume = std::abs(detail::tet_det(m, t.v));
+    auto& best = inside[t.region];
+    if (volume > best.first) {
+      Vec3 c{};
+      for (int v : t.v) c = c + 0.25 * m.points[static_cast<size_t>(v)];
+      best = {volume, c};
+    }
+  }
+  // Off a facet, on the side facing `region`.
+  auto off_facet = [&m](const Triangle& t, bool front, double& inradius) {
+    const Vec3 a = m.points[static_cast<size_t>(t.v[0])], b = m.points[static_cast<size_t>(t.v[1])],
+               c = m.points[static_cast<size_t>(t.v[2])];
+    const Vec3 n = cross(b - a, c - a);
+    const double perimeter = norm(b - a) + norm(c - b) + norm(a - c);
+    inradius = perimeter > 0 ? norm(n) / perimeter : 0;
+    const Vec3 centroid = (1.0 / 3) * (a + b + c);
+    return centroid + (front ? 0.01 : -0.01) * inradius * normalized(n);
+  };
+  // Shells of facets with the exterior on one side, joined across edges.
+  std::vector<int> outer;
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const Triangle& t = m.triangles[i];
+    if ((t.front == 0) != (t.back == 0) && t.front >= 0 && t.back >= 0) outer.push_back(static_cast<int>(i));
+  }
+  DisjointSets shells(outer.size());
+  std::map<std::pair<int, int>, int> edge_owner;
+  for (size_t k = 0; k < outer.size(); ++k) {
+    const Triangle& t = m.triangles[static_cast<size_t>(outer[k])];
+    for (int e = 0; e < 3; ++e) {
+      const int u = t.v[e], w = t.v[(e + 1) % 3];
+      const auto [it, fresh] = edge_owner.emplace(std::minmax(u, w), static_cast<int>(k));
+      if (!fresh) shells.join(it->second, static_cast<int>(k));
+    }
+  }
+  // Per shell: its volume seen from the exterior (each facet turned to face
+  // region 0: positive when the exterior is around it, negative for a cavity)
+  // and its roundest facet.
+  std::map<int, std::pair<double, std::pair<double, Vec3>>> shell;  // root -> (volume, (inradius, point))
+  for (size_t k = 0; k < outer.size(); ++k) {
+    const Triangle& t = m.triangles[static_cast<size_t>(outer[k])];
+    const bool exterior_in_front = t.front == 0;
+    const Vec3 a = m.points[static_cast<size_t>(t.v[0])], b = m.points[static_cast<size_t>(t.v[1])],
+               c = m.points[static_cast<size_t>(t.v[2])];
+    auto& s = shell[shells.find(static_cast<int>(k))];
+    s.first += (exterior_in_front ? 1 : -1) * dot(a, cross(b, c)) / 6;
+    double inradius = 0;
+    const Vec3 p = off_facet(t, exterior_in_front, inradius);
+    if (inradius > s.second.first) s.second = {inradius, p};
+  }
+  if (m.tets.empty())
+    for (const Triangle& t : m.triangles)
+      for (const bool front : {true, false}) {
+        const int region = front ? t.front : t.back;
+        if (region <= 0 || t.front == t.back) continue;
+        double r = 0;
+        const Vec3 q = off_facet(t, front, r);
+        auto& best = inside[region];
+        if (r > best.first) best = {r, q};
+      }
+  for (const auto& [root, s] : shell)
+    if (s.first < 0 && s.second.first > 0) points.push_back({s.second.second, 0});
+  for (const auto& [region, best] : inside)
+    if (best.first > 0) points.push_back({best.second, region});
+  return points;
+}
+
 void write_plc(const Mesh& m, const std::string& path, const WriteOptions&) {
   const bool poly = detail::extension_of(path) == ".poly";
   detail::Out out(path);
@@ -148,8 +230,10 @@ void write_plc(const Mesh& m, const std::string& path, const WriteOptions&) {
     if (!poly) out << ' ' << t.face;
     out << '\n';
   }
+  const std::vector<RegionPoint> derived = m.region_points.empty() ? points_naming_regions(m) : std::vector<RegionPoint>{};
   std::vector<const RegionPoint*> holes, regions;
-  for (const RegionPoint& r : m.region_points) (r.region == 0 ? holes : regions).push_back(&r);
+  for (const RegionPoint& r : m.region_points.empty() ? derived : m.region_points)
+    (r.region == 0 ? holes : regions).push_back(&r);
   for (const auto* list : {&holes, &regions}) {
     out << list->size() << '\n';
     for (size_t i = 0; i < list->size(); ++i) {

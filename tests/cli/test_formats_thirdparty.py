@@ -480,6 +480,72 @@ def check_reads_gmsh_and_meshio_files(binary, tmp):
           (run.returncode, run.stderr.strip()[:200]))
 
 
+def check_plc_keeps_regions_and_cavities(binary, tmp):
+    """A volume mesh written as a PLC (.poly/.smesh) names its regions and
+    cavities: a box of region 7 with a cubic cavity, meshed, converted to
+    .poly and meshed again by TetGen (-pA) and by vdmesh, keeps region 7 and
+    the volume 26. Until 2026-11-30 the lists were empty: the cavity came
+    back as a region of its own (volume 27 in all) and the regions numbered
+    1, 2 (a CAD ring's two solids swapped)."""
+    def box(lo, hi, first):
+        corners = [(x, y, z) for z in (lo, hi) for y in (lo, hi) for x in (lo, hi)]
+        quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+        return corners, [[first + i for i in q] for q in quads]
+    outer, outer_quads = box(0, 3, 1)
+    inner, inner_quads = box(1, 2, 9)
+    src = os.path.join(tmp, "cavity.poly")
+    with open(src, "w") as f:
+        f.write("16 3 0 0\n")
+        for i, p in enumerate(outer + inner):
+            f.write("%d %g %g %g\n" % (i + 1, *p))
+        f.write("12 1\n")
+        for k, q in enumerate(outer_quads + inner_quads):
+            f.write("1 0 %d\n4 %s\n" % (k + 1, " ".join(map(str, q))))
+        f.write("1\n1 1.5 1.5 1.5\n1\n1 0.5 0.5 0.5 7\n")
+    meshed = os.path.join(tmp, "cavity.vtu")
+    run = subprocess.run([binary, "mesh", src, "-o", meshed, "--size", "0.5", "--quiet"], capture_output=True,
+                         text=True)
+    code, _, volumes, err = vdmesh_info(binary, meshed)
+    check(run.returncode == 0 and volumes == {7: 26.0}, "vdmesh mesh cavity.poly: region 7 of 26, got %s %s" %
+          (volumes, run.stderr[:200]))
+    for ext in ("poly", "smesh"):
+        back = os.path.join(tmp, "back." + ext)
+        run = subprocess.run([binary, "convert", meshed, back], capture_output=True, text=True)
+        check(run.returncode == 0, "vdmesh convert cavity.vtu back.%s (%s)" % (ext, run.stderr[:200]))
+        tet = subprocess.run(["tetgen", "-pAQ", back], capture_output=True, text=True, cwd=tmp)
+        code, _, volumes, err = vdmesh_info(binary, os.path.join(tmp, "back.1.ele"))
+        check(tet.returncode == 0 and code == 0 and list(volumes) == [7] and abs(volumes[7] - 26) < 1e-9,
+              "tetgen -pA back.%s: region 7 of volume 26 (the cavity kept), got %s" % (ext, volumes))
+        # `tetgen -f` lists the inner faces too, with marker 0: they were
+        # read as a face "Face0" (and the MSH 4.1 written from them did not
+        # open in meshio) until 2026-11-30.
+        if ext == "poly":
+            tet = subprocess.run(["tetgen", "-pAfQ", back], capture_output=True, text=True, cwd=tmp)
+            every = os.path.join(tmp, "back.1.face")
+            with open(every) as f:
+                listed = int(f.readline().split()[0])
+            info = subprocess.run([binary, "info", every], capture_output=True, text=True)
+            faces = re.search(r"triangles (\d+)", info.stdout)
+            tagged = re.search(r"faces (\d+)", info.stdout)
+            msh = os.path.join(tmp, "every_face.msh")
+            conv = subprocess.run([binary, "convert", every, msh], capture_output=True, text=True)
+            import meshio
+            try:
+                read_back = sum(len(c.data) for c in meshio.read(msh).cells if c.type == "triangle")
+            except Exception as e:  # meshio refused the file
+                read_back = repr(e)
+            check(tet.returncode == 0 and conv.returncode == 0 and faces and tagged and
+                  int(tagged.group(1)) == 12 and 0 < int(faces.group(1)) < listed and read_back == int(faces.group(1)),
+                  "tetgen -pAf: of its %d faces vdmesh keeps the boundary's (%s triangles, %s face ids, 12 wanted), "
+                  "meshio reads them from MSH 4.1: %s" % (listed, faces and faces.group(1),
+                                                          tagged and tagged.group(1), read_back))
+        again = os.path.join(tmp, "again.vtu")
+        run = subprocess.run([binary, "mesh", back, "-o", again, "--quiet"], capture_output=True, text=True)
+        code, _, volumes, err = vdmesh_info(binary, again)
+        check(run.returncode == 0 and list(volumes) == [7] and abs(volumes[7] - 26) < 1e-9,
+              "vdmesh mesh back.%s: region 7 of volume 26, got %s %s" % (ext, volumes, run.stderr[:200]))
+
+
 def main():
     binary = os.environ.get("VDMESH_BIN", "")
     if not binary or not os.access(binary, os.X_OK):
@@ -538,6 +604,7 @@ def main():
         if "inp" in outputs:
             check_calculix(outputs["inp"], tmp)
         check_reads_gmsh_and_meshio_files(binary, tmp)
+        check_plc_keeps_regions_and_cavities(binary, tmp)
         if "msh" in outputs:
             gmsh_check = subprocess.run(["gmsh", outputs["msh"], "-check"], capture_output=True, text=True, cwd=tmp)
             check(gmsh_check.returncode == 0, "gmsh -check out.msh (exit %d)" % gmsh_check.returncode)
