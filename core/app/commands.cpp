@@ -21,6 +21,7 @@
 #include "mesh/parallel.h"
 #include "mesh/second_order.h"
 #include "pipeline/mesher.h"
+#include "quality/conformity.h"
 #include "quality/tet_quality.h"
 #include "volume/region_tetrahedra.h"
 
@@ -332,9 +333,11 @@ int convert_command(const std::vector<std::string>& raw) {
   Args args(raw);
   io::WriteOptions wopt;
   wopt.binary = args.flag("--binary");
-  // convert prints nothing but errors; --quiet is taken so that scripts may
-  // pass `mesh`'s flags to both.
-  args.flag("--quiet");
+  // convert prints nothing but errors and a warning of inverted tetrahedra;
+  // --quiet (taken so that scripts may pass `mesh`'s flags to both) silences
+  // the warning.
+  const bool quiet = args.flag("--quiet");
+  const bool reorient = args.flag("--reorient");
   wopt.msh_version = static_cast<int>(args.integer("--msh-version", 41));
   if (wopt.msh_version != 22 && wopt.msh_version != 41) throw UsageError("--msh-version must be 22 or 41");
   const std::string from = args.value("--from"), to = args.value("--to");
@@ -343,7 +346,7 @@ int convert_command(const std::vector<std::string>& raw) {
   const auto pos = args.positionals();
   if (pos.size() != 2)
     throw UsageError(
-        "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--quiet] [--size H] [--deflection D] "
+        "usage: vdmesh convert IN OUT [--binary] [--msh-version 22|41] [--order 1|2] [--reorient] [--quiet] [--size H] [--deflection D] "
         "[--angular-deflection DEG] [--volume-tolerance PCT] [--surface-grading R] [--gradation G] [--no-smoothing] [--no-face-remesh]");
   io::format_for(pos[1], to);
   check_can_write(pos[1], "OUT", false);
@@ -354,6 +357,15 @@ int convert_command(const std::vector<std::string>& raw) {
     return 0;
   }
   Mesh mesh = io::read_mesh(pos[0], from);
+  // A mesh of another convention (FreeCAD's FemMesh.write to .vtu inverts
+  // every tetrahedron) went through silently, and a deck of negative volumes
+  // came out.
+  if (reorient) turn_inverted_tetrahedra(mesh);
+  if (const long turned = count_turned_tetrahedra(mesh); turned > 0 && !quiet)
+    std::fprintf(stderr,
+                 "vdmesh convert: warning: %ld of %zu tetrahedra of %s are inverted (their corners turn the other "
+                 "way); written as read (--reorient turns them)\n",
+                 turned, mesh.tets.size(), pos[0].c_str());
   // Second order from a linear mesh puts the nodes at the edge mid-points:
   // without the CAD model there is no better place.
   if (order == "2") make_second_order(mesh);
@@ -395,6 +407,16 @@ int info_command(const std::vector<std::string>& raw) {
   const auto vol = region_volumes(m);
   for (size_t r = 0; r < vol.size(); ++r)
     if (regions.count(static_cast<int>(r))) std::printf("  region %zu: volume %.9g\n", r, vol[r]);
+  // Tetrahedra the file gives no region (a deck without sets, a VTU without
+  // a region array) had no volume line.
+  if (regions.count(kUnknownRegion)) {
+    double unknown = 0;
+    for (const Tetrahedron& t : m.tets)
+      if (t.region == kUnknownRegion)
+        unknown += tet_volume(m.points[static_cast<size_t>(t.v[0])], m.points[static_cast<size_t>(t.v[1])],
+                              m.points[static_cast<size_t>(t.v[2])], m.points[static_cast<size_t>(t.v[3])]);
+    std::printf("  no region: volume %.9g\n", unknown);
+  }
   if (!m.tets.empty()) {
     const QualitySummary q = summarize_quality(m);
     std::printf("  dihedral angle min %.3f max %.3f deg; radius ratio min %.4f mean %.4f\n", q.min_dihedral_deg,

@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "geometry/predicates.h"
 #include "mesh/tet_faces.h"
 #include "volume/region_tetrahedra.h"
 
@@ -56,6 +57,36 @@ ConformityReport check_conformity(const Mesh& m) {
         std::max(r.max_relative_volume_error, std::abs(r.region_volume[i] - r.enclosed_volume[i]) / ref);
   }
   return r;
+}
+
+namespace {
+bool turned(const Mesh& m, const Tetrahedron& t) {
+  return orientation(m.points[static_cast<size_t>(t.v[0])], m.points[static_cast<size_t>(t.v[1])],
+                     m.points[static_cast<size_t>(t.v[2])], m.points[static_cast<size_t>(t.v[3])]) < 0;
+}
+}  // namespace
+
+long count_turned_tetrahedra(const Mesh& mesh) {
+  return static_cast<long>(
+      std::count_if(mesh.tets.begin(), mesh.tets.end(), [&mesh](const Tetrahedron& t) { return turned(mesh, t); }));
+}
+
+long turn_inverted_tetrahedra(Mesh& mesh) {
+  const bool mids = mesh.tet_mid.size() == mesh.tets.size();
+  long count = 0;
+  for (size_t i = 0; i < mesh.tets.size(); ++i) {
+    Tetrahedron& t = mesh.tets[i];
+    if (!turned(mesh, t)) continue;
+    std::swap(t.v[1], t.v[2]);
+    if (mids) {
+      // Edges (01, 12, 20, 03, 13, 23) of (0, 2, 1, 3) are the old 20, 12,
+      // 01, 03, 23, 13.
+      TetMidNodes& x = mesh.tet_mid[i];
+      x = {x[2], x[1], x[0], x[3], x[5], x[4]};
+    }
+    ++count;
+  }
+  return count;
 }
 
 std::string ConformityReport::summary() const {

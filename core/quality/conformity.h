@@ -29,4 +29,12 @@ struct ConformityReport {
 
 ConformityReport check_conformity(const Mesh& mesh);
 
+// Tetrahedra whose corners turn the wrong way (exact orientation < 0), and
+// turning them (two corners swapped, their mid-edge nodes with them). A
+// mesh of another program's convention has all of them so: FreeCAD's
+// FemMesh.write(".vtu") writes every tetrahedron inverted, and `vdmesh
+// convert --reorient` makes such a mesh usable. Flat ones stay as they are.
+long count_turned_tetrahedra(const Mesh& mesh);
+long turn_inverted_tetrahedra(Mesh& mesh);
+
 }  // namespace vd

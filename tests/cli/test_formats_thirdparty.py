@@ -546,6 +546,68 @@ def check_plc_keeps_regions_and_cavities(binary, tmp):
               "vdmesh mesh back.%s: region 7 of volume 26, got %s %s" % (ext, volumes, run.stderr[:200]))
 
 
+def check_convert_reorients_inverted_tetrahedra(binary, tmp):
+    """FreeCAD's FemMesh.write(".vtu") writes every tetrahedron inverted;
+    `vdmesh convert` passed them on silently (a deck of negative volume).
+    Now it warns, and --reorient turns them, mid-edge nodes with their
+    edges: a second-order Gmsh mesh of a box, inverted through meshio, comes
+    back with no inverted tetrahedron, the box's volume and every mid node on
+    the edge it was on."""
+    import gmsh
+    import meshio
+    src = os.path.join(tmp, "box_o2.msh")
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("box_o2")
+        gmsh.model.occ.addBox(0, 0, 0, 2, 1, 1)
+        gmsh.model.occ.synchronize()
+        gmsh.model.addPhysicalGroup(3, [1], 5)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.4)
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.setOrder(2)
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.write(src)
+    finally:
+        gmsh.finalize()
+    mesh = meshio.read(src)
+    tets = np.concatenate([c.data for c in mesh.cells if c.type == "tetra10"])
+    mids = {}
+    for t in tets:
+        for k, (a, b) in enumerate(((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))):
+            mids[frozenset((t[a], t[b]))] = t[4 + k]
+    inverted = tets[:, [0, 2, 1, 3, 6, 5, 4, 7, 9, 8]]
+    turned = os.path.join(tmp, "turned.vtu")
+    meshio.write(turned, meshio.Mesh(mesh.points, [("tetra10", inverted)],
+                                     cell_data={"region": [np.full(len(inverted), 5)]}), binary=False)
+    plain = subprocess.run([binary, "convert", turned, os.path.join(tmp, "turned.inp")], capture_output=True,
+                           text=True)
+    check(plain.returncode == 0 and ("%d of %d tetrahedra" % (len(tets), len(tets))) in plain.stderr,
+          "vdmesh convert of a mesh inverted throughout warns: %s" % plain.stderr.strip()[:200])
+    # A deck without element sets: its tetrahedra have no region, and `info`
+    # printed no volume for them until 2026-11-30.
+    nosets = os.path.join(tmp, "nosets.inp")
+    meshio.write(nosets, meshio.Mesh(mesh.points, [("tetra", tets[:, :4])]))
+    info = subprocess.run([binary, "info", nosets], capture_output=True, text=True)
+    unknown = re.search(r"no region: volume ([0-9.e+-]+)", info.stdout)
+    check(info.returncode == 0 and unknown and abs(float(unknown.group(1)) - 2) < 1e-9,
+          "vdmesh info of a deck without sets: 'no region: volume 2', got %s" % info.stdout.strip()[-200:])
+    out = os.path.join(tmp, "reoriented.vtu")
+    run = subprocess.run([binary, "convert", turned, out, "--reorient"], capture_output=True, text=True)
+    info = subprocess.run([binary, "info", out], capture_output=True, text=True)
+    back = meshio.read(out)
+    tets_back = np.concatenate([c.data for c in back.cells if c.type == "tetra10"])
+    p = back.points
+    volumes = np.einsum("ij,ij->i", p[tets_back[:, 1]] - p[tets_back[:, 0]],
+                        np.cross(p[tets_back[:, 2]] - p[tets_back[:, 0]], p[tets_back[:, 3]] - p[tets_back[:, 0]])) / 6
+    on_their_edges = all(mids[frozenset((t[a], t[b]))] == t[4 + k] for t in tets_back
+                         for k, (a, b) in enumerate(((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))))
+    check(run.returncode == 0 and run.stderr == "" and "inverted 0;" in info.stdout and (volumes > 0).all() and
+          abs(volumes.sum() - 2) < 1e-9 and on_their_edges,
+          "vdmesh convert --reorient: %d tetrahedra turned, volume %.12g, mid nodes on their edges: %s %s" %
+          (len(tets_back), volumes.sum(), on_their_edges, run.stderr.strip()[:200]))
+
+
 def main():
     binary = os.environ.get("VDMESH_BIN", "")
     if not binary or not os.access(binary, os.X_OK):
@@ -605,6 +667,7 @@ def main():
             check_calculix(outputs["inp"], tmp)
         check_reads_gmsh_and_meshio_files(binary, tmp)
         check_plc_keeps_regions_and_cavities(binary, tmp)
+        check_convert_reorients_inverted_tetrahedra(binary, tmp)
         if "msh" in outputs:
             gmsh_check = subprocess.run(["gmsh", outputs["msh"], "-check"], capture_output=True, text=True, cwd=tmp)
             check(gmsh_check.returncode == 0, "gmsh -check out.msh (exit %d)" % gmsh_check.returncode)
