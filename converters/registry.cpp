@@ -8,8 +8,8 @@ namespace vd::io {
 
 const std::vector<Format>& formats() {
   static const std::vector<Format> all = {
-      make_gmsh_format(),   make_vtu_format(),   make_vtk_format(),
-      make_abaqus_format(), make_medit_format(), make_tetgen_format(),
+      make_gmsh_format(),   make_vtu_format(),   make_pvtu_format(), make_vtk_format(),
+      make_abaqus_format(), make_medit_format(), make_meshb_format(), make_tetgen_format(),
       make_tetgen_plc_format(), make_off_format(), make_stl_format(),
       make_obj_format(),
   };

@@ -7,7 +7,7 @@ PACKAGES=(
   # build
   cmake g++ make pkg-config
   # core
-  libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev libtbb-dev libglpk-dev zlib1g-dev
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev libtbb-dev libglpk-dev zlib1g-dev liblz4-dev liblzma-dev
   # CAD
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev
   libocct-foundation-dev libocct-ocaf-dev

@@ -1,6 +1,8 @@
 // Medit / INRIA .mesh (ASCII): Vertices with a reference, Triangles with
 // ref = face id, Tetrahedra with ref = region. Other sections are skipped.
-// Second-order meshes are written with their corner nodes only.
+// Second order as Gmsh writes it (`gmsh -order 2 -o X.mesh`): TrianglesP2
+// and TetrahedraP2, corners then mid-edge nodes on the edges in VTK's and
+// vdmesh's order (01, 12, 20, 03, 13, 23), not Gmsh's own MSH order.
 #include <map>
 
 #include "formats.h"
@@ -60,21 +62,35 @@ Mesh read_medit(const std::string& path) {
         in.integer("a vertex reference");
         m.points.push_back(p);
       }
-    } else if (key == "triangles") {
+    } else if (key == "triangles" || key == "trianglesp2") {
+      const bool p2 = key == "trianglesp2";
+      if (!m.triangles.empty()) in.fail("a second section of triangles");
       const uint64_t n = in.count("the number of triangles", data.size());
       m.triangles.reserve(detail::capped(n, data.size(), 8));
       for (uint64_t i = 0; i < n; ++i) {
         Triangle t;
         for (int& v : t.v) v = vertex("a triangle vertex");
+        if (p2) {
+          TriMidNodes mid;
+          for (int& v : mid) v = vertex("a triangle mid-edge node");
+          m.triangle_mid.push_back(mid);
+        }
         t.face = in.int32("a triangle reference");
         m.triangles.push_back(t);
       }
-    } else if (key == "tetrahedra") {
+    } else if (key == "tetrahedra" || key == "tetrahedrap2") {
+      const bool p2 = key == "tetrahedrap2";
+      if (!m.tets.empty()) in.fail("a second section of tetrahedra");
       const uint64_t n = in.count("the number of tetrahedra", data.size());
       m.tets.reserve(detail::capped(n, data.size(), 10));
       for (uint64_t i = 0; i < n; ++i) {
         Tetrahedron t;
         for (int& v : t.v) v = vertex("a tetrahedron vertex");
+        if (p2) {
+          TetMidNodes mid;
+          for (int& v : mid) v = vertex("a tetrahedron mid-edge node");
+          m.tet_mid.push_back(mid);
+        }
         // Reference 0 is "none" (TetGen's -g and meshio write it for
         // untagged meshes), not region 0, the exterior: read as that, a
         // TetGen mesh was "region 0: volume 2" until 2026-11-30.
@@ -86,7 +102,17 @@ Mesh read_medit(const std::string& path) {
       break;
     } else {
       const int width = skipped_section_width(key);
-      if (width < 0) in.fail("unknown section '" + key.substr(0, 40) + "'");
+      if (width < 0) {
+        // A number where a keyword belongs: the section before has more
+        // numbers per entry than its keyword says (Gmsh heads 10-node
+        // tetrahedra "Tetrahedra" when second order is asked after meshing).
+        int64_t number = 0;
+        if (Cursor::parse_int(key, number))
+          in.fail("expected a section keyword, found the number " + key.substr(0, 40) +
+                  ": the section before has more numbers per entry than its keyword says (second-order elements "
+                  "under a first-order keyword?)");
+        in.fail("unknown section '" + key.substr(0, 40) + "'");
+      }
       const uint64_t n = in.count("a section size", data.size());
       // Elements vdmesh has no place for were skipped without a word.
       if (n > 0 && (key == "quadrilaterals" || key == "hexahedra" || key == "prisms" || key == "pyramids"))
@@ -100,27 +126,37 @@ Mesh read_medit(const std::string& path) {
 }
 
 void write_medit(const Mesh& m, const std::string& path, const WriteOptions&) {
-  // The mid-edge nodes went out as loose vertices beside first-order
-  // elements, with no word: a second-order mesh is refused before a byte.
-  if (m.second_order())
-    throw UsageError(path + ": the Medit .mesh writer writes first-order elements only; give --order 1 to write " +
-                     "the corners, or write second order to .msh, .vtu, .vtk, .inp or .node");
+  // Until 2026-11-29 the mid-edge nodes went out as loose vertices beside
+  // first-order elements, with no word; then second order was refused.
+  const bool tri_p2 = !m.triangle_mid.empty(), tet_p2 = !m.tet_mid.empty();
   detail::Out out(path);
   out << "MeshVersionFormatted 2\nDimension 3\n\nVertices\n" << m.points.size() << '\n';
   for (const Vec3& p : m.points) out << p.x << ' ' << p.y << ' ' << p.z << " 0\n";
   if (!m.triangles.empty()) {
-    out << "\nTriangles\n" << m.triangles.size() << '\n';
+    out << (tri_p2 ? "\nTrianglesP2\n" : "\nTriangles\n") << m.triangles.size() << '\n';
     // Without tetrahedra nothing says a triangle's sides (the reader takes
     // them from the tetrahedra).
-    for (const Triangle& t : m.triangles) {
+    for (size_t i = 0; i < m.triangles.size(); ++i) {
+      const Triangle& t = m.triangles[i];
       const std::array<int, 3> v = m.tets.empty() ? detail::corners_without_sides(t) : t.v;
-      out << v[0] + 1 << ' ' << v[1] + 1 << ' ' << v[2] + 1 << ' ' << t.face << '\n';
+      out << v[0] + 1 << ' ' << v[1] + 1 << ' ' << v[2] + 1;
+      if (tri_p2) {
+        const TriMidNodes x = m.tets.empty() ? detail::mid_nodes_without_sides(t, m.triangle_mid[i]) : m.triangle_mid[i];
+        for (int v : x) out << ' ' << v + 1;
+      }
+      out << ' ' << t.face << '\n';
     }
   }
   if (!m.tets.empty()) {
-    out << "\nTetrahedra\n" << m.tets.size() << '\n';
-    for (const Tetrahedron& t : m.tets)
-      out << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.v[3] + 1 << ' ' << t.region << '\n';
+    out << (tet_p2 ? "\nTetrahedraP2\n" : "\nTetrahedra\n") << m.tets.size() << '\n';
+    for (size_t i = 0; i < m.tets.size(); ++i) {
+      const Tetrahedron& t = m.tets[i];
+      out << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << ' ' << t.v[3] + 1;
+      if (tet_p2) {
+        for (int v : m.tet_mid[i]) out << ' ' << v + 1;
+      }
+      out << ' ' << t.region << '\n';
+    }
   }
   out << "\nEnd\n";
   out.finish();

@@ -1,15 +1,22 @@
 // VTK XML unstructured grid (.vtu). Writes inline ASCII or base64 binary with
 // header_type="UInt64" declared (VTK aborts on an undeclared 64-bit header).
-// Reads inline ascii/binary, zlib-compressed blocks and raw or base64
-// appended data, with UInt32 or UInt64 headers.
+// Reads inline ascii/binary, blocks compressed by zlib, LZ4 or LZMA (VTK's
+// three compressors) and raw or base64 appended data, with UInt32 or UInt64
+// headers, little- or big-endian, in one piece or several (welded where they
+// meet); and a .pvtu by the pieces it lists.
+#include <lz4.h>
+#include <lzma.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <type_traits>
 
 #include "formats.h"
@@ -227,13 +234,24 @@ Stored stored_type(const std::string& type) {
   return Stored::Unknown;
 }
 
+// A value of the file's byte order as this machine's (little-endian).
+template <class T>
+T load_bytes(const char* p, bool swap) {
+  T v;
+  if (!swap) {
+    std::memcpy(&v, p, sizeof v);
+  } else {
+    char b[sizeof(T)];
+    for (size_t i = 0; i < sizeof(T); ++i) b[i] = p[sizeof(T) - 1 - i];
+    std::memcpy(&v, b, sizeof v);
+  }
+  return v;
+}
+
 // One stored value as a double (integers beyond 2^53 lose digits, which no
 // index or tag in a mesh file reaches).
-double load_value(const char* p, Stored t) {
-  auto load = [p](auto v) {
-    std::memcpy(&v, p, sizeof v);
-    return static_cast<double>(v);
-  };
+double load_value(const char* p, Stored t, bool swap) {
+  auto load = [p, swap](auto v) { return static_cast<double>(load_bytes<decltype(v)>(p, swap)); };
   switch (t) {
     case Stored::Int8: return load(int8_t{});
     case Stored::UInt8: return load(uint8_t{});
@@ -248,15 +266,41 @@ double load_value(const char* p, Stored t) {
   }
 }
 
-uint64_t header_value(const char* p, size_t size) {
-  if (size == 8) {
-    uint64_t v;
-    std::memcpy(&v, p, 8);
-    return v;
+uint64_t header_value(const char* p, size_t size, bool swap) {
+  return size == 8 ? load_bytes<uint64_t>(p, swap) : load_bytes<uint32_t>(p, swap);
+}
+
+enum class Compressor { none, zlib, lz4, lzma };
+
+// One compressed block into `out` (its size known from the header): true
+// when it decodes to exactly that many bytes.
+bool decompress_block(Compressor c, const char* in, size_t in_size, char* out, size_t out_size) {
+  switch (c) {
+    case Compressor::zlib: {
+      uLongf got = static_cast<uLongf>(out_size);
+      return uncompress(reinterpret_cast<Bytef*>(out), &got, reinterpret_cast<const Bytef*>(in),
+                        static_cast<uLong>(in_size)) == Z_OK &&
+             got == out_size;
+    }
+    case Compressor::lz4:
+      // vtkLZ4DataCompressor writes raw LZ4 blocks.
+      if (in_size > INT32_MAX || out_size > INT32_MAX) return false;
+      return LZ4_decompress_safe(in, out, static_cast<int>(in_size), static_cast<int>(out_size)) ==
+             static_cast<int>(out_size);
+    case Compressor::lzma: {
+      // vtkLZMADataCompressor (and meshio's "lzma") write .xz streams.
+      uint64_t memlimit = UINT64_MAX;
+      size_t in_pos = 0, out_pos = 0;
+      return lzma_stream_buffer_decode(&memlimit, 0, nullptr, reinterpret_cast<const uint8_t*>(in), &in_pos,
+                                       in_size, reinterpret_cast<uint8_t*>(out), &out_pos, out_size) == LZMA_OK &&
+             out_pos == out_size;
+    }
+    default: return false;
   }
-  uint32_t v;
-  std::memcpy(&v, p, 4);
-  return v;
+}
+
+const char* compressor_name(Compressor c) {
+  return c == Compressor::lz4 ? "LZ4" : c == Compressor::lzma ? "LZMA" : "zlib";
 }
 
 // Node counts of the VTK cell types with a fixed count; 0 for types whose
@@ -310,7 +354,8 @@ class VtuReader {
   std::string path_;
   size_t pos_ = 0;
   size_t header_size_ = 4;  // UInt32 unless declared
-  bool compressed_ = false;
+  Compressor compressor_ = Compressor::none;
+  bool swap_ = false;       // byte_order="BigEndian" (VTK writes it on request)
   size_t appended_ = std::string_view::npos;  // offset after '_'
   bool appended_base64_ = false;
   Mesh m_;
@@ -404,10 +449,10 @@ void VtuReader::each_piece(const Tag& t, std::string_view text, uint64_t want, s
     fail(t.content, "array '" + attr(t, "Name", "") + "' has " + std::to_string(bytes / value_size) +
                         " values, expected " + std::to_string(want / value_size));
   };
-  if (!compressed_) {
+  if (compressor_ == Compressor::none) {
     if (!base64) {
       if (src.size() < hs) fail(t.content, "binary data shorter than its header");
-      const uint64_t n = header_value(src.data(), hs);
+      const uint64_t n = header_value(src.data(), hs, swap_);
       if (n > src.size() - hs) fail(t.content, "binary data shorter than its header says");
       if (n != want) count_error(n);
       for (uint64_t at = 0; at < n; at += kPiece) {
@@ -423,7 +468,7 @@ void VtuReader::each_piece(const Tag& t, std::string_view text, uint64_t want, s
     size_t got = 0;
     if (!in.read(head, hs, got)) fail(t.content, "bad base64 data");
     if (got < hs) fail(t.content, "binary data shorter than its header");
-    const uint64_t n = header_value(head, hs);
+    const uint64_t n = header_value(head, hs, swap_);
     if (n != want) {
       if (n > src.size()) fail(t.content, "binary data shorter than its header says");
       count_error(n);
@@ -456,16 +501,16 @@ void VtuReader::each_piece(const Tag& t, std::string_view text, uint64_t want, s
   };
   if (base64) {
     decode(head, 3 * hs, "compressed header");
-    decode(head, header_value(head.data(), hs) * hs, "compressed header");
+    decode(head, header_value(head.data(), hs, swap_) * hs, "compressed header");
     hsrc = head;
   }
   if (hsrc.size() < 3 * hs) fail(t.content, "compressed header too short");
-  const uint64_t blocks = header_value(hsrc.data(), hs);
-  const uint64_t block_size = header_value(hsrc.data() + hs, hs);
-  const uint64_t last = header_value(hsrc.data() + 2 * hs, hs);
+  const uint64_t blocks = header_value(hsrc.data(), hs, swap_);
+  const uint64_t block_size = header_value(hsrc.data() + hs, hs, swap_);
+  const uint64_t last = header_value(hsrc.data() + 2 * hs, hs, swap_);
   if (blocks > hsrc.size() || hsrc.size() / hs < 3 + blocks) fail(t.content, "compressed header too short");
   uint64_t total_comp = 0;
-  for (uint64_t b = 0; b < blocks; ++b) total_comp += header_value(hsrc.data() + (3 + b) * hs, hs);
+  for (uint64_t b = 0; b < blocks; ++b) total_comp += header_value(hsrc.data() + (3 + b) * hs, hs, swap_);
   if (base64) {
     decode(comp, total_comp, "compressed data");
     src = comp;
@@ -484,14 +529,12 @@ void VtuReader::each_piece(const Tag& t, std::string_view text, uint64_t want, s
   std::vector<char> block(static_cast<size_t>(std::min(block_size, want)));
   size_t at = 0;
   for (uint64_t b = 0; b < blocks; ++b) {
-    const uint64_t csize = header_value(hsrc.data() + (3 + b) * hs, hs);
+    const uint64_t csize = header_value(hsrc.data() + (3 + b) * hs, hs, swap_);
     const uint64_t usize = b + 1 == blocks && last ? last : block_size;
     if (csize > src.size() - at) fail(t.content, "compressed block beyond the data");
-    uLongf got = static_cast<uLongf>(usize);
-    if (uncompress(reinterpret_cast<Bytef*>(block.data()), &got, reinterpret_cast<const Bytef*>(src.data() + at),
-                   static_cast<uLong>(csize)) != Z_OK ||
-        got != usize)
-      fail(t.content, "bad zlib data");
+    if (!decompress_block(compressor_, src.data() + at, static_cast<size_t>(csize), block.data(),
+                          static_cast<size_t>(usize)))
+      fail(t.content, std::string("bad ") + compressor_name(compressor_) + " data");
     feed(block.data(), static_cast<size_t>(usize));
     at += static_cast<size_t>(csize);
   }
@@ -559,11 +602,11 @@ void VtuReader::each_value(const Tag& t, uint64_t expected, Store store) {
       carry[carried++] = *p++;
       --n;
       if (carried == size) {
-        store(i++, load_value(carry, stored));
+        store(i++, load_value(carry, stored, swap_));
         carried = 0;
       }
     }
-    for (; n >= size; p += size, n -= size) store(i++, load_value(p, stored));
+    for (; n >= size; p += size, n -= size) store(i++, load_value(p, stored, swap_));
     std::memcpy(carry, p, n);
     carried = n;
   });
@@ -663,27 +706,89 @@ void VtuReader::read_cell_data(const std::map<std::string, Tag>& arrays, uint64_
   }
 }
 
+// The arrays of one <Piece>, located by the scan of the tags.
+struct PieceArrays {
+  uint64_t npoints = 0, ncells = 0;
+  std::optional<Tag> points, types, offsets, conn;
+  std::map<std::string, Tag> cell_data;
+};
+
+// `part`'s elements after `whole`'s, its point numbers shifted past whole's.
+void append_piece(Mesh& whole, Mesh&& part) {
+  const int shift = static_cast<int>(whole.points.size());
+  whole.points.insert(whole.points.end(), part.points.begin(), part.points.end());
+  for (Tetrahedron t : part.tets) {
+    for (int& v : t.v) v += shift;
+    whole.tets.push_back(t);
+  }
+  for (TetMidNodes x : part.tet_mid) {
+    for (int& v : x) v += shift;
+    whole.tet_mid.push_back(x);
+  }
+  for (Triangle t : part.triangles) {
+    for (int& v : t.v) v += shift;
+    whole.triangles.push_back(t);
+  }
+  for (TriMidNodes x : part.triangle_mid) {
+    for (int& v : x) v += shift;
+    whole.triangle_mid.push_back(x);
+  }
+}
+
+// Elements whose corners another one before them has, dropped (their
+// mid-edge nodes with them).
+template <class Element, class Mid>
+void drop_repeated(std::vector<Element>& elements, std::vector<Mid>& mids) {
+  const bool with_mids = mids.size() == elements.size();
+  std::set<decltype(Element::v)> seen;
+  size_t kept = 0;
+  for (size_t i = 0; i < elements.size(); ++i) {
+    auto key = elements[i].v;
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) continue;
+    if (with_mids) mids[kept] = mids[i];
+    elements[kept++] = elements[i];
+  }
+  elements.resize(kept);
+  if (with_mids) mids.resize(kept);
+}
+
+// Pieces of one data set (VTK's writer with several pieces, or a .pvtu's
+// files) repeat the points where they meet: made one, as the mesh they
+// came from had them (else a deck written from them falls apart along the
+// cuts), and the repeats dropped. Pieces with ghost cells (a ghost level),
+// or each holding the whole grid (VTK's writer asked for pieces of a grid
+// with no pipeline to split it), repeat cells too: those are dropped once
+// the points are one (the 3-piece file of a 576-cell grid read as 1,728).
+void weld_pieces(Mesh& m) {
+  if (weld_coincident_points(m) > 0) drop_unused_points(m);
+  drop_repeated(m.tets, m.tet_mid);
+  drop_repeated(m.triangles, m.triangle_mid);
+}
+
 Mesh VtuReader::read() {
   // One pass over the tags: the header, where each array is, and where
   // appended data starts; the arrays are decoded after it.
   Tag t;
   bool is_vtu = false;
-  uint64_t npoints = 0, ncells = 0;
-  bool have_piece = false;
-  std::optional<Tag> points, types, offsets, conn;
-  std::map<std::string, Tag> cell_data;
+  std::vector<PieceArrays> pieces;
   std::string section;  // Points, Cells, CellData, PointData, FieldData
   while (next_tag(t)) {
     if (t.name == "VTKFile" && !t.closing) {
       is_vtu = true;
       if (attr(t, "type", "") != "UnstructuredGrid") fail(t.begin, "not an UnstructuredGrid VTK file");
-      if (attr(t, "byte_order", "LittleEndian") != "LittleEndian") fail(t.begin, "big-endian VTU is not supported");
+      const std::string order = attr(t, "byte_order", "LittleEndian");
+      if (order != "LittleEndian" && order != "BigEndian") fail(t.begin, "unknown byte_order " + order.substr(0, 40));
+      swap_ = order == "BigEndian";
       const std::string h = attr(t, "header_type", "UInt32");
       if (h != "UInt32" && h != "UInt64") fail(t.begin, "unsupported header_type " + h.substr(0, 40));
       header_size_ = h == "UInt64" ? 8 : 4;
       const std::string comp = attr(t, "compressor", "");
-      if (!comp.empty() && comp != "vtkZLibDataCompressor") fail(t.begin, "unsupported compressor " + comp.substr(0, 40));
-      compressed_ = !comp.empty();
+      if (comp.empty()) compressor_ = Compressor::none;
+      else if (comp == "vtkZLibDataCompressor") compressor_ = Compressor::zlib;
+      else if (comp == "vtkLZ4DataCompressor") compressor_ = Compressor::lz4;
+      else if (comp == "vtkLZMADataCompressor") compressor_ = Compressor::lzma;
+      else fail(t.begin, "unsupported compressor " + comp.substr(0, 40));
     } else if (t.name == "AppendedData" && !t.closing) {
       appended_base64_ = attr(t, "encoding", "raw") == "base64";
       const size_t underscore = d_.find('_', t.content);
@@ -693,14 +798,13 @@ Mesh VtuReader::read() {
     } else if (!is_vtu) {
       continue;
     } else if (t.name == "Piece" && !t.closing) {
-      if (have_piece) fail(t.begin, "only one <Piece> is supported");
-      have_piece = true;
+      PieceArrays& piece = pieces.emplace_back();
       int64_t v;
       if (!Cursor::parse_int(attr(t, "NumberOfPoints"), v) || v < 0) fail(t.begin, "bad NumberOfPoints");
-      npoints = static_cast<uint64_t>(v);
+      piece.npoints = static_cast<uint64_t>(v);
       if (!Cursor::parse_int(attr(t, "NumberOfCells"), v) || v < 0) fail(t.begin, "bad NumberOfCells");
-      ncells = static_cast<uint64_t>(v);
-      if (npoints > d_.size() || ncells > d_.size()) fail(t.begin, "more points or cells than the file can hold");
+      piece.ncells = static_cast<uint64_t>(v);
+      if (piece.npoints > d_.size() || piece.ncells > d_.size()) fail(t.begin, "more points or cells than the file can hold");
     } else if (t.name == "Points" || t.name == "Cells" || t.name == "CellData" || t.name == "PointData" ||
                t.name == "FieldData") {
       section = t.closing || t.self_closing ? "" : t.name;
@@ -709,41 +813,55 @@ Mesh VtuReader::read() {
       // ParaView more): nothing vdmesh keeps. Refused as "<DataArray>
       // outside a <Piece>" until 2026-11-30.
       if (section == "FieldData") continue;
-      if (!have_piece) fail(t.begin, "<DataArray> outside a <Piece>");
+      if (pieces.empty()) fail(t.begin, "<DataArray> outside a <Piece>");
+      PieceArrays& piece = pieces.back();
       const std::string name = attr(t, "Name", "");
       if (section == "Points") {
         if (attr(t, "NumberOfComponents", "1") != "3") fail(t.begin, "points must have 3 components");
-        points = t;
+        piece.points = t;
       } else if (section == "Cells" && name == "types") {
-        types = t;
+        piece.types = t;
       } else if (section == "Cells" && name == "offsets") {
-        offsets = t;
+        piece.offsets = t;
       } else if (section == "Cells" && name == "connectivity") {
-        conn = t;
+        piece.conn = t;
       } else if (section == "CellData" && attr(t, "NumberOfComponents", "1") == "1") {
-        cell_data[name] = t;
+        piece.cell_data[name] = t;
       }
     }
   }
   if (!is_vtu) fail(0, "not a VTK XML file (no <VTKFile>)");
-  if (!have_piece) fail(0, "no <Piece>");
-  if (npoints && !points) fail(0, "no points");
-  if (ncells && (!types || !offsets || !conn)) fail(0, "cells need types, offsets and connectivity");
-  if (points) {
-    m_.points.resize(static_cast<size_t>(npoints));
-    each_value(*points, 3 * npoints, [&](uint64_t i, double v) {
-      if (!std::isfinite(v))
-        fail(points->begin, "point " + std::to_string(i / 3) + " has a coordinate that is not a finite number");
-      m_.points[i / 3][static_cast<int>(i % 3)] = v;
-    });
+  if (pieces.empty()) fail(0, "no <Piece>");
+  Mesh whole;
+  for (const PieceArrays& piece : pieces) {
+    if (piece.npoints && !piece.points) fail(0, "no points");
+    if (piece.ncells && (!piece.types || !piece.offsets || !piece.conn))
+      fail(0, "cells need types, offsets and connectivity");
+    m_ = Mesh{};
+    types_.clear();
+    if (piece.points) {
+      m_.points.resize(static_cast<size_t>(piece.npoints));
+      each_value(*piece.points, 3 * piece.npoints, [&](uint64_t i, double v) {
+        if (!std::isfinite(v))
+          fail(piece.points->begin, "point " + std::to_string(i / 3) + " has a coordinate that is not a finite number");
+        m_.points[i / 3][static_cast<int>(i % 3)] = v;
+      });
+    }
+    if (piece.ncells) {
+      read_cells(*piece.types, *piece.offsets, *piece.conn, piece.ncells);
+      read_cell_data(piece.cell_data, piece.ncells);
+    }
+    if (pieces.size() == 1) {
+      whole = std::move(m_);
+    } else {
+      detail::require_valid(m_, path_);
+      append_piece(whole, std::move(m_));
+    }
   }
-  if (ncells) {
-    read_cells(*types, *offsets, *conn, ncells);
-    read_cell_data(cell_data, ncells);
-  }
-  detail::require_valid(m_, path_);
-  detail::sides_from_tets(m_);
-  return std::move(m_);
+  if (pieces.size() > 1) weld_pieces(whole);
+  detail::require_valid(whole, path_);
+  detail::sides_from_tets(whole);
+  return whole;
 }
 
 Mesh read_vtu(const std::string& path) {
@@ -751,8 +869,43 @@ Mesh read_vtu(const std::string& path) {
   return VtuReader(file, path).read();
 }
 
+// A parallel unstructured grid (.pvtu, ParaView's and VTK's parallel
+// writers): the .vtu files its <Piece Source="..."/> lines name, relative
+// to its folder, read in turn and welded into one mesh.
+Mesh read_pvtu(const std::string& path) {
+  const detail::FileBytes file(path);
+  const std::string_view d = file.view();
+  auto line_of = [d](size_t at) { return 1 + std::count(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(at), '\n'); };
+  if (d.find("PUnstructuredGrid") == std::string_view::npos)
+    throw InputError(path + ": not a parallel unstructured grid (no PUnstructuredGrid)");
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  Mesh whole;
+  size_t pieces = 0;
+  for (size_t at = d.find("<Piece"); at != std::string_view::npos; at = d.find("<Piece", at + 1)) {
+    const size_t end = d.find('>', at);
+    if (end == std::string_view::npos) throw InputError(path + ":" + std::to_string(line_of(at)) + ": <Piece> not closed");
+    const std::string_view tag = d.substr(at, end - at);
+    const size_t source = tag.find("Source=");
+    const size_t open = source == std::string_view::npos ? source : source + 7;
+    if (open == std::string_view::npos || open >= tag.size() || (tag[open] != '"' && tag[open] != '\''))
+      throw InputError(path + ":" + std::to_string(line_of(at)) + ": a <Piece> without Source=\"FILE\"");
+    const size_t close = tag.find(tag[open], open + 1);
+    if (close == std::string_view::npos)
+      throw InputError(path + ":" + std::to_string(line_of(at)) + ": a <Piece> Source without its closing quote");
+    const std::filesystem::path piece = folder / std::string(tag.substr(open + 1, close - open - 1));
+    append_piece(whole, read_vtu(piece.string()));
+    ++pieces;
+  }
+  if (pieces == 0) throw InputError(path + ": lists no <Piece Source=\"FILE\"/>");
+  weld_pieces(whole);
+  detail::require_valid(whole, path);
+  detail::sides_from_tets(whole);
+  return whole;
+}
+
 }  // namespace
 
 Format make_vtu_format() { return {"vtu", {".vtu"}, true, read_vtu, write_vtu}; }
+Format make_pvtu_format() { return {"pvtu", {".pvtu"}, true, read_pvtu, nullptr}; }
 
 }  // namespace vd::io

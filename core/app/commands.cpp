@@ -284,13 +284,9 @@ int mesh_command(const std::vector<std::string>& raw) {
   if (lp_limit_given && opt.oracle_options.lp_limit < 1) throw UsageError("--lp-limit must be positive");
   if (opt.delaunayzation.max_passes < 0) throw UsageError("--max-passes must not be negative");
   if (max_added_given && opt.delaunayzation.max_added_vertices < 0) throw UsageError("--max-added must not be negative");
-  // Unknown output format: a usage error before any work; so is second order
-  // to Medit, whose writer refuses it (after the whole run, until 2026-11-29).
+  // Unknown output format: a usage error before any work.
   check_can_write(output, "-o", true);
   if (!report_path.empty()) check_can_write(report_path, "--report", false);
-  if (io::format_for(output).name == "medit" && opt.order == 2)
-    throw UsageError(output + ": the Medit .mesh writer writes first-order elements only; write second order to " +
-                     ".msh, .vtu, .vtk, .inp or .node");
 
   // On a terminal one line per phase, redrawn with its progress and seconds;
   // elsewhere (a log) the phase names only.

@@ -249,19 +249,56 @@ def check_reads_vtk_writers(binary, vtu, tmp, n_tets, expected):
     author.InsertNextValue("me and you")
     grid.GetFieldData().AddArray(author)
     variants = []
-    for mode in ("default", "binary", "ascii", "raw"):
+    # Since 2026-11-30 also VTK's other compressors (LZ4, LZMA), big-endian
+    # files and several pieces, each refused before ("unsupported compressor
+    # vtkLZ4DataCompressor", "big-endian VTU is not supported", "only one
+    # <Piece> is supported"), and the .pvtu of the parallel writer.
+    for mode in ("default", "binary", "ascii", "raw", "lz4", "lzma", "lzma_binary", "bigendian",
+                 "bigendian_zlib", "bigendian_raw", "pieces", "pieces_lz4", "pieces_ghosts", "pieces_whole"):
         w = vtk.vtkXMLUnstructuredGridWriter()
         w.SetInputData(grid)
         path = os.path.join(tmp, "vtkw_%s.vtu" % mode)
         w.SetFileName(path)
-        if mode == "binary":
+        if mode in ("binary", "lzma_binary"):
             w.SetDataModeToBinary()
         elif mode == "ascii":
             w.SetDataModeToAscii()
-        elif mode == "raw":
+        if mode in ("raw", "bigendian_raw"):
             w.SetCompressorTypeToNone()
+        elif mode in ("lz4", "pieces_lz4"):
+            w.SetCompressorTypeToLZ4()
+        elif mode in ("lzma", "lzma_binary"):
+            w.SetCompressorTypeToLZMA()
+        if mode.startswith("bigendian"):
+            w.SetByteOrderToBigEndian()
+            if mode == "bigendian":
+                w.SetDataModeToBinary()
+                w.SetCompressorTypeToNone()
+        if mode.startswith("pieces"):
+            # Pieces of the grid (a writer given the grid itself writes it
+            # whole into each piece; read so too, the repeats dropped).
+            split = vtk.vtkExtractUnstructuredGridPiece()
+            split.SetInputData(grid)
+            if mode == "pieces_ghosts":
+                split.CreateGhostCellsOn()
+                w.SetGhostLevel(1)
+            w.SetInputConnection(split.GetOutputPort())
+            w.SetNumberOfPieces(3)
+        if mode == "pieces_whole":
+            w.SetNumberOfPieces(3)
         w.Write()
         variants.append(path)
+    pw = vtk.vtkXMLPUnstructuredGridWriter()
+    split = vtk.vtkExtractUnstructuredGridPiece()
+    split.SetInputData(grid)
+    pw.SetInputConnection(split.GetOutputPort())
+    pw.SetNumberOfPieces(3)
+    pw.SetStartPiece(0)
+    pw.SetEndPiece(2)
+    pvtu = os.path.join(tmp, "vtkw_parallel.pvtu")
+    pw.SetFileName(pvtu)
+    pw.Write()
+    variants.append(pvtu)
     for legacy_binary in (False, True):
         w = vtk.vtkUnstructuredGridWriter()
         w.SetInputData(grid)
@@ -271,12 +308,22 @@ def check_reads_vtk_writers(binary, vtu, tmp, n_tets, expected):
             w.SetFileTypeToBinary()
         w.Write()
         variants.append(path)
+    points = None
     for path in variants:
         code, tets, volumes, err = vdmesh_info(binary, path)
         ok = code == 0 and tets == n_tets and set(volumes) == set(expected) and all(
             abs(volumes[r] - v) < 1e-9 for r, v in expected.items())
         check(ok, "vdmesh info %s (written by VTK): exit %d, %s tetrahedra, volumes %s %s" %
               (os.path.basename(path), code, tets, volumes, err))
+        # The pieces repeat the points where they meet: welded, the mesh has
+        # the points of the one-piece file, and a deck of it holds together.
+        info = subprocess.run([binary, "info", path], capture_output=True, text=True).stdout
+        count = re.search(r"points (\d+)", info)
+        if points is None:
+            points = count and int(count.group(1))
+        check(count and int(count.group(1)) == points,
+              "vdmesh info %s: %s points, as the one-piece file (%s)" % (os.path.basename(path),
+                                                                          count and count.group(1), points))
 
 
 def check_reads_gmsh_and_meshio_files(binary, tmp):
@@ -480,6 +527,40 @@ def check_reads_gmsh_and_meshio_files(binary, tmp):
           (run.returncode, run.stderr.strip()[:200]))
 
 
+def check_meshb_with_meshio(binary, tmp):
+    """Binary Medit (.meshb): meshio's files (version 4: 64-bit words) read
+    by vdmesh, and vdmesh's (version 2) read by meshio, with the references
+    (regions, face ids); refused as an unknown extension until 2026-11-30."""
+    import meshio
+    pts, tets, regions, tris, face_ids = block_mesh()
+    volume = float(N ** 3)
+    src = os.path.join(tmp, "meshio.meshb")
+    meshio.write(src, meshio.Mesh(np.array(pts, float), [("tetra", np.array(tets)), ("triangle", np.array(tris))],
+                                  cell_data={"medit:ref": [np.array(regions), np.array(face_ids)]}))
+    code, n, volumes, err = vdmesh_info(binary, src)
+    vols = signed_volumes(pts, tets)
+    expected = {r: float(vols[np.array(regions) == r].sum()) for r in (1, 2)}
+    check(code == 0 and n == len(tets) and set(volumes) == set(expected) and
+          all(abs(volumes[r] - v) < 1e-9 for r, v in expected.items()),
+          "vdmesh info meshio.meshb: %s tetrahedra, volumes %s (%s) %s" % (n, volumes, expected, err))
+    out = os.path.join(tmp, "vdmesh.meshb")
+    run = subprocess.run([binary, "convert", src, out], capture_output=True, text=True)
+    try:
+        back = meshio.read(out)
+        cells = {c.type: c.data for c in back.cells}
+        refs = back.cell_data.get("medit:ref")
+        ok = (run.returncode == 0 and len(cells.get("tetra", [])) == len(tets) and
+              len(cells.get("triangle", [])) == len(tris) and refs is not None)
+        if ok:
+            tet_refs = [r for c, r in zip(back.cells, refs) if c.type == "tetra"][0]
+            tri_refs = [r for c, r in zip(back.cells, refs) if c.type == "triangle"][0]
+            ok = sorted(set(tet_refs.tolist())) == [1, 2] and sorted(set(tri_refs.tolist())) == sorted(set(face_ids))
+        what = "%d tetrahedra, %d triangles" % (len(cells.get("tetra", [])), len(cells.get("triangle", [])))
+    except Exception as e:  # meshio refused the file
+        ok, what = False, repr(e)
+    check(ok, "meshio reads vdmesh's .meshb: %s %s" % (what, run.stderr.strip()[:200]))
+
+
 def check_plc_keeps_regions_and_cavities(binary, tmp):
     """A volume mesh written as a PLC (.poly/.smesh) names its regions and
     cavities: a box of region 7 with a cubic cavity, meshed, converted to
@@ -563,13 +644,43 @@ def check_convert_reorients_inverted_tetrahedra(binary, tmp):
         gmsh.model.occ.addBox(0, 0, 0, 2, 1, 1)
         gmsh.model.occ.synchronize()
         gmsh.model.addPhysicalGroup(3, [1], 5)
+        gmsh.model.addPhysicalGroup(2, [t for _, t in gmsh.model.getEntities(2)], 6)
         gmsh.option.setNumber("Mesh.MeshSizeMax", 0.4)
+        # Asked before meshing: Gmsh's Medit writer heads 10-node
+        # tetrahedra "TetrahedraP2" only then ("Tetrahedra" after setOrder).
+        gmsh.option.setNumber("Mesh.ElementOrder", 2)
         gmsh.model.mesh.generate(3)
-        gmsh.model.mesh.setOrder(2)
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         gmsh.write(src)
+        medit_p2 = os.path.join(tmp, "box_o2.mesh")
+        gmsh.write(medit_p2)
     finally:
         gmsh.finalize()
+    # Gmsh's Medit second order (TetrahedraP2, TrianglesP2), refused as an
+    # "unknown section 'tetrahedrap2'" until 2026-11-30: on the box's
+    # straight edges every mid node lies at its edge's mid-point.
+    as_vtu = os.path.join(tmp, "box_o2_from_medit.vtu")
+    run = subprocess.run([binary, "convert", medit_p2, as_vtu], capture_output=True, text=True)
+    ok, worst = run.returncode == 0, None
+    if ok:
+        p2 = meshio.read(as_vtu)
+        cells = {c.type: c.data for c in p2.cells}
+        pts = p2.points
+        worst = 0.0
+        for kind, edges in (("tetra10", ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))),
+                            ("triangle6", ((0, 1), (1, 2), (2, 0)))):
+            corners = len(edges) == 6 and 4 or 3
+            for k, (a, b) in enumerate(edges):
+                c = cells.get(kind)
+                ok = ok and c is not None
+                if c is not None:
+                    off = pts[c[:, corners + k]] - 0.5 * (pts[c[:, a]] + pts[c[:, b]])
+                    worst = max(worst, float(np.abs(off).max()))
+        # Gmsh places them through the CAD surfaces (6e-14 off); a wrong
+        # order puts them 0.2 away.
+        ok = ok and worst < 1e-9
+    check(ok, "vdmesh convert box_o2.mesh (Gmsh's TetrahedraP2) to .vtu: mid nodes on their edges' mid-points, "
+          "worst %s %s" % (worst, run.stderr.strip()[:200]))
     mesh = meshio.read(src)
     tets = np.concatenate([c.data for c in mesh.cells if c.type == "tetra10"])
     mids = {}
@@ -666,6 +777,7 @@ def main():
         if "inp" in outputs:
             check_calculix(outputs["inp"], tmp)
         check_reads_gmsh_and_meshio_files(binary, tmp)
+        check_meshb_with_meshio(binary, tmp)
         check_plc_keeps_regions_and_cavities(binary, tmp)
         check_convert_reorients_inverted_tetrahedra(binary, tmp)
         if "msh" in outputs:

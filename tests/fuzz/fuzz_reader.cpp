@@ -34,7 +34,7 @@ struct Target {
 constexpr Target kTargets[] = {
     {"off", ".off"},     {"stl", ".stl"},   {"obj", ".obj"},   {"msh", ".msh"},
     {"vtk", ".vtk"},     {"vtu", ".vtu"},   {"tetgen", ".node"}, {"poly", ".poly"},
-    {"smesh", ".smesh"}, {"mesh", ".mesh"}, {"inp", ".inp"},   {"gz", ".off.gz"},
+    {"smesh", ".smesh"}, {"mesh", ".mesh"}, {"meshb", ".meshb"}, {"inp", ".inp"}, {"gz", ".off.gz"},
 };
 
 constexpr const char* extension_of(const char* name) {

@@ -72,7 +72,7 @@ def main():
         src = os.path.join(tmp, "two.mesh")
         with open(src, "w") as f:
             f.write(TWO_TETS)
-        variants = [(ext, []) for ext in [".off", ".stl", ".obj", ".vtk", ".vtu", ".smesh", ".poly", ".mesh", ".inp", ".msh"]]
+        variants = [(ext, []) for ext in [".off", ".stl", ".obj", ".vtk", ".vtu", ".smesh", ".poly", ".mesh", ".meshb", ".inp", ".msh"]]
         variants += [(ext, ["--binary"]) for ext in [".stl", ".vtk", ".vtu", ".msh"]]
         variants += [(".msh", ["--msh-version", "22"]), (".msh", ["--binary", "--msh-version", "22"])]
         for ext, opts in variants:
