@@ -62,17 +62,17 @@ long long group_number(int physical, int entity, int largest_physical) {
   return static_cast<long long>(largest_physical) + entity;
 }
 
-// Of the physical groups an element is in, the one that holds the fewest
-// (`size`: its entities, or its elements), the first listed of those: a
-// volume in "all" and in "left" is in the region "left". Gmsh lists an
-// entity's groups in its own order (the left box "11 100", the right one
-// "100 22"), and the first listed was taken until 2026-11-30: "right"
+// Of the physical groups a tetrahedron is in, the one that holds the fewest
+// tetrahedra (`size`), the lowest numbered of those: a volume in "all" and
+// in "left" is in the region "left", in MSH 4.1 and 2.2 alike. Gmsh lists
+// an entity's groups in its own order (the left box "11 100", the right
+// one "100 22"), and the first listed was taken until 2026-11-30: "right"
 // vanished and "all" held the right box alone, exit 0.
 template <typename Size>
 int most_specific_group(const std::vector<int>& groups, Size size) {
   int best = 0;
   for (const int g : groups)
-    if (best == 0 || size(g) < size(best)) best = g;
+    if (best == 0 || size(g) < size(best) || (size(g) == size(best) && g < best)) best = g;
   return best;
 }
 
@@ -141,7 +141,7 @@ class MshReader {
   // group), and every group's count of tetrahedra, to choose among them.
   std::vector<std::pair<size_t, int>> tet_more_physicals_;
   std::map<int, uint64_t> tets_in_group_;
-  std::map<int, size_t> volumes_in_group_;  // 4.1: each group's volumes (volume_group)
+  std::map<int, uint64_t> tets_in_volume_group_;  // 4.1: each group's tetrahedra (volume_group)
   TagList tet_tags_;  // the tetrahedra's entities wait in their region field
   // Binary 4.1 whose tetrahedron tags are lo..lo+n-1, each once (what vdmesh
   // and Gmsh write): each tetrahedron goes straight to index tag - lo, so
@@ -369,10 +369,9 @@ void MshReader::add_element(int type, uint64_t tag, const uint64_t* nodes, int e
   if (!tri && !tet) return refuse_lost(type, tag);
   const int k = msh_nodes_per_element(type);
   // Gmsh's 2.2 writer repeats an element right after itself, under the next
-  // number, for each further physical group of its entity: the first is
-  // kept, as the 4.1 reader takes an entity's first group (a tetrahedron in
-  // two groups was two, a third region doubling the volume, until
-  // 2026-11-30).
+  // number, for each further physical group of its entity: one element is
+  // kept, in the group most_specific_group chooses (a tetrahedron in two
+  // groups was two, a third region doubling the volume, until 2026-11-30).
   if (version_ < 4) {
     const bool repeat = type == last_.type && entity == last_.entity && physical != last_.physical &&
                         std::equal(nodes, nodes + k, last_.nodes);
@@ -641,21 +640,26 @@ void MshReader::choose_tet_groups22() {
   tet_more_physicals_ = {};
 }
 
-// 4.1: a volume's region among its physical groups (most_specific_group,
-// a group's size being the volumes it holds); 0 for none.
+// 4.1: a volume's region among its physical groups (most_specific_group);
+// 0 for none.
 int MshReader::volume_group(const Entity& volume) const {
   if (volume.physicals.size() < 2) return volume.physicals.empty() ? 0 : volume.physicals.front();
   auto size = [this](int g) {
-    const auto it = volumes_in_group_.find(g);
-    return it == volumes_in_group_.end() ? size_t{0} : it->second;
+    const auto it = tets_in_volume_group_.find(g);
+    return it == tets_in_volume_group_.end() ? uint64_t{0} : it->second;
   };
   return most_specific_group(volume.physicals, size);
 }
 
 void MshReader::finish() {
   choose_tet_groups22();
-  for (const auto& [tag, v] : volumes_)
-    for (const int g : v.physicals) ++volumes_in_group_[g];
+  if (version_ >= 4) {
+    // Tetrahedra hold their entity until numbered below.
+    std::map<int, uint64_t> tets_in_entity;
+    for (const Tetrahedron& t : m_.tets) ++tets_in_entity[t.region];
+    for (const auto& [tag, v] : volumes_)
+      for (const int g : v.physicals) tets_in_volume_group_[g] += tets_in_entity[tag];
+  }
   // Elements in tag order (stable, so untagged duplicates keep file order).
   const bool tri_mids = m_.triangle_mid.size() == m_.triangles.size();
   sort_in_place(

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -86,6 +87,8 @@ std::string strip_extension(const std::string& path) {
 }
 
 FileBytes::FileBytes(const std::string& path) {
+  std::error_code folder_check;
+  if (std::filesystem::is_directory(path, folder_check)) throw FileError(path + ": cannot open: it is a directory", path, EISDIR);
   if (ends_with_ci(path, ".gz")) {
     owned_ = gunzip(path);
   } else {
@@ -319,6 +322,7 @@ struct Out::Sink {
   void write(const char* data, size_t n) {
     while (n > 0) {
       const size_t step = std::min<size_t>(n, 1u << 30);
+      errno = 0;  // gzwrite need not set it: an earlier call's would be reported
       const bool ok = gz ? gzwrite(gz, data, static_cast<unsigned>(step)) == static_cast<int>(step)
                          : std::fwrite(data, 1, step, file) == step;
       if (!ok) throw FileError(path + ": write error", path, errno ? errno : EIO);

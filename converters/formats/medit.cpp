@@ -3,6 +3,7 @@
 // Second order as Gmsh writes it (`gmsh -order 2 -o X.mesh`): TrianglesP2
 // and TetrahedraP2, corners then mid-edge nodes on the edges in VTK's and
 // vdmesh's order (01, 12, 20, 03, 13, 23), not Gmsh's own MSH order.
+#include <algorithm>
 #include <map>
 
 #include "formats.h"
@@ -144,7 +145,7 @@ void write_medit(const Mesh& m, const std::string& path, const WriteOptions&) {
         const TriMidNodes x = m.tets.empty() ? detail::mid_nodes_without_sides(t, m.triangle_mid[i]) : m.triangle_mid[i];
         for (int v : x) out << ' ' << v + 1;
       }
-      out << ' ' << t.face << '\n';
+      out << ' ' << std::max(t.face, 0) << '\n';
     }
   }
   if (!m.tets.empty()) {
@@ -155,7 +156,8 @@ void write_medit(const Mesh& m, const std::string& path, const WriteOptions&) {
       if (tet_p2) {
         for (int v : m.tet_mid[i]) out << ' ' << v + 1;
       }
-      out << ' ' << t.region << '\n';
+      // Reference 0 is no region (and no face id) to the readers.
+      out << ' ' << std::max(t.region, 0) << '\n';
     }
   }
   out << "\nEnd\n";

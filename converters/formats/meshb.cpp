@@ -8,10 +8,13 @@
 // as in .mesh, medit.cpp); keywords vdmesh has no use for are
 // stepped over by their position, elements it has no place for refused.
 // Written as version 2 (doubles, 32-bit words) below 2 GiB, else 3.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <climits>
 #include <map>
+#include <vector>
 
 #include "formats.h"
 #include "io_util.h"
@@ -160,6 +163,13 @@ Mesh MeshbReader::read() {
   count_size_ = int_size_ = version == 4 ? 8 : 4;
   // Keywords in turn, each found at the position the last one gave; a
   // position that does not move forward ends a broken file rather than loop.
+  // The element keywords are read after the walk: a file may list them
+  // before its Vertices.
+  struct Table {
+    int64_t code;
+    size_t at, body, next;
+  };
+  std::vector<Table> tables;
   while (pos_ < d_.size()) {
     const size_t at = pos_;
     const int64_t code = integer(4, "a keyword code");
@@ -168,12 +178,9 @@ Mesh MeshbReader::read() {
     if (code == kDimension) {
       const int64_t dim = integer(4, "the dimension");
       if (dim != 3) fail(at, "only 3D meshes are supported (Dimension " + std::to_string(dim) + ")");
-    } else if (code == kVertices) {
-      vertices();
-    } else if (code == kTriangles || code == kTrianglesP2) {
-      triangles(code == kTrianglesP2);
-    } else if (code == kTetrahedra || code == kTetrahedraP2) {
-      tetrahedra(code == kTetrahedraP2);
+    } else if (code == kVertices || code == kTriangles || code == kTrianglesP2 || code == kTetrahedra ||
+               code == kTetrahedraP2) {
+      tables.push_back({code, at, pos_, static_cast<size_t>(std::min<uint64_t>(next, d_.size()))});
     } else if (const auto lost = lost_keywords().find(static_cast<int32_t>(code)); lost != lost_keywords().end()) {
       const int64_t n = integer(count_size_, "a keyword's count");
       if (n != 0)
@@ -182,16 +189,20 @@ Mesh MeshbReader::read() {
     if (next == 0) break;  // the last keyword
     if (next <= at || next > d_.size()) fail(at, "keyword " + std::to_string(code) + " gives " + std::to_string(next) +
                                                      " as the next keyword's position");
-    // A keyword read in full ends where the next begins (libMeshb writes no
-    // gap): anything else is a record layout vdmesh misread.
-    const bool read_in_full = code == kVertices || code == kTriangles || code == kTrianglesP2 ||
-                              code == kTetrahedra || code == kTetrahedraP2 || code == kDimension;
-    if (read_in_full && next != pos_)
-      fail(at, "keyword " + std::to_string(code) + " ends at byte " + std::to_string(pos_) +
-                   ", but the next keyword is at " + std::to_string(next));
     pos_ = static_cast<size_t>(next);
   }
-  if (m_.points.empty() && (!m_.triangles.empty() || !m_.tets.empty())) fail(8, "elements without Vertices");
+  std::stable_partition(tables.begin(), tables.end(), [](const Table& t) { return t.code == kVertices; });
+  for (const Table& t : tables) {
+    pos_ = t.body;
+    if (t.code == kVertices) vertices();
+    else if (t.code == kTriangles || t.code == kTrianglesP2) triangles(t.code == kTrianglesP2);
+    else tetrahedra(t.code == kTetrahedraP2);
+    // A table read in full ends where the next keyword begins (libMeshb
+    // writes no gap): anything else is a record layout vdmesh misread.
+    if (t.next != 0 && t.next != pos_)
+      fail(t.at, "keyword " + std::to_string(t.code) + " ends at byte " + std::to_string(pos_) +
+                     ", but the next keyword is at " + std::to_string(t.next));
+  }
   detail::require_valid(m_, path_);
   detail::sides_from_tets(m_);
   return std::move(m_);
@@ -238,6 +249,9 @@ void write_meshb(const Mesh& m, const std::string& path, const WriteOptions&) {
   const uint64_t bytes = 64 + m.points.size() * 28 + m.triangles.size() * (tri_p2 ? 28 : 16) +
                          m.tets.size() * (tet_p2 ? 44 : 20);
   const int version = bytes < (uint64_t{1} << 31) ? 2 : 3;
+  // Counts and indices are 32-bit words in both.
+  if (m.triangles.size() > INT32_MAX || m.tets.size() > INT32_MAX)
+    throw InputError(path + ": more than 2^31 elements, which .meshb versions 2 and 3 cannot count");
   detail::Out out(path);
   MeshbWriter w(out, version);
   w.keyword(kDimension, 4);
@@ -262,7 +276,7 @@ void write_meshb(const Mesh& m, const std::string& path, const WriteOptions&) {
         const TriMidNodes x = m.tets.empty() ? detail::mid_nodes_without_sides(t, m.triangle_mid[i]) : m.triangle_mid[i];
         for (int y : x) w.put32(y + 1);
       }
-      w.put32(t.face);
+      w.put32(std::max(t.face, 0));  // reference 0: none, as in .mesh
     }
   }
   if (!m.tets.empty()) {
@@ -272,7 +286,7 @@ void write_meshb(const Mesh& m, const std::string& path, const WriteOptions&) {
       for (int x : m.tets[i].v) w.put32(x + 1);
       if (tet_p2)
         for (int y : m.tet_mid[i]) w.put32(y + 1);
-      w.put32(m.tets[i].region);
+      w.put32(std::max(m.tets[i].region, 0));
     }
   }
   w.keyword(kEnd, 0);

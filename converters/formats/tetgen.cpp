@@ -175,16 +175,18 @@ std::string existing(const std::string& p) {
 }
 
 // `tetgen -f` lists every face of the mesh, the inner ones with marker 0:
-// those with one region on both sides are no boundary (they were read as a
-// face "Face0" of 1,437 triangles of a 1,943-face file, and MSH 4.1 written
-// from it did not open in meshio). A face with a marker, or between two
-// regions, stays (an interface, or a sheet inside a region).
+// those with one region on both sides (or tetrahedra without regions, no
+// `-A`, on both) are no boundary (they were read as a face "Face0" of 1,437
+// triangles of a 1,943-face file, and MSH 4.1 written from it did not open
+// in meshio). A face with a marker, or between two regions, stays (an
+// interface, or a sheet inside a region).
 void drop_inner_faces(Mesh& m, bool markers) {
+  if (m.tets.empty()) return;  // a surface alone: its sides are unknown, not inner
   const bool mids = m.triangle_mid.size() == m.triangles.size();
   size_t kept = 0;
   for (size_t i = 0; i < m.triangles.size(); ++i) {
     const Triangle& t = m.triangles[i];
-    const bool inner = t.front == t.back && t.front > 0 && (!markers || t.face == 0);
+    const bool inner = t.front == t.back && t.front != 0 && (!markers || t.face == 0);
     if (inner) continue;
     if (mids) m.triangle_mid[kept] = m.triangle_mid[i];
     m.triangles[kept++] = t;

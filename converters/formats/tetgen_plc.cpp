@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 
+#include "geometry/triangle_index.h"
 #include "mesh/disjoint_sets.h"
 
 #include "surface/validate_surface.h"
@@ -140,9 +141,11 @@ Mesh read_plc(const std::string& path) {
 // from a volume mesh or a tagged surface had empty lists, and meshing it again
 // (TetGen, or vdmesh) filled the holes (tetgen_example.poly: +5.2 % volume)
 // and numbered the regions anew (a CAD ring's two solids came back swapped).
-// A region's point is its largest tetrahedron's centroid; without
-// tetrahedra, and for cavities, a point a hundredth of the inradius off the
-// roundest facet on that side.
+// A region's point is its largest tetrahedron's centroid. Without
+// tetrahedra, and for cavities, it is a point just off the roundest facet
+// on that side, at most a hundredth of its inradius off, and nearer that
+// facet than to any other: a fixed offset put a thin slot's hole point
+// inside the solid around it, and TetGen then carved the solid away.
 std::vector<RegionPoint> points_naming_regions(const Mesh& m) {
   std::vector<RegionPoint> points;
   std::map<int, std::pair<double, Vec3>> inside;  // region -> (size, point)
@@ -156,21 +159,20 @@ std::vector<RegionPoint> points_naming_regions(const Mesh& m) {
       best = {volume, c};
     }
   }
-  // Off a facet, on the side facing `region`.
-  auto off_facet = [&m](const Triangle& t, bool front, double& inradius) {
-    const Vec3 a = m.points[static_cast<size_t>(t.v[0])], b = m.points[static_cast<size_t>(t.v[1])],
-               c = m.points[static_cast<size_t>(t.v[2])];
-    const Vec3 n = cross(b - a, c - a);
-    const double perimeter = norm(b - a) + norm(c - b) + norm(a - c);
-    inradius = perimeter > 0 ? norm(n) / perimeter : 0;
-    const Vec3 centroid = (1.0 / 3) * (a + b + c);
-    return centroid + (front ? 0.01 : -0.01) * inradius * normalized(n);
+  auto corners = [&m](const Triangle& t) {
+    return std::array<Vec3, 3>{m.points[static_cast<size_t>(t.v[0])], m.points[static_cast<size_t>(t.v[1])],
+                               m.points[static_cast<size_t>(t.v[2])]};
   };
-  // Shells of facets with the exterior on one side, joined across edges.
+  auto inradius = [](const std::array<Vec3, 3>& p) {
+    const double perimeter = norm(p[1] - p[0]) + norm(p[2] - p[1]) + norm(p[0] - p[2]);
+    return perimeter > 0 ? norm(cross(p[1] - p[0], p[2] - p[0])) / perimeter : 0.0;
+  };
+  // Shells of facets with the exterior on one side (the other a region, or
+  // tetrahedra without one), joined across edges.
   std::vector<int> outer;
   for (size_t i = 0; i < m.triangles.size(); ++i) {
     const Triangle& t = m.triangles[i];
-    if ((t.front == 0) != (t.back == 0) && t.front >= 0 && t.back >= 0) outer.push_back(static_cast<int>(i));
+    if ((t.front == 0) != (t.back == 0)) outer.push_back(static_cast<int>(i));
   }
   DisjointSets shells(outer.size());
   std::map<std::pair<int, int>, int> edge_owner;
@@ -183,32 +185,68 @@ std::vector<RegionPoint> points_naming_regions(const Mesh& m) {
     }
   }
   // Per shell: its volume seen from the exterior (each facet turned to face
-  // region 0: positive when the exterior is around it, negative for a cavity)
-  // and its roundest facet.
-  std::map<int, std::pair<double, std::pair<double, Vec3>>> shell;  // root -> (volume, (inradius, point))
+  // region 0: positive when the exterior is around it, negative for a cavity;
+  // about a corner of the shell, for precision away from the origin) and its
+  // roundest facet, with the side the exterior is on.
+  struct Shell {
+    double volume = 0;
+    Vec3 origin{};
+    bool have_origin = false;
+    double inradius = 0;
+    int facet = -1;
+    bool front = false;
+  };
+  std::map<int, Shell> shell;
   for (size_t k = 0; k < outer.size(); ++k) {
     const Triangle& t = m.triangles[static_cast<size_t>(outer[k])];
     const bool exterior_in_front = t.front == 0;
-    const Vec3 a = m.points[static_cast<size_t>(t.v[0])], b = m.points[static_cast<size_t>(t.v[1])],
-               c = m.points[static_cast<size_t>(t.v[2])];
-    auto& s = shell[shells.find(static_cast<int>(k))];
-    s.first += (exterior_in_front ? 1 : -1) * dot(a, cross(b, c)) / 6;
-    double inradius = 0;
-    const Vec3 p = off_facet(t, exterior_in_front, inradius);
-    if (inradius > s.second.first) s.second = {inradius, p};
+    const std::array<Vec3, 3> p = corners(t);
+    Shell& s = shell[shells.find(static_cast<int>(k))];
+    if (!s.have_origin) s.origin = p[0], s.have_origin = true;
+    s.volume += (exterior_in_front ? 1 : -1) * dot(p[0] - s.origin, cross(p[1] - s.origin, p[2] - s.origin)) / 6;
+    const double r = inradius(p);
+    if (r > s.inradius) s.inradius = r, s.facet = outer[k], s.front = exterior_in_front;
   }
-  if (m.tets.empty())
-    for (const Triangle& t : m.triangles)
+  // Facets to place points off: a cavity's roundest, and without
+  // tetrahedra each region's roundest.
+  std::vector<std::pair<int, std::pair<int, bool>>> wanted;  // (region, (facet, front))
+  for (const auto& [root, s] : shell)
+    if (s.volume < 0 && s.facet >= 0) wanted.push_back({0, {s.facet, s.front}});
+  if (m.tets.empty()) {
+    std::map<int, std::pair<double, std::pair<int, bool>>> roundest;
+    for (size_t i = 0; i < m.triangles.size(); ++i) {
+      const Triangle& t = m.triangles[i];
+      const double r = inradius(corners(t));
       for (const bool front : {true, false}) {
         const int region = front ? t.front : t.back;
         if (region <= 0 || t.front == t.back) continue;
-        double r = 0;
-        const Vec3 q = off_facet(t, front, r);
-        auto& best = inside[region];
-        if (r > best.first) best = {r, q};
+        auto& best = roundest[region];
+        if (r > best.first) best = {r, {static_cast<int>(i), front}};
       }
-  for (const auto& [root, s] : shell)
-    if (s.first < 0 && s.second.first > 0) points.push_back({s.second.second, 0});
+    }
+    for (const auto& [region, best] : roundest)
+      if (best.first > 0) wanted.push_back({region, best.second});
+  }
+  if (!wanted.empty()) {
+    std::vector<std::array<Vec3, 3>> all;
+    all.reserve(m.triangles.size());
+    for (const Triangle& t : m.triangles) all.push_back(corners(t));
+    const TriangleIndex index(all);
+    for (const auto& [region, at] : wanted) {
+      const auto [facet, front] = at;
+      const std::array<Vec3, 3>& p = all[static_cast<size_t>(facet)];
+      const Vec3 centroid = (1.0 / 3) * (p[0] + p[1] + p[2]);
+      const Vec3 n = normalized(cross(p[1] - p[0], p[2] - p[0]));
+      double offset = 0.01 * inradius(p);
+      for (int tries = 0; tries < 60 && offset > 0; ++tries, offset *= 0.5) {
+        const Vec3 q = centroid + (front ? offset : -offset) * n;
+        if (index.distance(facet, q) <= index.closest(q).distance) {
+          points.push_back({q, region});
+          break;
+        }
+      }
+    }
+  }
   for (const auto& [region, best] : inside)
     if (best.first > 0) points.push_back({best.second, region});
   return points;

@@ -288,8 +288,10 @@ bool decompress_block(Compressor c, const char* in, size_t in_size, char* out, s
       return LZ4_decompress_safe(in, out, static_cast<int>(in_size), static_cast<int>(out_size)) ==
              static_cast<int>(out_size);
     case Compressor::lzma: {
-      // vtkLZMADataCompressor (and meshio's "lzma") write .xz streams.
-      uint64_t memlimit = UINT64_MAX;
+      // vtkLZMADataCompressor (and meshio's "lzma") write .xz streams. The
+      // decoder's memory is bounded: a stream's header may ask for a 4 GiB
+      // dictionary, and VTK's presets need under 100 MiB.
+      uint64_t memlimit = uint64_t{256} << 20;
       size_t in_pos = 0, out_pos = 0;
       return lzma_stream_buffer_decode(&memlimit, 0, nullptr, reinterpret_cast<const uint8_t*>(in), &in_pos,
                                        in_size, reinterpret_cast<uint8_t*>(out), &out_pos, out_size) == LZMA_OK &&
@@ -754,14 +756,42 @@ void drop_repeated(std::vector<Element>& elements, std::vector<Mid>& mids) {
 }
 
 // Pieces of one data set (VTK's writer with several pieces, or a .pvtu's
-// files) repeat the points where they meet: made one, as the mesh they
-// came from had them (else a deck written from them falls apart along the
-// cuts), and the repeats dropped. Pieces with ghost cells (a ghost level),
-// or each holding the whole grid (VTK's writer asked for pieces of a grid
-// with no pipeline to split it), repeat cells too: those are dropped once
-// the points are one (the 3-piece file of a 576-cell grid read as 1,728).
-void weld_pieces(Mesh& m) {
-  if (weld_coincident_points(m) > 0) drop_unused_points(m);
+// files) repeat the points where they meet: a point at the very
+// coordinates of a point of an earlier piece is made that point (else a
+// deck written from them falls apart along the cuts) and dropped. Points
+// repeated within one piece stay apart, as in a file of one piece (the two
+// sides of a crack). Pieces with ghost cells (a ghost level), or each
+// holding the whole grid (VTK's writer asked for pieces of a grid with no
+// pipeline to split it), repeat cells too: those are dropped once the
+// points are one (the 3-piece file of a 576-cell grid read as 1,728).
+void weld_pieces(Mesh& m, const std::vector<int>& piece_of) {
+  struct Seen {
+    int point, piece;
+  };
+  std::map<std::array<double, 3>, Seen> first;
+  std::vector<int> to(m.points.size());
+  std::vector<char> kept(m.points.size(), 1);
+  for (size_t i = 0; i < m.points.size(); ++i) {
+    to[i] = static_cast<int>(i);
+    const std::array<double, 3> key{m.points[i].x, m.points[i].y, m.points[i].z};
+    const auto [it, fresh] = first.emplace(key, Seen{static_cast<int>(i), piece_of[i]});
+    if (!fresh && it->second.piece != piece_of[i]) to[i] = it->second.point, kept[i] = 0;
+  }
+  // Kept points numbered anew, in order; a welded one takes its first's number.
+  std::vector<int> number(m.points.size());
+  size_t next = 0;
+  for (size_t i = 0; i < m.points.size(); ++i)
+    if (kept[i]) m.points[next] = m.points[i], number[i] = static_cast<int>(next++);
+  m.points.resize(next);
+  auto renumber = [&](int& v) { v = number[static_cast<size_t>(to[static_cast<size_t>(v)])]; };
+  for (Tetrahedron& t : m.tets)
+    for (int& v : t.v) renumber(v);
+  for (TetMidNodes& x : m.tet_mid)
+    for (int& v : x) renumber(v);
+  for (Triangle& t : m.triangles)
+    for (int& v : t.v) renumber(v);
+  for (TriMidNodes& x : m.triangle_mid)
+    for (int& v : x) renumber(v);
   drop_repeated(m.tets, m.tet_mid);
   drop_repeated(m.triangles, m.triangle_mid);
 }
@@ -833,6 +863,7 @@ Mesh VtuReader::read() {
   if (!is_vtu) fail(0, "not a VTK XML file (no <VTKFile>)");
   if (pieces.empty()) fail(0, "no <Piece>");
   Mesh whole;
+  std::vector<int> piece_of;  // each point's piece, when there are several
   for (const PieceArrays& piece : pieces) {
     if (piece.npoints && !piece.points) fail(0, "no points");
     if (piece.ncells && (!piece.types || !piece.offsets || !piece.conn))
@@ -855,18 +886,26 @@ Mesh VtuReader::read() {
       whole = std::move(m_);
     } else {
       detail::require_valid(m_, path_);
+      piece_of.resize(whole.points.size() + m_.points.size(), static_cast<int>(&piece - pieces.data()));
       append_piece(whole, std::move(m_));
     }
   }
-  if (pieces.size() > 1) weld_pieces(whole);
-  detail::require_valid(whole, path_);
-  detail::sides_from_tets(whole);
+  if (pieces.size() > 1) weld_pieces(whole, piece_of);
   return whole;
 }
 
-Mesh read_vtu(const std::string& path) {
+// The points and elements of a .vtu (its pieces welded), its triangles'
+// sides not yet known.
+Mesh read_vtu_elements(const std::string& path) {
   const detail::FileBytes file(path);
   return VtuReader(file, path).read();
+}
+
+Mesh read_vtu(const std::string& path) {
+  Mesh m = read_vtu_elements(path);
+  detail::require_valid(m, path);
+  detail::sides_from_tets(m);
+  return m;
 }
 
 // A parallel unstructured grid (.pvtu, ParaView's and VTK's parallel
@@ -880,24 +919,41 @@ Mesh read_pvtu(const std::string& path) {
     throw InputError(path + ": not a parallel unstructured grid (no PUnstructuredGrid)");
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   Mesh whole;
+  std::vector<int> piece_of;  // each point's file
   size_t pieces = 0;
   for (size_t at = d.find("<Piece"); at != std::string_view::npos; at = d.find("<Piece", at + 1)) {
     const size_t end = d.find('>', at);
     if (end == std::string_view::npos) throw InputError(path + ":" + std::to_string(line_of(at)) + ": <Piece> not closed");
     const std::string_view tag = d.substr(at, end - at);
-    const size_t source = tag.find("Source=");
-    const size_t open = source == std::string_view::npos ? source : source + 7;
-    if (open == std::string_view::npos || open >= tag.size() || (tag[open] != '"' && tag[open] != '\''))
+    // The attribute Source (not a longer name ending in it), '=' with or
+    // without spaces around it, then the quoted file name.
+    size_t open = std::string_view::npos;
+    for (size_t name = tag.find("Source"); name != std::string_view::npos && open == std::string_view::npos;
+         name = tag.find("Source", name + 1)) {
+      if (name == 0 || !std::isspace(static_cast<unsigned char>(tag[name - 1]))) continue;
+      size_t k = name + 6;
+      while (k < tag.size() && std::isspace(static_cast<unsigned char>(tag[k]))) ++k;
+      if (k >= tag.size() || tag[k] != '=') continue;
+      ++k;
+      while (k < tag.size() && std::isspace(static_cast<unsigned char>(tag[k]))) ++k;
+      if (k < tag.size() && (tag[k] == '"' || tag[k] == '\'')) open = k;
+    }
+    if (open == std::string_view::npos)
       throw InputError(path + ":" + std::to_string(line_of(at)) + ": a <Piece> without Source=\"FILE\"");
     const size_t close = tag.find(tag[open], open + 1);
     if (close == std::string_view::npos)
       throw InputError(path + ":" + std::to_string(line_of(at)) + ": a <Piece> Source without its closing quote");
     const std::filesystem::path piece = folder / std::string(tag.substr(open + 1, close - open - 1));
-    append_piece(whole, read_vtu(piece.string()));
+    // Sides once the pieces are one: a triangle between two pieces has a
+    // tetrahedron in each (taken one piece at a time, the exterior beside it).
+    Mesh part = read_vtu_elements(piece.string());
+    detail::require_valid(part, piece.string());
+    piece_of.resize(whole.points.size() + part.points.size(), static_cast<int>(pieces));
+    append_piece(whole, std::move(part));
     ++pieces;
   }
   if (pieces == 0) throw InputError(path + ": lists no <Piece Source=\"FILE\"/>");
-  weld_pieces(whole);
+  weld_pieces(whole, piece_of);
   detail::require_valid(whole, path);
   detail::sides_from_tets(whole);
   return whole;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <set>
 
@@ -400,19 +401,22 @@ int info_command(const std::vector<std::string>& raw) {
   std::printf("%s\n  points %zu, triangles %zu, tetrahedra %zu%s\n", pos[0].c_str(), m.points.size(),
               m.triangles.size(), m.tets.size(), m.second_order() ? " (second order)" : "");
   std::printf("  regions %zu, faces %zu\n", regions.size(), faces.size());
-  const auto vol = region_volumes(m);
-  for (size_t r = 0; r < vol.size(); ++r)
-    if (regions.count(static_cast<int>(r))) std::printf("  region %zu: volume %.9g\n", r, vol[r]);
-  // Tetrahedra the file gives no region (a deck without sets, a VTU without
-  // a region array) had no volume line.
-  if (regions.count(kUnknownRegion)) {
-    double unknown = 0;
-    for (const Tetrahedron& t : m.tets)
-      if (t.region == kUnknownRegion)
-        unknown += tet_volume(m.points[static_cast<size_t>(t.v[0])], m.points[static_cast<size_t>(t.v[1])],
-                              m.points[static_cast<size_t>(t.v[2])], m.points[static_cast<size_t>(t.v[3])]);
-    std::printf("  no region: volume %.9g\n", unknown);
+  // By region number in a map: a file's region 2147483647 overflowed a
+  // vector indexed by it ("internal error", exit 1). Tetrahedra the file
+  // gives no region (a deck without sets, a VTU without a region array) had
+  // no volume line.
+  // Second order: the curved tetrahedra's volumes (region_volumes' rule).
+  std::map<int, double> volume;
+  const bool curved = m.tet_mid.size() == m.tets.size() && !m.tets.empty();
+  for (size_t i = 0; i < m.tets.size(); ++i) {
+    const Tetrahedron& t = m.tets[i];
+    volume[t.region] += curved ? quadratic_tet_volume(tet_nodes(m, i))
+                               : tet_volume(m.points[static_cast<size_t>(t.v[0])], m.points[static_cast<size_t>(t.v[1])],
+                                            m.points[static_cast<size_t>(t.v[2])], m.points[static_cast<size_t>(t.v[3])]);
   }
+  for (const auto& [r, v] : volume)
+    if (r >= 0) std::printf("  region %d: volume %.9g\n", r, v);
+  if (volume.count(kUnknownRegion)) std::printf("  no region: volume %.9g\n", volume.at(kUnknownRegion));
   if (!m.tets.empty()) {
     const QualitySummary q = summarize_quality(m);
     std::printf("  dihedral angle min %.3f max %.3f deg; radius ratio min %.4f mean %.4f\n", q.min_dihedral_deg,

@@ -308,6 +308,24 @@ def check_reads_vtk_writers(binary, vtu, tmp, n_tets, expected):
             w.SetFileTypeToBinary()
         w.Write()
         variants.append(path)
+    import meshio
+
+    def sides(path):
+        """{triangle (its corners' coordinates): (front, back)} of vdmesh's .vtu of a file."""
+        out = path + ".sides.vtu"
+        subprocess.run([binary, "convert", path, out], capture_output=True, check=True)
+        got = meshio.read(out)
+        found = {}
+        for k, cells in enumerate(got.cells):
+            if cells.type != "triangle":
+                continue
+            front, back = got.cell_data["front"][k], got.cell_data["back"][k]
+            for tri, f, b in zip(cells.data, front, back):
+                key = tuple(sorted(tuple(got.points[v]) for v in tri))
+                found[key] = (int(f), int(b))
+        return found
+
+    one_piece = sides(variants[0])
     points = None
     for path in variants:
         code, tets, volumes, err = vdmesh_info(binary, path)
@@ -324,6 +342,11 @@ def check_reads_vtk_writers(binary, vtu, tmp, n_tets, expected):
         check(count and int(count.group(1)) == points,
               "vdmesh info %s: %s points, as the one-piece file (%s)" % (os.path.basename(path),
                                                                           count and count.group(1), points))
+        if "pieces" in path or path.endswith(".pvtu"):
+            # A triangle between two pieces was taken for exterior on one
+            # side (.pvtu, a build of the same day).
+            check(sides(path) == one_piece, "vdmesh reads %s's triangles with the one-piece file's sides" %
+                  os.path.basename(path))
 
 
 def check_reads_gmsh_and_meshio_files(binary, tmp):
@@ -408,6 +431,26 @@ def check_reads_gmsh_and_meshio_files(binary, tmp):
                       "vdmesh convert %s overlapping.inp: element sets left and right, got %s" %
                       (os.path.basename(path), blocks))
         gmsh.option.setNumber("Mesh.Binary", 0)
+        # Groups whose ranking by volumes and by tetrahedra differ: A holds
+        # V1 and a big V2, B holds V1 and two tiny volumes. MSH 4.1 ranked by
+        # volumes (V1 in A) and 2.2 by tetrahedra (V1 in B) in a build of the
+        # same day; both by tetrahedra now.
+        gmsh.model.add("ranked_groups")
+        for k, (x, edge) in enumerate(((0, 1), (3, 1), (6, 0.2), (8, 0.2))):
+            gmsh.model.occ.addBox(x, 0, 0, edge, edge, edge, k + 1)
+        gmsh.model.occ.synchronize()
+        gmsh.model.addPhysicalGroup(3, [1, 2], 5)
+        gmsh.model.addPhysicalGroup(3, [1, 3, 4], 7)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.2)
+        gmsh.model.mesh.generate(3)
+        seen = []
+        for version in (4.1, 2.2):
+            path = os.path.join(tmp, "ranked_%s.msh" % version)
+            gmsh.option.setNumber("Mesh.MshFileVersion", version)
+            gmsh.write(path)
+            seen.append(vdmesh_info(binary, path)[2])
+        check(seen[0] == seen[1] and set(seen[0]) == {5, 7} and abs(seen[0][5] - 1) < 1e-9,
+              "groups ranked alike in MSH 4.1 and 2.2 (V1 in 7, the group of fewer tetrahedra): %s" % seen)
         # Partitioned (gmsh -part 2), with and without ghost cells, ASCII and
         # binary: each partition's piece of a volume was a region of its
         # own and the cuts between partitions faces (4 regions, 33 triangles
@@ -527,6 +570,40 @@ def check_reads_gmsh_and_meshio_files(binary, tmp):
           (run.returncode, run.stderr.strip()[:200]))
 
 
+def check_plc_hole_point_in_a_thin_slot(binary, tmp):
+    """A 10 x 10 x 1 box of region 7 around a 6 x 6 x 0.0005 slot, coarse:
+    the slot's hole point went a hundredth of a facet's inradius off it,
+    past the slot's far wall into the solid, and TetGen carved the solid
+    away (66 tetrahedra, 0.018 of volume kept; a build of 2026-11-30). It
+    lies in the slot now, and the box keeps 100 - 0.018."""
+    import gmsh
+    src = os.path.join(tmp, "slot.msh")
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("slot")
+        gmsh.model.occ.addBox(0, 0, 0, 10, 10, 1, 1)
+        gmsh.model.occ.addBox(2, 2, 0.5, 6, 6, 0.0005, 2)
+        gmsh.model.occ.cut([(3, 1)], [(3, 2)])
+        gmsh.model.occ.synchronize()
+        gmsh.model.addPhysicalGroup(3, [t for _, t in gmsh.model.getEntities(3)], 7)
+        gmsh.model.addPhysicalGroup(2, [t for _, t in gmsh.model.getEntities(2)], 1)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", 3)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 6)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+        gmsh.model.mesh.generate(3)
+        gmsh.write(src)
+    finally:
+        gmsh.finalize()
+    poly = os.path.join(tmp, "slot.poly")
+    conv = subprocess.run([binary, "convert", src, poly], capture_output=True, text=True)
+    tet = subprocess.run(["tetgen", "-pAQ", poly], capture_output=True, text=True, cwd=tmp)
+    code, _, volumes, err = vdmesh_info(binary, os.path.join(tmp, "slot.1.ele"))
+    check(conv.returncode == 0 and tet.returncode == 0 and list(volumes) == [7] and
+          abs(volumes[7] - (100 - 6 * 6 * 0.0005)) < 1e-9,
+          "tetgen -pA of a box with a thin slot written as .poly: region 7 of 99.982, got %s %s" % (volumes, err))
+
+
 def check_meshb_with_meshio(binary, tmp):
     """Binary Medit (.meshb): meshio's files (version 4: 64-bit words) read
     by vdmesh, and vdmesh's (version 2) read by meshio, with the references
@@ -620,6 +697,24 @@ def check_plc_keeps_regions_and_cavities(binary, tmp):
                   "tetgen -pAf: of its %d faces vdmesh keeps the boundary's (%s triangles, %s face ids, 12 wanted), "
                   "meshio reads them from MSH 4.1: %s" % (listed, faces and faces.group(1),
                                                           tagged and tagged.group(1), read_back))
+        if ext == "poly":
+            # Tetrahedra without regions (no -A): the cavity keeps its point
+            # (facets beside them were passed over in a build of the same
+            # day: volume 27), and -f's inner faces are dropped too.
+            tet = subprocess.run(["tetgen", "-pfQ", back], capture_output=True, text=True, cwd=tmp)
+            plain = os.path.join(tmp, "plain.poly")
+            conv = subprocess.run([binary, "convert", os.path.join(tmp, "back.1.ele"), plain], capture_output=True,
+                                  text=True)
+            info = subprocess.run([binary, "info", os.path.join(tmp, "back.1.face")], capture_output=True,
+                                  text=True).stdout
+            tet2 = subprocess.run(["tetgen", "-pQ", plain], capture_output=True, text=True, cwd=tmp)
+            code, _, _, _ = vdmesh_info(binary, os.path.join(tmp, "plain.1.ele"))
+            unknown = re.search(r"no region: volume ([0-9.e+-]+)", subprocess.run(
+                [binary, "info", os.path.join(tmp, "plain.1.ele")], capture_output=True, text=True).stdout)
+            check(tet.returncode == 0 and conv.returncode == 0 and tet2.returncode == 0 and "faces 12" in info and
+                  unknown and abs(float(unknown.group(1)) - 26) < 1e-9,
+                  "tetgen -pf without regions: 12 face ids (%s), the cavity kept through .poly and tetgen -p: "
+                  "volume %s" % (info.split("\n")[2:3], unknown and unknown.group(1)))
         again = os.path.join(tmp, "again.vtu")
         run = subprocess.run([binary, "mesh", back, "-o", again, "--quiet"], capture_output=True, text=True)
         code, _, volumes, err = vdmesh_info(binary, again)
@@ -778,6 +873,7 @@ def main():
             check_calculix(outputs["inp"], tmp)
         check_reads_gmsh_and_meshio_files(binary, tmp)
         check_meshb_with_meshio(binary, tmp)
+        check_plc_hole_point_in_a_thin_slot(binary, tmp)
         check_plc_keeps_regions_and_cavities(binary, tmp)
         check_convert_reorients_inverted_tetrahedra(binary, tmp)
         if "msh" in outputs:
