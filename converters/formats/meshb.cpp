@@ -14,6 +14,8 @@
 #include <cstring>
 #include <climits>
 #include <map>
+#include <string>
+#include <tuple>
 #include <vector>
 
 #include "formats.h"
@@ -94,6 +96,8 @@ class MeshbReader {
     return static_cast<int>(v - 1);
   }
   void vertices();
+  template <class Element, class Mid, class TakeRef>
+  void elements(std::vector<Element>& out, std::vector<Mid>& mids, bool p2, const std::string& kind, TakeRef take_ref);
   void triangles(bool p2);
   void tetrahedra(bool p2);
 
@@ -118,37 +122,36 @@ void MeshbReader::vertices() {
   }
 }
 
-void MeshbReader::triangles(bool p2) {
-  if (!m_.triangles.empty()) fail(pos_, "a second section of triangles");
-  const uint64_t n = count((p2 ? 7 : 4) * int_size_, "triangles");
-  m_.triangles.resize(static_cast<size_t>(n));
-  if (p2) m_.triangle_mid.resize(static_cast<size_t>(n));
+// A table of triangles or tetrahedra: corners, mid-edge nodes (P2), and
+// the reference `take_ref` files in the element.
+template <class Element, class Mid, class TakeRef>
+void MeshbReader::elements(std::vector<Element>& out, std::vector<Mid>& mids, bool p2, const std::string& kind,
+                           TakeRef take_ref) {
+  if (!out.empty()) fail(pos_, "a second section of " + kind + "s");
+  const size_t words = std::tuple_size<decltype(Element::v)>::value + (p2 ? std::tuple_size<Mid>::value : 0) + 1;
+  const uint64_t n = count(words * int_size_, (kind + "s").c_str());
+  out.resize(static_cast<size_t>(n));
+  if (p2) mids.resize(static_cast<size_t>(n));
+  const std::string corner = "a " + kind + " vertex", mid = "a " + kind + " mid-edge node",
+                    reference = "a " + kind + " reference";
   for (size_t i = 0; i < n; ++i) {
-    Triangle& t = m_.triangles[i];
-    for (int& v : t.v) v = vertex("a triangle vertex");
+    for (int& v : out[i].v) v = vertex(corner.c_str());
     if (p2)
-      for (int& v : m_.triangle_mid[i]) v = vertex("a triangle mid-edge node");
-    const int64_t ref = integer(int_size_, "a triangle reference");
-    if (ref < INT32_MIN || ref > INT32_MAX) fail(pos_, "a triangle reference beyond 32 bits");
-    t.face = static_cast<int>(ref);
+      for (int& v : mids[i]) v = vertex(mid.c_str());
+    const int64_t ref = integer(int_size_, reference.c_str());
+    if (ref < INT32_MIN || ref > INT32_MAX) fail(pos_, reference + " beyond 32 bits");
+    take_ref(out[i], static_cast<int>(ref));
   }
 }
 
+void MeshbReader::triangles(bool p2) {
+  elements(m_.triangles, m_.triangle_mid, p2, "triangle", [](Triangle& t, int ref) { t.face = ref; });
+}
+
 void MeshbReader::tetrahedra(bool p2) {
-  if (!m_.tets.empty()) fail(pos_, "a second section of tetrahedra");
-  const uint64_t n = count((p2 ? 11 : 5) * int_size_, "tetrahedra");
-  m_.tets.resize(static_cast<size_t>(n));
-  if (p2) m_.tet_mid.resize(static_cast<size_t>(n));
-  for (size_t i = 0; i < n; ++i) {
-    Tetrahedron& t = m_.tets[i];
-    for (int& v : t.v) v = vertex("a tetrahedron vertex");
-    if (p2)
-      for (int& v : m_.tet_mid[i]) v = vertex("a tetrahedron mid-edge node");
-    const int64_t ref = integer(int_size_, "a tetrahedron reference");
-    if (ref < INT32_MIN || ref > INT32_MAX) fail(pos_, "a tetrahedron reference beyond 32 bits");
-    // Reference 0 is no region, as in .mesh.
-    t.region = ref == 0 ? kUnknownRegion : static_cast<int>(ref);
-  }
+  // Reference 0 is no region, as in .mesh.
+  elements(m_.tets, m_.tet_mid, p2, "tetrahedron",
+           [](Tetrahedron& t, int ref) { t.region = ref == 0 ? kUnknownRegion : ref; });
 }
 
 Mesh MeshbReader::read() {

@@ -719,22 +719,18 @@ struct PieceArrays {
 void append_piece(Mesh& whole, Mesh&& part) {
   const int shift = static_cast<int>(whole.points.size());
   whole.points.insert(whole.points.end(), part.points.begin(), part.points.end());
-  for (Tetrahedron t : part.tets) {
-    for (int& v : t.v) v += shift;
-    whole.tets.push_back(t);
-  }
-  for (TetMidNodes x : part.tet_mid) {
-    for (int& v : x) v += shift;
-    whole.tet_mid.push_back(x);
-  }
-  for (Triangle t : part.triangles) {
-    for (int& v : t.v) v += shift;
-    whole.triangles.push_back(t);
-  }
-  for (TriMidNodes x : part.triangle_mid) {
-    for (int& v : x) v += shift;
-    whole.triangle_mid.push_back(x);
-  }
+  auto shifted = [shift](auto& to, const auto& from, auto nodes) {
+    for (auto x : from) {
+      for (int& v : nodes(x)) v += shift;
+      to.push_back(x);
+    }
+  };
+  auto corners = [](auto& element) -> auto& { return element.v; };
+  auto itself = [](auto& nodes) -> auto& { return nodes; };
+  shifted(whole.tets, part.tets, corners);
+  shifted(whole.tet_mid, part.tet_mid, itself);
+  shifted(whole.triangles, part.triangles, corners);
+  shifted(whole.triangle_mid, part.triangle_mid, itself);
 }
 
 // Elements whose corners another one before them has, dropped (their

@@ -399,7 +399,7 @@ def check_reads_gmsh_and_meshio_files(binary, tmp):
         # left box's groups as "11 100" and the right one's as "100 22", and
         # the first listed was the region until 2026-11-30 (regions 11 and
         # 100: "right" gone, "all" the right box alone). A tetrahedron takes
-        # the group of fewest volumes (4.1) or tetrahedra (2.2's repeats).
+        # the group of fewest tetrahedra.
         gmsh.model.add("overlapping_groups")
         gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1, 1)
         gmsh.model.occ.addBox(1, 0, 0, 1, 1, 1, 2)
