@@ -48,6 +48,9 @@ void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& o
   if (!f.write) throw UsageError(path + ": the " + f.name + " format can only be read");
   if (options.msh_version != 22 && options.msh_version != 41)
     throw UsageError("Gmsh version must be 22 or 41, not " + std::to_string(options.msh_version));
+  // The writers trust the arrays: a node number past the points or a short
+  // mid-edge list was read past from C++ and written out (2026-11-30).
+  detail::require_valid(mesh, path);
   f.write(mesh, path, options);
 }
 

@@ -3,7 +3,9 @@
 // module read and write every file through here.
 #pragma once
 
+#include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +34,19 @@ const std::vector<Format>& formats();
 // The format for `path` by its extension (".gz" is looked through), or by
 // `format_name` when not empty. Throws vd::UsageError when none fits.
 const Format& format_for(const std::string& path, const std::string& format_name = "");
+
+// Where a file written to `path` goes. A symlink's target is written, not
+// the link replaced; what is there and no regular file (a FIFO, a device)
+// is written in place; a regular file replaced keeps its permissions. Until
+// 2026-11-30 a link, /dev/full or a FIFO became a plain file and a 0600 file
+// 0644. (A hard link's other names keep the old file: the new one is
+// renamed into place, so that a failed write leaves the old one whole.)
+struct WriteTarget {
+  std::string path;
+  bool in_place = false;
+  std::optional<std::filesystem::perms> perms;  // of the regular file replaced
+};
+WriteTarget write_target(const std::string& path);
 
 Mesh read_mesh(const std::string& path, const std::string& format_name = "");
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {},

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -316,7 +317,9 @@ void Cursor::skip_newline() {
 // Out
 
 struct Out::Sink {
-  std::string path, part;
+  std::string path, part;       // part == path when written in place
+  bool in_place = false;
+  std::optional<std::filesystem::perms> perms;
   FILE* file = nullptr;
   gzFile gz = nullptr;
   void write(const char* data, size_t n) {
@@ -341,10 +344,36 @@ struct Out::Sink {
   }
 };
 
+}  // namespace vd::io::detail
+
+namespace vd::io {
+
+WriteTarget write_target(const std::string& path) {
+  namespace fs = std::filesystem;
+  WriteTarget t{path, false, std::nullopt};
+  std::error_code ec;
+  if (fs::is_symlink(path, ec)) {
+    const fs::path resolved = fs::weakly_canonical(path, ec);
+    if (!ec) t.path = resolved.string();
+  }
+  const fs::file_status st = fs::status(t.path, ec);
+  if (ec || !fs::exists(st)) return t;
+  if (!fs::is_regular_file(st)) t.in_place = true;
+  else t.perms = st.permissions();
+  return t;
+}
+
+}  // namespace vd::io
+
+namespace vd::io::detail {
+
 Out::Out(const std::string& path) {
   auto sink = std::make_unique<Sink>();
-  sink->path = path;
-  sink->part = path + ".part";
+  const WriteTarget target = write_target(path);
+  sink->path = target.path;
+  sink->in_place = target.in_place;
+  sink->perms = target.perms;
+  sink->part = target.in_place ? target.path : target.path + ".part";
   if (ends_with_ci(path, ".gz")) sink->gz = gzopen(sink->part.c_str(), "wb6");
   else sink->file = std::fopen(sink->part.c_str(), "wb");
   if (!sink->gz && !sink->file) throw file_error(path, "cannot write", errno);
@@ -355,7 +384,7 @@ Out::Out(const std::string& path) {
 Out::~Out() {
   if (!sink_) return;
   sink_->close();
-  std::remove(sink_->part.c_str());
+  if (!sink_->in_place) std::remove(sink_->part.c_str());
 }
 
 void Out::spill() {
@@ -369,9 +398,15 @@ void Out::finish() {
   if (!sink_) return;
   sink_->write(buf_.data(), buf_.size());
   buf_.clear();
+  errno = 0;
   if (!sink_->close()) throw FileError(sink_->path + ": write error", sink_->path, errno ? errno : EIO);
-  if (std::rename(sink_->part.c_str(), sink_->path.c_str()) != 0)
-    throw file_error(sink_->path, "cannot write", errno);
+  if (!sink_->in_place) {
+    // The file replaced keeps its permissions (a 0600 deck became 0644).
+    std::error_code ignored;
+    if (sink_->perms) std::filesystem::permissions(sink_->part, *sink_->perms, ignored);
+    if (std::rename(sink_->part.c_str(), sink_->path.c_str()) != 0)
+      throw file_error(sink_->path, "cannot write", errno);
+  }
   sink_.reset();
 }
 

@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "converters/registry.h"
 #include "mesh/error.h"
 #include "mesh/mesh.h"
 #include "mesh/parallel.h"
@@ -161,7 +162,8 @@ class Cursor {
 
 // Writes a file through a buffer: once the buffer holds a chunk it goes to
 // PATH.part (gzipped for ".gz"), and finish() renames that to PATH; a writer
-// that throws before finish() leaves no file. A whole 1M-tetrahedron file in
+// that throws before finish() leaves no file (write_target says where PATH
+// is, and when it is written in place). A whole 1M-tetrahedron file in
 // memory was most of a writer's peak.
 class Out {
  public:

@@ -124,9 +124,13 @@ void check_can_write(const std::string& path, const std::string& option, bool re
 // pass for a result. A folder, not OUT.part: TetGen's writer makes a set of
 // files named after its path's base (OUT.node.part gave OUT.node.part.node,
 // and the rename of OUT.node.part then failed on every -o OUT.node).
+// A symlink's target is written, a FIFO or device in place, and a replaced
+// file keeps its permissions (io::write_target).
 void write_result(const Mesh& mesh, const std::string& path, const io::WriteOptions& options) {
   namespace fs = std::filesystem;
-  const fs::path target(path);
+  const io::WriteTarget where = io::write_target(path);
+  if (where.in_place) return io::write_mesh(mesh, where.path, options, io::format_for(path).name);
+  const fs::path target(where.path);
   const fs::path staging = target.parent_path() / (target.filename().string() + ".part.d");
   std::error_code ignored, ec;
   fs::remove_all(staging, ignored);
@@ -137,6 +141,7 @@ void write_result(const Mesh& mesh, const std::string& path, const io::WriteOpti
     fs::create_directory(staging, ec);
     fail_unless_ok();
     io::write_mesh(mesh, (staging / target.filename()).string(), options, io::format_for(path).name);
+    if (where.perms) fs::permissions(staging / target.filename(), *where.perms, ignored);
     for (const fs::directory_entry& made : fs::directory_iterator(staging)) {
       fs::rename(made.path(), target.parent_path() / made.path().filename(), ec);
       fail_unless_ok();

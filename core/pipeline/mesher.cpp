@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <future>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -657,16 +659,45 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
 // that take no surface facet out of the tetrahedralization before they go in
 // (volume/facet_takers.h, asked of each candidate that passed the other
 // tests, which a run that succeeds does not pay for).
+void check_mesh_options(const MeshOptions& o) {
+  auto in = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw UsageError("MeshOptions: " + what);
+  };
+  require(in(o.size.uniform, 0, std::numeric_limits<double>::max()), "size.uniform must be a finite number >= 0 (0: none), not " +
+                                                                        number_text(o.size.uniform, "%g"));
+  require(std::isfinite(o.size.gradation) && o.size.gradation > 0,
+          "size.gradation must be positive, not " + number_text(o.size.gradation, "%g"));
+  require(o.surface_grading == 0 || in(o.surface_grading, 1, std::numeric_limits<double>::max()),
+          "surface_grading must be 0 or at least 1");
+  require(in(o.shift, 0, 0.1), "shift must be in [0, 0.1]");
+  require(in(o.delaunayzation.flip_angle_deg, 0, 180), "delaunayzation.flip_angle_deg must be in [0, 180]");
+  require(in(o.slivers.sliver_angle_deg, 0, kLargestSliverAngleDeg), "slivers.sliver_angle_deg must be in [0, 70.5]");
+  require(in(o.sharp_angle_deg, 0, 180), "sharp_angle_deg must be in [0, 180]");
+  require(o.threads >= 0 && o.threads <= 1024, "threads must be in [0, 1024] (0: one per core)");
+  require(o.order == 1 || o.order == 2, "order must be 1 or 2");
+  require(o.delaunayzation.max_passes >= 0, "delaunayzation.max_passes must not be negative");
+}
+
 MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial) {
-  if (options.cautious && options.interior) return mesh_surface_once(input, options, partial, true, false);
-  try {
-    return mesh_surface_once(input, options, partial, false, options.interior);
-  } catch (const LaterRecoveryStopped& stopped) {
-    MeshResult result = mesh_surface_once(input, options, partial, true, false);
-    result.report.interior.cautious_retry = true;
-    result.report.seconds.insert(result.report.seconds.begin(), {"run given up (a later recovery)", stopped.seconds});
-    return result;
-  }
+  check_mesh_options(options);
+  auto run = [&]() {
+    if (options.cautious && options.interior) return mesh_surface_once(input, options, partial, true, false);
+    try {
+      return mesh_surface_once(input, options, partial, false, options.interior);
+    } catch (const LaterRecoveryStopped& stopped) {
+      MeshResult result = mesh_surface_once(input, options, partial, true, false);
+      result.report.interior.cautious_retry = true;
+      result.report.seconds.insert(result.report.seconds.begin(), {"run given up (a later recovery)", stopped.seconds});
+      return result;
+    }
+  };
+  MeshResult result = run();
+  // A flag raised in a phase that does not look (the sliver pass, the
+  // volume step) still ends the call without a mesh, as promised: the C++
+  // caller got the finished mesh back until 2026-11-30 (Python checked).
+  throw_if_cancelled(options.cancel);
+  return result;
 }
 
 }  // namespace vd

@@ -144,11 +144,17 @@ struct MeshResult {
   MeshReport report;
 };
 
-// Throws InputError for invalid input (before any work), CancelledError when
-// options.cancel is set during the run, and RecoveryError
+// Throws UsageError for options out of their range (check_mesh_options),
+// InputError for invalid input (before any work), CancelledError when
+// options.cancel is set during the run (also when it was raised during a
+// phase that does not look at it), and RecoveryError
 // when Delaunayzation stops at a guard: then `partial` (if given) receives
 // the result so far, with the facets still missing in report.missing_facets.
 MeshResult mesh_surface(const Mesh& input, const MeshOptions& options, MeshResult* partial = nullptr);
+
+// UsageError naming the first option out of its range (the command line
+// and the Python module check theirs first, naming their own options).
+void check_mesh_options(const MeshOptions& options);
 
 std::string report_json(const MeshReport& report);
 std::string report_table(const MeshReport& report);

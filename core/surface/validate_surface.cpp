@@ -45,6 +45,17 @@ void check_tags_and_sizes(const Mesh& m) {
       throw InputError("facet " + std::to_string(f) + " has face id " + std::to_string(m.triangles[f].face) +
                        "; a face id is 0 or more, or -1 (none)");
   }
+  // One size per vertex, or none: a shorter list was read past (and written
+  // past) by the steps after, from C++ (2026-11-30; Python checks its arrays).
+  if (!m.point_size.empty() && m.point_size.size() != m.points.size())
+    throw InputError("the surface has " + std::to_string(m.point_size.size()) + " vertex sizes for " +
+                     std::to_string(m.points.size()) + " vertices (one per vertex, or none)");
+  // Facet corners that are no vertex, likewise.
+  for (size_t f = 0; f < m.triangles.size(); ++f)
+    for (const int v : m.triangles[f].v)
+      if (v < 0 || static_cast<size_t>(v) >= m.points.size())
+        throw InputError("facet " + std::to_string(f) + " has corner " + std::to_string(v) + ", which is no vertex (" +
+                         std::to_string(m.points.size()) + " vertices)");
   for (size_t v = 0; v < m.point_size.size(); ++v)
     if (!(m.point_size[v] >= 0) || !std::isfinite(m.point_size[v])) {
       std::ostringstream s;

@@ -403,6 +403,21 @@ check(code == 2 and "is a CAD file; `vdmesh info` reads meshes: `vdmesh convert"
 
 # `convert` takes `mesh`'s --quiet (it prints nothing but errors anyway):
 # scripts pass the same flags to both, and it was an unknown option.
+# -o through a symlink writes its target and keeps the link and the
+# target's permissions (the link became a plain file, a 0600 file 0644,
+# until 2026-11-30).
+real_out = os.path.join(out, "real.vtu")
+link_out = os.path.join(out, "link.vtu")
+with open(real_out, "w") as f:
+    f.write("old")
+os.chmod(real_out, 0o600)
+os.symlink(real_out, link_out)
+code, _, err = run("mesh", bracket, "-o", link_out, "--quiet")
+code2, info, _ = run("info", real_out)
+check(code == 0 and os.path.islink(link_out) and code2 == 0 and "tetrahedra" in info and
+      (os.stat(real_out).st_mode & 0o777) == 0o600,
+      "mesh -o LINK: the link kept, its target written with its 0600 (%d: %s)" % (code, err.strip()[:200]))
+
 quiet_out = os.path.join(out, "quiet.vtu")
 code, sout, err = run("convert", bracket, quiet_out, "--quiet")
 check(code == 0 and os.path.getsize(quiet_out) > 0 and not sout and not err,

@@ -1,8 +1,11 @@
 // Malformed input gives vd::InputError naming the file and the line (or the
 // byte offset in binary data), never a crash, for every reader.
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "converters/registry.h"
 #include "mesh/error.h"
@@ -195,6 +198,50 @@ Mesh two_tets() {
   m.tets = {{{0, 1, 2, 3}, 1}, {{1, 2, 3, 4}, 2}};
   m.triangles = {{{0, 2, 1}, 1, 0, 1}, {{1, 2, 3}, 2, 2, 1}, {{1, 4, 2}, 3, 0, 2}};
   return m;
+}
+
+// The writers trust the arrays; write_mesh checks them first (a node past
+// the points, or a short mid-edge list, was read past and written out).
+TEST(ConvertersBadInput, InconsistentArraysAreNotWritten) {
+  for (const char* file : {"w.msh", "w.vtu", "w.inp", "w.meshb"}) {
+    Mesh m = two_tets();
+    m.tets[1].v[3] = 1000000;
+    const std::string path = test::temp_path(file);
+    EXPECT_THROW(io::write_mesh(m, path), InputError) << file;
+    m = two_tets();
+    m.tet_mid.resize(1);
+    EXPECT_THROW(io::write_mesh(m, path), InputError) << file;
+    EXPECT_FALSE(std::filesystem::exists(path)) << file;
+  }
+}
+
+// Where a written file goes (io::write_target): a symlink's target, a FIFO in
+// place, a replaced file's permissions kept. A link became a plain file, a
+// 0600 file 0644, and a FIFO a plain file its reader never saw (2026-11-30).
+TEST(ConvertersBadInput, WritingKeepsLinksAndPermissions) {
+  namespace fs = std::filesystem;
+  const Mesh m = two_tets();
+  const fs::path real = test::temp_path("real.msh"), link = test::temp_path("link.msh");
+  fs::remove(real);
+  fs::remove(link);
+  write_text(real.string(), "old");
+  fs::permissions(real, fs::perms::owner_read | fs::perms::owner_write);
+  fs::create_symlink(real, link);
+  io::write_mesh(m, link.string());
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(io::read_mesh(real.string()).tets.size(), 2u);
+  EXPECT_EQ(fs::status(real).permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::owner_write);
+  // A FIFO is written into, not replaced: its reader gets the file.
+  const fs::path fifo = test::temp_path("fifo.off");
+  fs::remove(fifo);
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  std::string got;
+  std::thread reader([&] { got = read_bytes(fifo.string()); });
+  io::write_mesh(m, fifo.string());
+  reader.join();
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(got.rfind("OFF", 0), 0u) << got.substr(0, 20);
+  fs::remove(fifo);
 }
 
 // Every prefix length of a valid file (sampled) either reads or throws

@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <random>
 #include <set>
@@ -639,6 +641,64 @@ TEST(Volume, LongLoopsReportTheirProgress) {
   // Every 1,024 octree leaves, the share of the bounding cube done.
   EXPECT_GT(phase_fraction(), 0.5);
   EXPECT_LE(phase_fraction(), 1.0);
+}
+
+// The library's contract, as the C++ tester of 2026-11-30 met it.
+// A flag raised during a phase that does not look (the sliver pass) still
+// ends the call with CancelledError: the finished mesh came back.
+TEST(Library, CancelDuringTheSliverPassThrows) {
+  const Mesh in = shapes::box({0, 0, 0}, {1, 1, 1});
+  std::atomic<bool> cancel{false};
+  MeshOptions o;
+  o.size.uniform = 0.2;
+  o.cancel = &cancel;
+  bool reached = false;
+  o.progress = [&](const std::string& phase) {
+    if (phase == "slivers") reached = true, cancel = true;
+  };
+  EXPECT_THROW(mesh_surface(in, o), CancelledError);
+  EXPECT_TRUE(reached);
+}
+
+// Options out of their range are refused (the command line and Python
+// checked theirs; from C++ an infinite size looped and a negative gradation
+// ran away).
+TEST(Library, OptionsOutOfRangeAreRefused) {
+  const Mesh in = shapes::box({0, 0, 0}, {1, 1, 1});
+  const std::vector<std::pair<std::string, std::function<void(MeshOptions&)>>> bad = {
+      {"size.uniform", [](MeshOptions& o) { o.size.uniform = std::numeric_limits<double>::infinity(); }},
+      {"size.uniform", [](MeshOptions& o) { o.size.uniform = std::nan(""); }},
+      {"size.uniform", [](MeshOptions& o) { o.size.uniform = -1; }},
+      {"size.gradation", [](MeshOptions& o) { o.size.gradation = -1; }},
+      {"order", [](MeshOptions& o) { o.order = 3; }},
+      {"threads", [](MeshOptions& o) { o.threads = -3; }},
+      {"slivers.sliver_angle_deg", [](MeshOptions& o) { o.slivers.sliver_angle_deg = 80; }},
+      {"shift", [](MeshOptions& o) { o.shift = 0.5; }}};
+  for (const auto& [name, spoil] : bad) {
+    MeshOptions o;
+    spoil(o);
+    try {
+      mesh_surface(in, o);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A vertex-size list shorter than the points was read and written past.
+TEST(Library, VertexSizesMustMatchThePoints) {
+  Mesh in = shapes::box({0, 0, 0}, {1, 1, 1});
+  in.point_size.assign(2, 0.1);
+  try {
+    mesh_surface(in, MeshOptions{});
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("2 vertex sizes for 8 vertices"), std::string::npos) << e.what();
+  }
+  in.point_size.clear();
+  in.triangles[3].v[1] = 8;
+  EXPECT_THROW(mesh_surface(in, MeshOptions{}), InputError);
 }
 
 }  // namespace
