@@ -138,10 +138,15 @@ class MshReader {
   std::vector<Element> tri_info_;
   std::vector<std::vector<int>> more_physicals_;
   // 2.2: each tetrahedron's further physical groups (index into m_.tets,
-  // group), and every group's count of tetrahedra, to choose among them.
+  // group). Every group's count of tetrahedra, to choose among them
+  // (most_specific_group): counted while reading in 2.2, from the
+  // entities' in finish() in 4.1.
   std::vector<std::pair<size_t, int>> tet_more_physicals_;
   std::map<int, uint64_t> tets_in_group_;
-  std::map<int, uint64_t> tets_in_volume_group_;  // 4.1: each group's tetrahedra (volume_group)
+  uint64_t tets_in(int group) const {
+    const auto it = tets_in_group_.find(group);
+    return it == tets_in_group_.end() ? 0 : it->second;
+  }
   TagList tet_tags_;  // the tetrahedra's entities wait in their region field
   // Binary 4.1 whose tetrahedron tags are lo..lo+n-1, each once (what vdmesh
   // and Gmsh write): each tetrahedron goes straight to index tag - lo, so
@@ -629,7 +634,7 @@ void MshReader::read_elements41() {
 // tetrahedra (most_specific_group); its region field holds its first group
 // until here.
 void MshReader::choose_tet_groups22() {
-  auto size = [this](int g) { return tets_in_group_[g]; };
+  auto size = [this](int g) { return tets_in(g); };
   for (size_t k = 0; k < tet_more_physicals_.size();) {
     const size_t tet = tet_more_physicals_[k].first;
     std::vector<int> groups{m_.tets[tet].region};
@@ -644,11 +649,7 @@ void MshReader::choose_tet_groups22() {
 // 0 for none.
 int MshReader::volume_group(const Entity& volume) const {
   if (volume.physicals.size() < 2) return volume.physicals.empty() ? 0 : volume.physicals.front();
-  auto size = [this](int g) {
-    const auto it = tets_in_volume_group_.find(g);
-    return it == tets_in_volume_group_.end() ? uint64_t{0} : it->second;
-  };
-  return most_specific_group(volume.physicals, size);
+  return most_specific_group(volume.physicals, [this](int g) { return tets_in(g); });
 }
 
 void MshReader::finish() {
@@ -658,7 +659,7 @@ void MshReader::finish() {
     std::map<int, uint64_t> tets_in_entity;
     for (const Tetrahedron& t : m_.tets) ++tets_in_entity[t.region];
     for (const auto& [tag, v] : volumes_)
-      for (const int g : v.physicals) tets_in_volume_group_[g] += tets_in_entity[tag];
+      for (const int g : v.physicals) tets_in_group_[g] += tets_in_entity[tag];
   }
   // Elements in tag order (stable, so untagged duplicates keep file order).
   const bool tri_mids = m_.triangle_mid.size() == m_.triangles.size();

@@ -369,6 +369,21 @@ void sort_in_place(size_t n, Key key, Swap swap) {
     }
 }
 
+// Keeps the elements `keep(element)` accepts, in order, with their mid-edge
+// nodes when every element has them (the other rows are left as they are).
+template <class Element, class Mid, class Keep>
+void keep_elements_if(std::vector<Element>& elements, std::vector<Mid>& mids, Keep keep) {
+  const bool with_mids = mids.size() == elements.size();
+  size_t kept = 0;
+  for (size_t i = 0; i < elements.size(); ++i) {
+    if (!keep(elements[i])) continue;
+    if (with_mids) mids[kept] = mids[i];
+    elements[kept++] = elements[i];
+  }
+  elements.resize(kept);
+  if (with_mids) mids.resize(kept);
+}
+
 // Puts tetrahedra in the order of their element numbers, in place; their
 // mid-edge nodes move with them when every tetrahedron has them.
 void sort_tets_by_number(TagList& numbers, std::vector<Tetrahedron>& tets, std::vector<TetMidNodes>& mids);

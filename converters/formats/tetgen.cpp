@@ -182,17 +182,9 @@ std::string existing(const std::string& p) {
 // interface, or a sheet inside a region).
 void drop_inner_faces(Mesh& m, bool markers) {
   if (m.tets.empty()) return;  // a surface alone: its sides are unknown, not inner
-  const bool mids = m.triangle_mid.size() == m.triangles.size();
-  size_t kept = 0;
-  for (size_t i = 0; i < m.triangles.size(); ++i) {
-    const Triangle& t = m.triangles[i];
-    const bool inner = t.front == t.back && t.front != 0 && (!markers || t.face == 0);
-    if (inner) continue;
-    if (mids) m.triangle_mid[kept] = m.triangle_mid[i];
-    m.triangles[kept++] = t;
-  }
-  m.triangles.resize(kept);
-  if (mids) m.triangle_mid.resize(kept);
+  detail::keep_elements_if(m.triangles, m.triangle_mid, [markers](const Triangle& t) {
+    return !(t.front == t.back && t.front != 0 && (!markers || t.face == 0));
+  });
 }
 
 Mesh read_tetgen(const std::string& path) {

@@ -737,18 +737,12 @@ void append_piece(Mesh& whole, Mesh&& part) {
 // mid-edge nodes with them).
 template <class Element, class Mid>
 void drop_repeated(std::vector<Element>& elements, std::vector<Mid>& mids) {
-  const bool with_mids = mids.size() == elements.size();
   std::set<decltype(Element::v)> seen;
-  size_t kept = 0;
-  for (size_t i = 0; i < elements.size(); ++i) {
-    auto key = elements[i].v;
+  detail::keep_elements_if(elements, mids, [&seen](const Element& e) {
+    auto key = e.v;
     std::sort(key.begin(), key.end());
-    if (!seen.insert(key).second) continue;
-    if (with_mids) mids[kept] = mids[i];
-    elements[kept++] = elements[i];
-  }
-  elements.resize(kept);
-  if (with_mids) mids.resize(kept);
+    return seen.insert(key).second;
+  });
 }
 
 // Pieces of one data set (VTK's writer with several pieces, or a .pvtu's
