@@ -6,14 +6,16 @@
 #pragma once
 
 #include <atomic>
-#include <stdexcept>
+#include "mesh/error.h"
 
 namespace vd {
 
-// The run was stopped through its cancel flag; no result exists.
-class CancelledError : public std::runtime_error {
+// The run was stopped through its cancel flag; no result exists. The
+// command line has no flag to raise, so its code is that of a Ctrl-C.
+class CancelledError : public Error {
  public:
-  CancelledError() : std::runtime_error("cancelled") {}
+  CancelledError() : Error("cancelled") {}
+  int exit_code() const override { return 130; }
 };
 
 inline bool cancel_requested(const std::atomic<bool>* cancel) {

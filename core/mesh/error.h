@@ -11,10 +11,20 @@
 
 namespace vd {
 
-// Bad input: unreadable file, malformed content, invalid surface. Exit code 3.
-class InputError : public std::runtime_error {
+// Every error vdmesh throws on purpose, so that a C++ caller can catch them
+// all in one place and still tell them apart from its own: `exit_code` is
+// the command line's for the same failure.
+class Error : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  virtual int exit_code() const = 0;
+};
+
+// Bad input: unreadable file, malformed content, invalid surface. Exit code 3.
+class InputError : public Error {
+ public:
+  using Error::Error;
+  int exit_code() const override { return 3; }
 };
 
 // A file that could not be opened, read or written, with the system's
@@ -65,10 +75,11 @@ class FacetsError : public InputError {
 // Some facets could not be made Delaunay within the guards. Exit code 4.
 // `faces`: the face ids of the facets still missing, ascending, so that a
 // caller who can tessellate again (CAD input) knows where recovery ran away.
-class RecoveryError : public std::runtime_error {
+class RecoveryError : public Error {
  public:
   explicit RecoveryError(const std::string& message, std::vector<int> faces = {}, bool ran_away = false)
-      : std::runtime_error(message), faces_(std::move(faces)), ran_away_(ran_away) {}
+      : Error(message), faces_(std::move(faces)), ran_away_(ran_away) {}
+  int exit_code() const override { return 4; }
   const std::vector<int>& faces() const { return faces_; }
   // Stopped because the missing facets grew far past where they started.
   bool ran_away() const { return ran_away_; }
@@ -79,9 +90,10 @@ class RecoveryError : public std::runtime_error {
 };
 
 // Bad command-line use. Exit code 2.
-class UsageError : public std::runtime_error {
+class UsageError : public Error {
  public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
+  int exit_code() const override { return 2; }
 };
 
 }  // namespace vd

@@ -701,5 +701,30 @@ TEST(Library, VertexSizesMustMatchThePoints) {
   EXPECT_THROW(mesh_surface(in, MeshOptions{}), InputError);
 }
 
+// One base for every error the library means to throw (the C++ tester had to
+// catch four unrelated classes), each with the command line's exit code.
+TEST(Library, ErrorsShareOneBaseWithTheirExitCodes) {
+  const Mesh box = shapes::box({0, 0, 0}, {1, 1, 1});
+  const auto code_of = [](const std::function<void()>& call) {
+    try {
+      call();
+    } catch (const Error& e) {
+      return e.exit_code();
+    }
+    return 0;
+  };
+  MeshOptions usage;
+  usage.order = 3;
+  EXPECT_EQ(code_of([&] { mesh_surface(box, usage); }), 2);
+  Mesh open = box;
+  open.triangles.pop_back();
+  EXPECT_EQ(code_of([&] { mesh_surface(open, MeshOptions{}); }), 3);
+  std::atomic<bool> cancel{true};
+  MeshOptions cancelled;
+  cancelled.cancel = &cancel;
+  EXPECT_EQ(code_of([&] { mesh_surface(box, cancelled); }), 130);
+  EXPECT_EQ(code_of([] { throw RecoveryError("stopped"); }), 4);
+}
+
 }  // namespace
 }  // namespace vd
