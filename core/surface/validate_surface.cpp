@@ -170,10 +170,23 @@ void check_orientation(const Mesh& m, const EdgeMap& edges, SurfaceCheck& out) {
     else if (same_direction) consistent = t1.front == t2.back && t1.back == t2.front;
     else consistent = t1.front == t2.front && t1.back == t2.back;
     if (!consistent) {
+      // Tagged facets that run the edge in opposite directions are turned
+      // alike: what is wrong is a region, not the orientation.
       std::ostringstream s;
-      s << "inconsistent orientation: facets " << list[0] << " and " << list[1] << " run edge (" << a
-        << ", " << b << ") " << (same_direction ? "in the same direction" : "in opposite directions")
-        << (tagged ? " but their region tags say otherwise" : " (one of them is turned over)");
+      const auto tags = [](const Triangle& t) {
+        return "front " + std::to_string(t.front) + ", back " + std::to_string(t.back);
+      };
+      if (!tagged)
+        s << "inconsistent orientation: facets " << list[0] << " and " << list[1] << " run edge (" << a << ", " << b
+          << ") in the same direction (one of them is turned over)";
+      else if (same_direction)
+        s << "inconsistent orientation: facets " << list[0] << " (" << tags(t1) << ") and " << list[1] << " ("
+          << tags(t2) << ") run edge (" << a << ", " << b
+          << ") in the same direction, so one of them is turned over, but their regions are not swapped";
+      else
+        s << "region tags disagree: facets " << list[0] << " (" << tags(t1) << ") and " << list[1] << " ("
+          << tags(t2) << ") are turned alike across edge (" << a << ", " << b
+          << "), the only two facets there, so the same regions lie in front of them and behind them";
       throw InputError(s.str());
     }
   }

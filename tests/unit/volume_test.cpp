@@ -726,5 +726,31 @@ TEST(Library, ErrorsShareOneBaseWithTheirExitCodes) {
   EXPECT_EQ(code_of([] { throw RecoveryError("stopped"); }), 4);
 }
 
+// Facets turned alike whose regions differ are named for their regions, with
+// the tags: the message said "inconsistent orientation" (the C++ tester
+// looked for a turned facet that was not there).
+TEST(Library, DisagreeingRegionTagsAreNamedAsSuch) {
+  Mesh box = shapes::box({0, 0, 0}, {1, 1, 1});
+  box.triangles[5].front = 2;
+  try {
+    mesh_surface(box, MeshOptions{});
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("region tags disagree: facets "), std::string::npos) << what;
+    EXPECT_NE(what.find("(front 2, back 1)"), std::string::npos) << what;
+    EXPECT_EQ(what.find("orientation"), std::string::npos) << what;
+  }
+  box.triangles[5].front = 0;
+  std::swap(box.triangles[5].v[0], box.triangles[5].v[1]);
+  try {
+    mesh_surface(box, MeshOptions{});
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("inconsistent orientation: facets "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("but their regions are not swapped"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace vd
