@@ -38,6 +38,7 @@ const Format& format_for(const std::string& path, const std::string& format_name
 Mesh read_mesh(const std::string& path, const std::string& format_name) {
   const Format& f = format_for(path, format_name);
   Mesh m = f.read(path);
+  detail::complete_triangle_mids(m, path);
   detail::require_valid(m, path);
   return m;
 }

@@ -600,11 +600,39 @@ void require_valid(const Mesh& m, const std::string& name) {
     throw InputError(name + ": some triangles are second order and some are not");
   if (!m.tet_mid.empty() && m.tet_mid.size() != m.tets.size())
     throw InputError(name + ": some tetrahedra are second order and some are not");
+  // The triangles' mid-edge nodes would belong to no element of the volume
+  // (a Medit file of TrianglesP2 and Tetrahedra read as "second order").
+  if (!m.triangle_mid.empty() && !m.tets.empty() && m.tet_mid.empty())
+    throw InputError(name + ": the triangles are second order and the tetrahedra first order; vdmesh reads a mesh of "
+                     "one order");
   if (!m.point_size.empty() && m.point_size.size() != m.points.size())
     throw InputError(name + ": mesh sizes do not match the nodes");
   for (const Vec3& p : m.points)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw InputError(name + ": a node coordinate is not a finite number");
+}
+
+void complete_triangle_mids(Mesh& m, const std::string& name) {
+  if (m.tet_mid.empty() || m.tets.empty() || m.triangles.empty() || !m.triangle_mid.empty()) return;
+  static constexpr int kTetEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+  const auto key = [](int a, int b) { return (uint64_t(std::min(a, b)) << 32) | uint32_t(std::max(a, b)); };
+  std::unordered_map<uint64_t, int> mid_of_edge;
+  mid_of_edge.reserve(m.tets.size() * 2);
+  for (size_t t = 0; t < m.tets.size(); ++t)
+    for (int e = 0; e < 6; ++e)
+      mid_of_edge.emplace(key(m.tets[t].v[kTetEdge[e][0]], m.tets[t].v[kTetEdge[e][1]]), m.tet_mid[t][e]);
+  std::vector<TriMidNodes> mids(m.triangles.size());
+  for (size_t f = 0; f < m.triangles.size(); ++f)
+    for (int e = 0; e < 3; ++e) {
+      const int a = m.triangles[f].v[e], b = m.triangles[f].v[(e + 1) % 3];
+      const auto it = mid_of_edge.find(key(a, b));
+      if (it == mid_of_edge.end())
+        throw InputError(name + ": triangle " + std::to_string(f + 1) +
+                         " is first order and an edge of it is no edge of the second-order tetrahedra, so it has "
+                         "no mid-edge node");
+      mids[f][e] = it->second;
+    }
+  m.triangle_mid = std::move(mids);
 }
 
 }  // namespace vd::io::detail

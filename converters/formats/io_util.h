@@ -423,6 +423,12 @@ double tet_det(const Mesh& m, const std::array<int, 4>& v);
 
 namespace vd::io::detail {
 // Throws InputError naming `name` when an element refers to a missing point,
-// or side arrays do not match their elements: a last guard after parsing.
+// or side arrays do not match their elements, or the triangles are second
+// order beside first-order tetrahedra: a last guard after parsing.
 void require_valid(const Mesh& m, const std::string& name);
+// Second-order tetrahedra beside first-order triangles (a file may list the
+// boundary with its corners only): gives each triangle the mid-edge nodes of
+// its edges in the tetrahedra. Throws InputError naming `name` and the
+// triangle when one of its edges is no tetrahedron's.
+void complete_triangle_mids(Mesh& m, const std::string& name);
 }  // namespace vd::io::detail

@@ -24,10 +24,30 @@ void outward_unit_normals(const Vec3 (&p)[4], Vec3 (&n)[4]) {
   }
 }
 
+// A tetrahedron far from unit size, relative to its first corner and scaled
+// by a power of two (exact) to a longest edge between 1 and 2: the normals'
+// squared lengths are fourth powers of the edges, which underflowed to zero
+// for a mesh 1e-85 across (every angle 90 degrees) and overflowed 1e80
+// across. Within 2^+-120 of unit size it is left as it is, to the last bit.
+void to_unit_frame(Vec3 (&p)[4]) {
+  double reach = 0;
+  for (int i = 1; i < 4; ++i)
+    reach = std::max({reach, std::abs(p[i].x - p[0].x), std::abs(p[i].y - p[0].y), std::abs(p[i].z - p[0].z)});
+  if (!(reach > 0) || !std::isfinite(reach)) return;
+  const int k = std::ilogb(reach);
+  if (k >= -120 && k <= 120) return;
+  for (int i = 1; i < 4; ++i) {
+    const Vec3 e = p[i] - p[0];
+    p[i] = Vec3{std::ldexp(e.x, -k), std::ldexp(e.y, -k), std::ldexp(e.z, -k)};
+  }
+  p[0] = Vec3{};
+}
+
 }  // namespace
 
 std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  const Vec3 p[4] = {a, b, c, d};
+  Vec3 p[4] = {a, b, c, d};
+  to_unit_frame(p);
   Vec3 n[4];
   outward_unit_normals(p, n);
   // The dihedral angle at the edge shared by faces i and j is pi minus the
@@ -84,7 +104,10 @@ double smallest_dihedral_deg(const Vec3& a, const Vec3& b, const Vec3& c, const 
   return std::max(0.0, negative ? smallest_dihedral_if_positive(a, c, b, d) : smallest_dihedral_if_positive(a, b, c, d));
 }
 
-double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+double radius_ratio(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0) {
+  Vec3 p[4] = {a0, b0, c0, d0};
+  to_unit_frame(p);
+  const Vec3 &a = p[0], &b = p[1], &c = p[2], &d = p[3];
   const double vol = std::abs(dot(cross(b - a, c - a), d - a)) / 6.0;
   const double area = 0.5 * (norm(cross(b - a, c - a)) + norm(cross(b - a, d - a)) + norm(cross(c - a, d - a)) +
                              norm(cross(c - b, d - b)));
@@ -133,7 +156,8 @@ void summarize_into(const Mesh& m, long begin, long end, const BinEdges& edges, 
   double lowest = 1, highest = -1;
   for (long i = begin; i < end; ++i) {
     const Tetrahedron& t = m.tets[i];
-    const Vec3 p[4] = {m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]};
+    Vec3 p[4] = {m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]};
+    to_unit_frame(p);
     ++q.tets;
     if (dot(cross(p[1] - p[0], p[2] - p[0]), p[3] - p[0]) <= 0) ++q.inverted;
     // The same normals as dihedral_angles_deg, so that the extremes agree

@@ -316,17 +316,37 @@ code, _, err = run("mesh", pushed, "-o", os.path.join(out, "pushed_through.vtu")
 check(code == 3 and "intersects itself" in err, "a tiny cube through a cube's face, lp oracle: exit 3 naming the "
       "crossing (exit %d: %s)" % (code, err.strip()[-200:]))
 # Scales where squared lengths over- or underflow ran without end (a
-# tetrahedron 1e-200 and 1e160 across); 1e-100 and 1e100 mesh.
-for scale, refused in (("1e-200", True), ("1e160", True), ("1e-100", False), ("1e100", False)):
+# tetrahedron 1e-200 and 1e160 across); where fourth powers do, a unit cube
+# scaled by 1e-85 lost 29 % of its volume and by 1e80 got 0.02-degree slivers
+# reported as 90 degrees (2026-11-30). Refused outside 1e-60 to 1e60; inside,
+# a power-of-two scale gives the unit cube's mesh scaled, to the last bit.
+for scale in ("1e-200", "1e160", "1e-85", "1e80", "1e-61", "1e61"):
     scaled = tet_off.replace("1 0 0\n0 1 0\n0 0 1\n", "%s 0 0\n0 %s 0\n0 0 %s\n" % (scale, scale, scale))
-    if refused:
-        bad("tet%s.off" % scale, scaled, "vdmesh's arithmetic needs a span of at least 1e-100")
-    else:
-        path = os.path.join(out, "tet%s.off" % scale)
-        with open(path, "w") as f:
-            f.write(scaled)
-        code, _, err = run("mesh", path, "-o", os.path.join(out, "tet%s.vtu" % scale), timeout=120)
-        check(code == 0, "a tetrahedron %s across meshes (exit %d: %s)" % (scale, code, err.strip()[:200]))
+    bad("tet%s.off" % scale, scaled, "vdmesh's arithmetic needs a span of at least 1e-60")
+import meshio
+import numpy as np
+cube_meshes = {}
+for exponent in (0, -190, 190):
+    path = os.path.join(out, "cube2^%d.off" % exponent)
+    with open(path, "w") as f:
+        f.write("OFF\n8 12 0\n" + "".join("%r %r %r\n" % tuple(float.fromhex("0x1p%d" % exponent) * float(c)
+                                                                    for c in line.split())
+                                          for line in cube.strip().split("\n"))
+                + "".join("3 " + line + "\n" for line in cube_facets.strip().split("\n")))
+    target = os.path.join(out, "cube2^%d.vtu" % exponent)
+    code, _, err = run("mesh", path, "-o", target, "--size", repr(float.fromhex("0x1p%d" % exponent) * 0.25),
+                       timeout=120)
+    check(code == 0, "a cube 2^%d across meshes (exit %d: %s)" % (exponent, code, err.strip()[:200]))
+    if code == 0:
+        m = meshio.read(target)
+        cube_meshes[exponent] = (np.ldexp(m.points, -exponent), m.cells_dict["tetra"])
+if len(cube_meshes) == 3:
+    unit_points, unit_tets = cube_meshes[0]
+    for exponent in (-190, 190):
+        points, tets = cube_meshes[exponent]
+        check(len(unit_tets) > 100 and np.array_equal(tets, unit_tets) and np.array_equal(points, unit_points),
+              "a cube 2^%d across: the unit cube's %d tetrahedra, scaled (%d tetrahedra, points %s)"
+              % (exponent, len(unit_tets), len(tets), "the same" if np.array_equal(points, unit_points) else "differ"))
 code, _, err = run("mesh", os.path.join(out, "does-not-exist.off"), "-o", os.path.join(out, "x.vtu"))
 check(code == 3 and "does-not-exist.off" in err, "missing file: exit 3 naming it (%d: %s)" % (code, err.strip()))
 

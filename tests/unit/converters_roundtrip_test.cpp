@@ -314,6 +314,58 @@ TEST(ConvertersRoundTrip, MeditSecondOrderIsGmshs) {
   EXPECT_EQ(m.tets[0].region, 3);
 }
 
+// A boundary listed by its corners beside second-order tetrahedra takes the
+// tetrahedra's mid-edge nodes (it was written out as first-order triangles
+// beside them); second-order triangles beside first-order tetrahedra are
+// refused (read as "second order", their nodes belonged to no element).
+TEST(ConvertersRoundTrip, MixedOrdersInOneFile) {
+  const std::string head =
+      "MeshVersionFormatted 2\nDimension\n3\nVertices\n10\n0 0 0 1\n2 0 0 1\n0 2 0 1\n0 0 2 1\n"
+      "1 0 0 1\n1 1 0 1\n0 1 0 1\n0 0 1 1\n1 0 1 1\n0 1 1 1\n";
+  const std::string p2_tet = "TetrahedraP2\n1\n1 2 3 4 5 6 7 8 9 10 3\n";
+  const std::string path = test::temp_path("p1_sides.mesh");
+  {
+    std::ofstream f(path);
+    f << head << "Triangles\n2\n1 3 2 7\n2 3 4 8\n" << p2_tet << "End\n";
+  }
+  const Mesh m = io::read_mesh(path);
+  ASSERT_EQ(m.triangle_mid.size(), 2u);
+  for (size_t f = 0; f < 2; ++f)
+    for (int e = 0; e < 3; ++e) {
+      const Vec3 a = m.points[m.triangles[f].v[e]], b = m.points[m.triangles[f].v[(e + 1) % 3]];
+      EXPECT_EQ(norm(m.points[m.triangle_mid[f][e]] - 0.5 * (a + b)), 0.0) << "triangle " << f << " edge " << e;
+    }
+  const std::string other = test::temp_path("p1_stray.mesh");
+  {
+    std::ofstream f(other);
+    f << "MeshVersionFormatted 2\nDimension\n3\nVertices\n11\n0 0 0 1\n2 0 0 1\n0 2 0 1\n0 0 2 1\n"
+         "1 0 0 1\n1 1 0 1\n0 1 0 1\n0 0 1 1\n1 0 1 1\n0 1 1 1\n5 5 5 1\nTriangles\n1\n1 2 11 7\n"
+      << p2_tet << "End\n";
+  }
+  try {
+    io::read_mesh(other);
+    ADD_FAILURE() << "a triangle off the tetrahedra was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("triangle 1 is first order and an edge of it is no edge of the second-order "
+                                         "tetrahedra"),
+              std::string::npos)
+        << e.what();
+  }
+  const std::string mixed = test::temp_path("p2_sides.mesh");
+  {
+    std::ofstream f(mixed);
+    f << head << "TrianglesP2\n1\n1 3 2 7 6 5 7\nTetrahedra\n1\n1 2 3 4 3\nEnd\n";
+  }
+  try {
+    io::read_mesh(mixed);
+    ADD_FAILURE() << "second-order triangles beside first-order tetrahedra were read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the triangles are second order and the tetrahedra first order"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(ConvertersRoundTrip, GmshKeepsNamesAndSparseTags) {
   Mesh m = cube_tets();
   for (Tetrahedron& t : m.tets) t.region = t.region == 1 ? 10 : 20;

@@ -139,6 +139,29 @@ TEST(Slivers, HistogramBinsHoldTheirLowerEdge) {
   EXPECT_EQ(std::vector<long>(q.dihedral_histogram.begin(), q.dihedral_histogram.end()), want);
 }
 
+// The quality of a mesh far from unit size (`vdmesh info` reads any file):
+// 1e-85 across, the normals' squared lengths underflowed and every angle
+// came out 90 degrees; 1e80 across they overflowed. Scaled by powers of
+// ten, the figures are the unit mesh's to rounding.
+TEST(Slivers, QualityDoesNotDependOnTheScale) {
+  Mesh unit;
+  unit.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.2, 0.05}};
+  unit.tets = {{{0, 1, 2, 3}, 1}};
+  const QualitySummary q = summarize_quality(unit);
+  ASSERT_LT(q.min_dihedral_deg, 20);
+  for (double scale : {1e-300, 1e-150, 1e-85, 1e80, 1e150, 1e300}) {
+    Mesh m = unit;
+    for (Vec3& p : m.points) p = scale * p;
+    const QualitySummary s = summarize_quality(m);
+    EXPECT_NEAR(s.min_dihedral_deg, q.min_dihedral_deg, 1e-9) << scale;
+    EXPECT_NEAR(s.max_dihedral_deg, q.max_dihedral_deg, 1e-9) << scale;
+    EXPECT_NEAR(s.min_radius_ratio, q.min_radius_ratio, 1e-9) << scale;
+    EXPECT_EQ(s.dihedral_histogram, q.dihedral_histogram) << scale;
+    const auto angles = dihedral_angles_deg(m.points[0], m.points[1], m.points[2], m.points[3]);
+    EXPECT_NEAR(*std::min_element(angles.begin(), angles.end()), q.min_dihedral_deg, 1e-9) << scale;
+  }
+}
+
 TEST(Slivers, CubeWithInteriorVertices) {
   const Mesh before = mesh_before_flips_and_moves(shapes::box({0, 0, 0}, {1, 1, 1}, 8), 0.125);
   const SliverStats s = check_pass_helps("cube h=1/8", before);
