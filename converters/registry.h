@@ -26,6 +26,9 @@ struct Format {
   std::function<Mesh(const std::string& path)> read;
   // Empty when the format is read-only.
   std::function<void(const Mesh&, const std::string& path, const WriteOptions&)> write;
+  // Formats of several files (TetGen's): every file a write to `path`
+  // replaces, those it does not write removed. Empty: the one file.
+  std::function<std::vector<std::string>(const std::string& path)> set_files;
 };
 
 // Every registered format.

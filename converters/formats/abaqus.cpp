@@ -823,6 +823,6 @@ Mesh read_abaqus(const std::string& path) {
 
 }  // namespace
 
-Format make_abaqus_format() { return {"abaqus", {".inp"}, true, read_abaqus, write_abaqus}; }
+Format make_abaqus_format() { return {"abaqus", {".inp"}, true, read_abaqus, write_abaqus, {}}; }
 
 }  // namespace vd::io

@@ -310,6 +310,6 @@ void write_gmsh(const Mesh& m, const std::string& path, const WriteOptions& opti
 
 }  // namespace
 
-Format make_gmsh_format() { return {"gmsh", {".msh"}, true, detail::read_gmsh, write_gmsh}; }
+Format make_gmsh_format() { return {"gmsh", {".msh"}, true, detail::read_gmsh, write_gmsh, {}}; }
 
 }  // namespace vd::io

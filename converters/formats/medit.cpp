@@ -166,6 +166,6 @@ void write_medit(const Mesh& m, const std::string& path, const WriteOptions&) {
 
 }  // namespace
 
-Format make_medit_format() { return {"medit", {".mesh"}, true, read_medit, write_medit}; }
+Format make_medit_format() { return {"medit", {".mesh"}, true, read_medit, write_medit, {}}; }
 
 }  // namespace vd::io

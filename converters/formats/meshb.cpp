@@ -298,6 +298,6 @@ void write_meshb(const Mesh& m, const std::string& path, const WriteOptions&) {
 
 }  // namespace
 
-Format make_meshb_format() { return {"meshb", {".meshb"}, true, read_meshb, write_meshb}; }
+Format make_meshb_format() { return {"meshb", {".meshb"}, true, read_meshb, write_meshb, {}}; }
 
 }  // namespace vd::io

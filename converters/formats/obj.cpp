@@ -121,6 +121,6 @@ void write_obj(const Mesh& m, const std::string& path, const WriteOptions&) {
 
 }  // namespace
 
-Format make_obj_format() { return {"obj", {".obj"}, false, read_obj, write_obj}; }
+Format make_obj_format() { return {"obj", {".obj"}, false, read_obj, write_obj, {}}; }
 
 }  // namespace vd::io

@@ -73,6 +73,6 @@ void write_off(const Mesh& m, const std::string& path, const WriteOptions&) {
 
 }  // namespace
 
-Format make_off_format() { return {"off", {".off"}, false, read_off, write_off}; }
+Format make_off_format() { return {"off", {".off"}, false, read_off, write_off, {}}; }
 
 }  // namespace vd::io

@@ -181,6 +181,6 @@ void write_stl(const Mesh& m, const std::string& path, const WriteOptions& optio
 
 }  // namespace
 
-Format make_stl_format() { return {"stl", {".stl"}, false, read_stl, write_stl}; }
+Format make_stl_format() { return {"stl", {".stl"}, false, read_stl, write_stl, {}}; }
 
 }  // namespace vd::io

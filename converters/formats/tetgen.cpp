@@ -9,7 +9,9 @@
 // (tests/unit/converters_roundtrip_test.cpp runs it); a face's on (01, 12, 20),
 // as vdmesh. The .face file does not say how many nodes a face has, so the
 // number of fields on its first line does (see face_layout).
+#include <algorithm>
 #include <array>
+#include <cstdio>
 #include <cstdint>
 #include <filesystem>
 #include <string_view>
@@ -205,10 +207,25 @@ Mesh read_tetgen(const std::string& path) {
   return m;
 }
 
+// The files of the set `path` names, plain and compressed. A write
+// replaces them all: one left from an earlier mesh was read with the new
+// ones (a surface written over a volume mesh came back with the old .ele,
+// "a tetrahedron node 22 does not exist", or a stale tetrahedron).
+std::vector<std::string> tetgen_set_files(const std::string& path) {
+  const std::string base = detail::tetgen_base(path);
+  std::vector<std::string> files;
+  for (const char* ext : {".node", ".ele", ".face"})
+    for (const char* suffix : {"", ".gz"}) files.push_back(base + ext + suffix);
+  return files;
+}
+
 void write_tetgen(const Mesh& m, const std::string& path, const WriteOptions&) {
   const std::string base = detail::tetgen_base(path);
   const bool gz = path.size() > 3 && detail::iequals(path.substr(path.size() - 3), ".gz");
   const std::string suffix = gz ? ".gz" : "";
+  std::vector<std::string> written = {base + ".node" + suffix};
+  if (!m.tets.empty()) written.push_back(base + ".ele" + suffix);
+  if (!m.triangles.empty()) written.push_back(base + ".face" + suffix);
   {
     detail::Out out(base + ".node" + suffix);
     out << m.points.size() << " 3 0 0\n";
@@ -248,10 +265,14 @@ void write_tetgen(const Mesh& m, const std::string& path, const WriteOptions&) {
     }
     out.finish();
   }
+  for (const std::string& other : tetgen_set_files(path))
+    if (std::find(written.begin(), written.end(), other) == written.end()) std::remove(other.c_str());
 }
 
 }  // namespace
 
-Format make_tetgen_format() { return {"tetgen", {".node", ".ele", ".face"}, true, read_tetgen, write_tetgen}; }
+Format make_tetgen_format() {
+  return {"tetgen", {".node", ".ele", ".face"}, true, read_tetgen, write_tetgen, tetgen_set_files};
+}
 
 }  // namespace vd::io

@@ -286,6 +286,6 @@ void write_plc(const Mesh& m, const std::string& path, const WriteOptions&) {
 
 }  // namespace
 
-Format make_tetgen_plc_format() { return {"tetgen-plc", {".poly", ".smesh"}, false, read_plc, write_plc}; }
+Format make_tetgen_plc_format() { return {"tetgen-plc", {".poly", ".smesh"}, false, read_plc, write_plc, {}}; }
 
 }  // namespace vd::io

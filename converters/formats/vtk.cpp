@@ -488,6 +488,6 @@ void write_vtk(const Mesh& m, const std::string& path, const WriteOptions& optio
 
 }  // namespace
 
-Format make_vtk_format() { return {"vtk", {".vtk"}, true, read_vtk, write_vtk}; }
+Format make_vtk_format() { return {"vtk", {".vtk"}, true, read_vtk, write_vtk, {}}; }
 
 }  // namespace vd::io

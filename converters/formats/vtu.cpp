@@ -951,7 +951,7 @@ Mesh read_pvtu(const std::string& path) {
 
 }  // namespace
 
-Format make_vtu_format() { return {"vtu", {".vtu"}, true, read_vtu, write_vtu}; }
-Format make_pvtu_format() { return {"pvtu", {".pvtu"}, true, read_pvtu, nullptr}; }
+Format make_vtu_format() { return {"vtu", {".vtu"}, true, read_vtu, write_vtu, {}}; }
+Format make_pvtu_format() { return {"pvtu", {".pvtu"}, true, read_pvtu, nullptr, {}}; }
 
 }  // namespace vd::io

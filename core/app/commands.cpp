@@ -3,7 +3,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -131,22 +134,30 @@ void write_result(const Mesh& mesh, const std::string& path, const io::WriteOpti
   const io::WriteTarget where = io::write_target(path);
   if (where.in_place) return io::write_mesh(mesh, where.path, options, io::format_for(path).name);
   const fs::path target(where.path);
-  const fs::path staging = target.parent_path() / (target.filename().string() + ".part.d");
+  // A folder of its own (mkdtemp): two runs writing the same output at once
+  // shared OUT.part.d, and one moved the other's half-written files.
+  std::string staging_name = (target.parent_path() / (target.filename().string() + ".part.XXXXXX")).string();
+  if (!::mkdtemp(staging_name.data())) throw FileError(path + ": cannot write: " + std::strerror(errno), path, errno);
+  const fs::path staging(staging_name);
   std::error_code ignored, ec;
-  fs::remove_all(staging, ignored);
   auto fail_unless_ok = [&] {
     if (ec) throw FileError(path + ": cannot write: " + ec.message(), path, ec.value());
   };
   try {
-    fs::create_directory(staging, ec);
-    fail_unless_ok();
     io::write_mesh(mesh, (staging / target.filename()).string(), options, io::format_for(path).name);
     if (where.perms) fs::permissions(staging / target.filename(), *where.perms, ignored);
+    std::vector<fs::path> made_files;
     for (const fs::directory_entry& made : fs::directory_iterator(staging)) {
-      fs::rename(made.path(), target.parent_path() / made.path().filename(), ec);
+      made_files.push_back(target.parent_path() / made.path().filename());
+      fs::rename(made.path(), made_files.back(), ec);
       fail_unless_ok();
     }
     fs::remove(staging, ignored);
+    // A set's files this write did not make are an earlier mesh's.
+    if (const auto& set_files = io::format_for(path).set_files)
+      for (const std::string& member : set_files(target.string()))
+        if (std::find(made_files.begin(), made_files.end(), fs::path(member)) == made_files.end())
+          fs::remove(member, ignored);
   } catch (...) {
     fs::remove_all(staging, ignored);
     throw;

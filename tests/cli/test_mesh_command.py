@@ -50,6 +50,14 @@ for ext in (".vtu", ".vtk", ".msh", ".inp", ".mesh", ".node"):
 made = sorted(os.listdir(formats_dir))
 check(made == sorted(["b.vtu", "b.vtk", "b.msh", "b.inp", "b.mesh", "b.node", "b.ele", "b.face"]),
       "the outputs and nothing else: %s" % made)
+# The surface alone written over the TetGen set replaces the set: the old
+# b.ele was left and read back with it (a Python tester, 2026-11-30).
+code, _, err = run("convert", bracket, os.path.join(formats_dir, "b.node"))
+code_info, info, err_info = run("info", os.path.join(formats_dir, "b.node"))
+check(code == 0 and code_info == 0 and "tetrahedra 0" in info and
+      sorted(os.listdir(formats_dir)) == sorted(["b.vtu", "b.vtk", "b.msh", "b.inp", "b.mesh", "b.node", "b.face"]),
+      "a surface over b.node: no b.ele left, read back without tetrahedra (exit %d, %d: %s %s)"
+      % (code, code_info, info.strip()[:120], (err + err_info).strip()[-200:]))
 
 # Threads change nothing: a sphere of over 100k tetrahedra (several chunks of the
 # parallel loops) gives the same file and the same figures on 1 and 2 threads.

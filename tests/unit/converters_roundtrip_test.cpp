@@ -4,6 +4,7 @@
 // the interface triangles between the regions (face 7).
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include <map>
 #include <sstream>
 #include <set>
+#include <thread>
 #include <tuple>
 
 #include "converters/formats/polygon_triangulation.h"
@@ -364,6 +366,71 @@ TEST(ConvertersRoundTrip, MixedOrdersInOneFile) {
               std::string::npos)
         << e.what();
   }
+}
+
+// A TetGen set is replaced whole: a surface written over a volume mesh came
+// back with the old .ele (or failed on it), and a compressed set written
+// over a plain one was read as the plain one.
+TEST(ConvertersRoundTrip, TetgenSetIsReplacedWhole) {
+  const Mesh volume = cube_tets();
+  Mesh surface = volume;
+  surface.tets.clear();
+  const std::string base = test::temp_path("set");
+  io::write_mesh(volume, base + ".node");
+  ASSERT_TRUE(std::filesystem::exists(base + ".ele"));
+  io::write_mesh(surface, base + ".node");
+  EXPECT_FALSE(std::filesystem::exists(base + ".ele"));
+  Mesh back = io::read_mesh(base + ".node");
+  EXPECT_TRUE(back.tets.empty());
+  EXPECT_EQ(back.triangles.size(), surface.triangles.size());
+  io::write_mesh(volume, base + ".node");
+  io::write_mesh(surface, base + ".node.gz");
+  for (const char* ext : {".node", ".ele", ".face", ".ele.gz"})
+    EXPECT_FALSE(std::filesystem::exists(base + ext)) << ext;
+  back = io::read_mesh(base + ".node.gz");
+  EXPECT_TRUE(back.tets.empty());
+  EXPECT_EQ(back.triangles.size(), surface.triangles.size());
+}
+
+// Two threads writing one path while a third reads it: each write goes to a
+// file of its own renamed into place, so a reader finds one whole mesh or
+// the other (with one shared PATH.part, reads found the file empty or cut,
+// and writes failed with ENOENT).
+TEST(ConvertersRoundTrip, ConcurrentWritesOfOnePathStayWhole) {
+  const Mesh a = cube_tets();
+  Mesh b = a;
+  b.tets.resize(b.tets.size() / 2);
+  const std::string path = test::temp_path("shared.msh");
+  io::write_mesh(a, path);
+  std::atomic<bool> stop{false};
+  std::atomic<long> failures{0}, reads{0};
+  const auto writer = [&](const Mesh& m) {
+    for (int i = 0; i < 200; ++i) try {
+        io::write_mesh(m, path);
+      } catch (const std::exception&) {
+        ++failures;
+      }
+  };
+  std::thread reader([&] {
+    while (!stop) {
+      try {
+        const Mesh m = io::read_mesh(path);
+        if (m.tets.size() != a.tets.size() && m.tets.size() != b.tets.size()) ++failures;
+      } catch (const std::exception&) {
+        ++failures;
+      }
+      ++reads;
+    }
+  });
+  std::thread w1(writer, std::cref(a)), w2(writer, std::cref(b));
+  w1.join();
+  w2.join();
+  stop = true;
+  reader.join();
+  EXPECT_EQ(failures, 0);
+  EXPECT_GT(reads, 10);
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(path).parent_path()))
+    EXPECT_EQ(entry.path().filename().string().find("shared.msh.part"), std::string::npos) << entry.path();
 }
 
 TEST(ConvertersRoundTrip, GmshKeepsNamesAndSparseTags) {
