@@ -591,6 +591,40 @@ int id_from_name(std::string_view name, std::string_view prefix) {
   return v;
 }
 
+namespace {
+
+// Second order: a mid-edge node belongs to one edge, the same in every
+// element that lists it, and is no element's corner. Tetrahedra given new
+// corners beside the old rows of mid-edge nodes were written with nodes
+// 0.25 off their edges on a mesh of unit boxes (a Python tester, 2026-11-30).
+void check_mid_nodes(const Mesh& m, const std::string& name) {
+  if (m.tet_mid.empty() && m.triangle_mid.empty()) return;
+  constexpr uint64_t kFree = ~uint64_t{0}, kCorner = kFree - 1;
+  std::vector<uint64_t> edge_of(m.points.size(), kFree);
+  for (const Tetrahedron& t : m.tets)
+    for (int v : t.v) edge_of[static_cast<size_t>(v)] = kCorner;
+  for (const Triangle& t : m.triangles)
+    for (int v : t.v) edge_of[static_cast<size_t>(v)] = kCorner;
+  const auto claim = [&](int node, int a, int b, const char* what, size_t i) {
+    const uint64_t key = (uint64_t(std::min(a, b)) << 32) | uint32_t(std::max(a, b));
+    uint64_t& e = edge_of[static_cast<size_t>(node)];
+    if (e == kFree) e = key;
+    if (e == key) return;
+    throw InputError(name + ": " + what + " " + std::to_string(i + 1) +
+                     (e == kCorner ? " has a corner of an element as a mid-edge node"
+                                   : " has another edge's mid-edge node (its mid-edge nodes do not follow its corners)"));
+  };
+  static constexpr int kTetEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+  for (size_t i = 0; i < m.tet_mid.size(); ++i)
+    for (int e = 0; e < 6; ++e)
+      claim(m.tet_mid[i][e], m.tets[i].v[kTetEdge[e][0]], m.tets[i].v[kTetEdge[e][1]], "tetrahedron", i);
+  for (size_t i = 0; i < m.triangle_mid.size(); ++i)
+    for (int e = 0; e < 3; ++e)
+      claim(m.triangle_mid[i][e], m.triangles[i].v[e], m.triangles[i].v[(e + 1) % 3], "triangle", i);
+}
+
+}  // namespace
+
 void require_valid(const Mesh& m, const std::string& name) {
   const size_t n = m.points.size();
   auto bad = [&](const std::string& what, size_t i) {
@@ -619,6 +653,7 @@ void require_valid(const Mesh& m, const std::string& name) {
                      "one order");
   if (!m.point_size.empty() && m.point_size.size() != m.points.size())
     throw InputError(name + ": mesh sizes do not match the nodes");
+  check_mid_nodes(m, name);
   for (const Vec3& p : m.points)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw InputError(name + ": a node coordinate is not a finite number");

@@ -245,11 +245,15 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     crossings.start(m, thread_count() > 1);
   }
   if (!m.has_face_tags()) {
-    // Every facet gets its patch's number: the input's face names and
-    // groups name other faces.
+    // The facets without a face get their patch's number. When no facet had
+    // one, the input's face names and groups name other faces.
+    const bool none_given = std::all_of(m.triangles.begin(), m.triangles.end(),
+                                        [](const Triangle& t) { return t.face == kNoFace; });
     report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
-    m.face_names.clear();
-    m.face_groups.clear();
+    if (none_given) {
+      m.face_names.clear();
+      m.face_groups.clear();
+    }
   }
   if (options.size.uniform > 0) {
     // Before the refinement makes them: a size far below the model's (a unit

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "mesh/error.h"
+
 namespace vd::python {
 namespace {
 
@@ -20,7 +22,7 @@ void check_shape(const py::array& a, int cols, const char* name, const char* wha
   const bool ok = cols == 0 ? a.ndim() == 1 : (a.ndim() == 2 && a.shape(1) == cols);
   // An empty list converts to shape (0,): accept it as "no rows".
   if (ok || (a.size() == 0 && a.ndim() == 1)) return;
-  throw py::value_error(std::string(name) + ": expected an array of shape " + what + ", got shape " + shape_text(a));
+  throw UsageError(std::string(name) + ": expected an array of shape " + what + ", got shape " + shape_text(a));
 }
 
 py::array as_array(py::handle obj, const char* name) {
@@ -44,12 +46,12 @@ std::vector<long long> read_integers(py::handle obj, int cols, const char* name,
     const auto u = py::array_t<unsigned long long, py::array::c_style | py::array::forcecast>::ensure(any);
     for (py::ssize_t i = 0; i < u.size(); ++i)
       if (u.data()[i] > static_cast<unsigned long long>(INT_MAX))
-        throw py::value_error(std::string(name) + ": value " + std::to_string(u.data()[i]) + " out of range");
+        throw UsageError(std::string(name) + ": value " + std::to_string(u.data()[i]) + " out of range");
   }
   const auto a = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(any);
   std::vector<long long> out(a.data(), a.data() + a.size());
   for (long long x : out)
-    if (x < INT_MIN || x > INT_MAX) throw py::value_error(std::string(name) + ": value " + std::to_string(x) + " out of range");
+    if (x < INT_MIN || x > INT_MAX) throw UsageError(std::string(name) + ": value " + std::to_string(x) + " out of range");
   return out;
 }
 
@@ -63,7 +65,7 @@ std::vector<double> read_numbers(py::handle obj, int cols, const char* name, con
   std::vector<double> out(a.data(), a.data() + a.size());
   for (size_t i = 0; i < out.size(); ++i)
     if (!std::isfinite(out[i]))
-      throw py::value_error(std::string(name) + ": row " + std::to_string(cols ? i / cols : i) + " is not finite");
+      throw UsageError(std::string(name) + ": row " + std::to_string(cols ? i / cols : i) + " is not finite");
   return out;
 }
 
@@ -85,7 +87,7 @@ py::array_t<T> table(const Items& items, py::ssize_t cols, Get get) {
 
 void require_count(size_t got, size_t want, const char* name, const char* of) {
   if (got != want)
-    throw py::value_error(std::string(name) + ": " + std::to_string(got) + " rows for " + std::to_string(want) + " " + of);
+    throw UsageError(std::string(name) + ": " + std::to_string(got) + " rows for " + std::to_string(want) + " " + of);
 }
 
 }  // namespace
@@ -187,7 +189,7 @@ void check_indices(const Mesh& m) {
     for (size_t i = 0; i < rows.size(); ++i)
       for (int v : rows[i])
         if (v < 0 || v >= n)
-          throw py::value_error(std::string(name) + "[" + std::to_string(i) + "] refers to vertex " + std::to_string(v) +
+          throw UsageError(std::string(name) + "[" + std::to_string(i) + "] refers to vertex " + std::to_string(v) +
                                 ", but there are " + std::to_string(n) + " points");
   };
   std::vector<std::array<int, 3>> tri;
@@ -201,7 +203,7 @@ void check_indices(const Mesh& m) {
   // read past their end (node ids of -4e8 in the file).
   auto same_rows = [](size_t mids, size_t corners, const char* name, const char* of) {
     if (mids != 0 && mids != corners)
-      throw py::value_error(std::string(name) + " has " + std::to_string(mids) + " rows for " + std::to_string(corners) +
+      throw UsageError(std::string(name) + " has " + std::to_string(mids) + " rows for " + std::to_string(corners) +
                             " " + of + ": give " + name + " again after " + of + " (an empty array for first order)");
   };
   same_rows(m.triangle_mid.size(), m.triangles.size(), "triangle_mid", "triangles");
@@ -212,7 +214,7 @@ void check_indices(const Mesh& m) {
     std::sort(sorted.begin(), sorted.end());
     if (face < 1 || groups.empty() || sorted.front() < 1 ||
         std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-      throw py::value_error("face_groups[" + std::to_string(face) +
+      throw UsageError("face_groups[" + std::to_string(face) +
                             "]: keys and their lists must be face ids of 1 or more, each list not empty and "
                             "without repeats");
   }
@@ -220,7 +222,7 @@ void check_indices(const Mesh& m) {
   check(m.triangle_mid, "triangle_mid");
   check(m.tet_mid, "tet_mid");
   if (!m.point_size.empty() && m.point_size.size() != m.points.size())
-    throw py::value_error("point_size: " + std::to_string(m.point_size.size()) + " values for " + std::to_string(n) +
+    throw UsageError("point_size: " + std::to_string(m.point_size.size()) + " values for " + std::to_string(n) +
                           " points");
 }
 

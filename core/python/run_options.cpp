@@ -27,7 +27,7 @@ double number(py::handle v, const std::string& name) {
   } catch (const py::cast_error&) {
     throw py::type_error("option " + name + ": expected a number, got " + type_name(v));
   }
-  if (!std::isfinite(x)) throw py::value_error("option " + name + ": not a finite number");
+  if (!std::isfinite(x)) throw UsageError("option " + name + ": not a finite number");
   return x;
 }
 
@@ -37,7 +37,7 @@ long long integer(py::handle v, const std::string& name) {
     return v.cast<long long>();
   } catch (const py::cast_error&) {
     PyErr_Clear();
-    if (PyLong_Check(v.ptr())) throw py::value_error("option " + name + ": " + py::str(v).cast<std::string>() + " is out of range");
+    if (PyLong_Check(v.ptr())) throw UsageError("option " + name + ": " + py::str(v).cast<std::string>() + " is out of range");
     throw py::type_error("option " + name + ": expected an integer, got " + type_name(v));
   }
 }
@@ -46,7 +46,7 @@ long long integer(py::handle v, const std::string& name) {
 int int_option(py::handle v, const std::string& name) {
   const long long x = integer(v, name);
   if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max())
-    throw py::value_error("option " + name + ": out of range");
+    throw UsageError("option " + name + ": out of range");
   return static_cast<int>(x);
 }
 
@@ -58,7 +58,7 @@ bool boolean(py::handle v, const std::string& name) {
 }
 
 void check(bool ok, const std::string& message) {
-  if (!ok) throw py::value_error(message);
+  if (!ok) throw UsageError(message);
 }
 
 }  // namespace

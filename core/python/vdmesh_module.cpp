@@ -2,6 +2,8 @@
 // for Python (and FreeCAD) users. Meshes come and go as numpy arrays; the
 // report is the dict of `vdmesh mesh --report`. Meshing runs on a worker
 // thread with the GIL released and stops on Ctrl-C (run_options.h).
+#include <cmath>
+
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -35,6 +37,7 @@ PyObject* g_input_error = nullptr;
 PyObject* g_recovery_error = nullptr;
 PyObject* g_cancelled = nullptr;
 PyObject* g_file_error = nullptr;
+PyObject* g_usage_error = nullptr;
 
 PyObject* add_exception(py::module_& m, const char* name, const char* doc, py::tuple bases) {
   const std::string qualified = std::string("vdmesh.") + name;
@@ -66,6 +69,13 @@ void register_exceptions(py::module_& m) {
       py::make_tuple(py::handle(PyExc_OSError), py::handle(g_input_error)));
   g_cancelled = add_exception(m, "Cancelled", "The run was stopped through its CancelToken; there is no result.",
                               py::make_tuple(py::handle(g_error)));
+  // A ValueError as before, and a vdmesh.Error like the others (an unknown
+  // file extension was a plain ValueError, 2026-11-30).
+  g_usage_error = add_exception(
+      m, "UsageError",
+      "Bad use: an option or argument out of its range, arrays that do not fit together, an unknown file "
+      "extension (exit code 2 of the command line). Also a ValueError.",
+      py::make_tuple(py::handle(g_error), py::handle(PyExc_ValueError)));
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -86,17 +96,20 @@ void register_exceptions(py::module_& m) {
     } catch (const InputError& e) {
       PyErr_SetString(g_input_error, e.what());
     } catch (const UsageError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(g_usage_error, e.what());
     } catch (const CancelledError& e) {
       PyErr_SetString(g_cancelled, e.what());
     }
   });
 }
 
-// str or os.PathLike, converted while the GIL is held.
+// str, bytes or os.PathLike, converted while the GIL is held (bytes were
+// refused with "expected a str path", 2026-11-30).
 std::string path_string(py::handle path, const char* name) {
-  py::object s = py::module_::import("os").attr("fspath")(path);
-  if (!py::isinstance<py::str>(s)) throw py::type_error(std::string(name) + ": expected a str path");
+  py::object os = py::module_::import("os");
+  py::object s = os.attr("fspath")(path);
+  if (py::isinstance<py::bytes>(s)) s = os.attr("fsdecode")(s);
+  if (!py::isinstance<py::str>(s)) throw py::type_error(std::string(name) + ": expected a str, bytes or os.PathLike path");
   return s.cast<std::string>();
 }
 
@@ -156,7 +169,7 @@ CadSource cad_source(py::handle path, py::handle brep, const char* function) {
   if (!path.is_none()) {
     s.path = path_string(path, "path");
     if (!cad::is_cad_file_name(s.path))
-      throw py::value_error(s.path + ": not a CAD file (.step .stp .iges .igs .brep .brp)");
+      throw UsageError(s.path + ": not a CAD file (.step .stp .iges .igs .brep .brp)");
   } else {
     if (!py::isinstance<py::str>(brep) && !py::isinstance<py::bytes>(brep))
       throw py::type_error("brep: expected the BREP text as str or bytes");
@@ -194,9 +207,12 @@ py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs
 
 Mesh tessellate_cad_py(py::object path, py::object brep, double size, double deflection) {
   const CadSource source = cad_source(path, brep, "tessellate_cad");
-  if (!(size >= 0)) throw py::value_error("option size: must not be negative");
+  // As mesh_cad checks them (nan was "must not be negative", inf taken).
+  if (!std::isfinite(size)) throw UsageError("option size: not a finite number");
+  if (!std::isfinite(deflection)) throw UsageError("option deflection: not a finite number");
+  if (!(size >= 0)) throw UsageError("option size: must not be negative");
   if (!(deflection == 0 || deflection >= cad::kSmallestDeflection))
-    throw py::value_error("option deflection: must be 0 (chosen per face) or at least 1e-7 (OpenCASCADE's precision)");
+    throw UsageError("option deflection: must be 0 (chosen per face) or at least 1e-7 (OpenCASCADE's precision)");
   py::gil_scoped_release release;
   cad::TessellationOptions topt;
   topt.size = size;
@@ -212,7 +228,7 @@ Mesh read_py(py::object path, const std::string& format) {
 
 void write_py(const Mesh& mesh, py::object path, bool binary, int msh_version, const std::string& format) {
   const std::string p = path_string(path, "path");
-  if (msh_version != 22 && msh_version != 41) throw py::value_error("msh_version must be 22 or 41");
+  if (msh_version != 22 && msh_version != 41) throw UsageError("msh_version must be 22 or 41");
   check_indices(mesh);
   io::WriteOptions options;
   options.binary = binary;
@@ -232,7 +248,8 @@ py::list formats_py() {
 
 Mesh make_mesh(py::object points, py::object triangles, py::object triangle_faces, py::object triangle_regions,
                py::object tets, py::object tet_regions, py::object point_size,
-               std::map<int, std::string> region_names, std::map<int, std::string> face_names) {
+               std::map<int, std::string> region_names, std::map<int, std::string> face_names,
+               py::object triangle_mid, py::object tet_mid) {
   Mesh m;
   if (!points.is_none()) set_points(m, points);
   if (!triangles.is_none()) set_triangles(m, triangles);
@@ -241,6 +258,9 @@ Mesh make_mesh(py::object points, py::object triangles, py::object triangle_face
   if (!tets.is_none()) set_tets(m, tets);
   if (!tet_regions.is_none()) set_tet_regions(m, tet_regions);
   if (!point_size.is_none()) set_point_size(m, point_size);
+  // After the corners, whose counts they must match.
+  if (!triangle_mid.is_none()) set_triangle_mid(m, triangle_mid);
+  if (!tet_mid.is_none()) set_tet_mid(m, tet_mid);
   m.region_names = std::move(region_names);
   m.face_names = std::move(face_names);
   return m;
@@ -259,7 +279,7 @@ region_names and face_names dicts.)")
       .def(py::init(&make_mesh), "points"_a = py::none(), "triangles"_a = py::none(), "triangle_faces"_a = py::none(),
            "triangle_regions"_a = py::none(), "tets"_a = py::none(), "tet_regions"_a = py::none(),
            "point_size"_a = py::none(), "region_names"_a = std::map<int, std::string>(),
-           "face_names"_a = std::map<int, std::string>(),
+           "face_names"_a = std::map<int, std::string>(), "triangle_mid"_a = py::none(), "tet_mid"_a = py::none(),
            "A mesh from arrays; every argument is optional (arrays as for the attributes of the same name).")
       .def_property("points", &points_array, [](Mesh& m, py::handle a) { set_points(m, a); },
                     "(N, 3) float64 coordinates")
@@ -301,7 +321,7 @@ region_names and face_names dicts.)")
                                   mesh.region_names, mesh.face_names, mesh.face_groups, region_points);
           },
           [](const py::tuple& t) {
-            if (t.size() != 13) throw py::value_error("vdmesh.Mesh: a pickled state of 13 items expected");
+            if (t.size() != 13) throw UsageError("vdmesh.Mesh: a pickled state of 13 items expected");
             Mesh mesh;
             try {
               set_points(mesh, t[0]);
@@ -321,7 +341,7 @@ region_names and face_names dicts.)")
                 mesh.region_points.push_back({{x, y, z}, region});
               }
             } catch (const std::exception& e) {  // a cast, or an array of the wrong kind
-              throw py::value_error(std::string("vdmesh.Mesh: a pickled state of another form: ") + e.what());
+              throw UsageError(std::string("vdmesh.Mesh: a pickled state of another form: ") + e.what());
             }
             check_indices(mesh);
             return mesh;

@@ -38,9 +38,12 @@ int assign_face_patches(Mesh& m, double sharp_angle_deg, const EdgeMap* given) {
   // at once in the map's own order (a walk from each facet looked every
   // edge up twice: a sixteenth of a surface-only run on the bunny).
   DisjointSets patch(m.triangles.size());
+  int last_given = 0;
+  for (const Triangle& t : m.triangles) last_given = std::max(last_given, t.face);
   for (const auto& [key, across] : edges.all()) {
     if (across.size() != 2) continue;
     const int f = across[0], g = across[1];
+    if (m.triangles[f].face != kNoFace || m.triangles[g].face != kNoFace) continue;
     const auto [a, b] = edge_of_key(key);
     // Facets running the edge the same way are turned over: compare the
     // undirected normals' angle then.
@@ -53,8 +56,9 @@ int assign_face_patches(Mesh& m, double sharp_angle_deg, const EdgeMap* given) {
   std::vector<int> number(m.triangles.size(), 0);
   int patches = 0;
   for (size_t f = 0; f < m.triangles.size(); ++f) {
+    if (m.triangles[f].face != kNoFace) continue;
     const int r = patch.find(static_cast<int>(f));
-    if (number[r] == 0) number[r] = ++patches;
+    if (number[r] == 0) number[r] = last_given + ++patches;
     m.triangles[f].face = number[r];
   }
   return patches;

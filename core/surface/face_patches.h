@@ -10,8 +10,10 @@ namespace vd {
 
 constexpr double kDefaultSharpAngleDeg = 40.0;
 
-// Sets Triangle::face to 1..P for every facet (patch order: by lowest facet
-// index). Returns the number of patches.
+// Gives every facet without a face (kNoFace) its patch's number, after the
+// largest face id given (1..P when none is; patch order: by lowest facet
+// index). Patches stop at facets with a face: given ids stay (a surface with
+// one side untagged lost every id given, 2026-11-30). Returns P.
 // `edges`, when given, is the surface's edge map (built here otherwise).
 int assign_face_patches(Mesh& surface, double sharp_angle_deg = kDefaultSharpAngleDeg,
                         const EdgeMap* edges = nullptr);

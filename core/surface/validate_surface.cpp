@@ -169,11 +169,17 @@ void check_orientation(const Mesh& m, const EdgeMap& edges, SurfaceCheck& out) {
     const Triangle& t1 = m.triangles[list[0]];
     const Triangle& t2 = m.triangles[list[1]];
     const bool same_direction = has_directed_edge(t1, a, b) == has_directed_edge(t2, a, b);
-    const bool tagged = t1.front != kUnknownRegion && t2.front != kUnknownRegion;
+    // An unknown side (kUnknownRegion) agrees with any region; a facet
+    // turned over needs its regions known and swapped.
+    const auto agree = [](int r, int s) { return r == s || r == kUnknownRegion || s == kUnknownRegion; };
+    const bool tagged = t1.front != kUnknownRegion || t1.back != kUnknownRegion || t2.front != kUnknownRegion ||
+                        t2.back != kUnknownRegion;
     bool consistent;
-    if (!tagged) consistent = !same_direction;
-    else if (same_direction) consistent = t1.front == t2.back && t1.back == t2.front;
-    else consistent = t1.front == t2.front && t1.back == t2.back;
+    if (same_direction)
+      consistent = t1.front == t2.back && t1.back == t2.front && t1.front != kUnknownRegion &&
+                   t1.back != kUnknownRegion;
+    else
+      consistent = agree(t1.front, t2.front) && agree(t1.back, t2.back);
     if (!consistent) {
       // Tagged facets that run the edge in opposite directions are turned
       // alike: what is wrong is a region, not the orientation.

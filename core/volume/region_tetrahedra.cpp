@@ -107,14 +107,21 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   RegionStats stats;
   std::vector<int> region_of(components, kUnknownRegion);
   region_of[outside] = 0;
-  stats.regions_from_tags = m.has_region_tags();
+  // Tags given on some sides only: those name their regions, the other
+  // sides take the region found there (they threw every tag away before
+  // 2026-11-30: regions 10 and 20 came out as 1 and 2).
+  int largest_tag = 0;
+  for (const Triangle& t : m.triangles) largest_tag = std::max({largest_tag, t.front, t.back});
+  stats.regions_from_tags = std::any_of(m.triangles.begin(), m.triangles.end(), [](const Triangle& t) {
+    return t.front != kUnknownRegion || t.back != kUnknownRegion;
+  });
   if (stats.regions_from_tags) {
     for (size_t f = 0; f < m.triangles.size(); ++f) {
       const Triangle& t = m.triangles[f];
       const int tags[2] = {t.front, t.back};
       for (int s = 0; s < 2; ++s) {
         const int c = sides[f][s];
-        if (c < 0) continue;
+        if (c < 0 || tags[s] == kUnknownRegion) continue;
         if (region_of[c] == kUnknownRegion) region_of[c] = tags[s];
         if (region_of[c] != tags[s]) {
           const std::string side = s == 0 ? "front" : "back";
@@ -131,6 +138,14 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
               {static_cast<int>(f)});
         }
       }
+    }
+    int next = largest_tag + 1;
+    for (int c = 0; c < components; ++c)
+      if (region_of[c] == kUnknownRegion) region_of[c] = next++;
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+      Triangle& t = m.triangles[f];
+      if (t.front == kUnknownRegion) t.front = sides[f][0] >= 0 ? region_of[sides[f][0]] : 0;
+      if (t.back == kUnknownRegion) t.back = sides[f][1] >= 0 ? region_of[sides[f][1]] : 0;
     }
   } else {
     int next = 1;

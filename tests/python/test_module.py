@@ -138,6 +138,14 @@ class MeshFromArrays(unittest.TestCase):
         mesh.tet_mid = mesh.tet_mid[:half]
         vdmesh.write(mesh, path)
         self.assertEqual(len(vdmesh.read(path).tets), half)
+        # The constructor takes the mid-edge arrays too (its docstring said
+        # "arrays as for the attributes"; they were no arguments), and a
+        # bytes path reads ("expected a str path" before).
+        made = vdmesh.Mesh(mesh.points, mesh.triangles, mesh.triangle_faces, mesh.triangle_regions, mesh.tets,
+                           mesh.tet_regions, triangle_mid=mesh.triangle_mid, tet_mid=mesh.tet_mid)
+        self.assertTrue(made.second_order)
+        self.assertTrue(np.array_equal(made.tet_mid, mesh.tet_mid))
+        self.assertEqual(len(vdmesh.read(os.fsencode(path)).tets), half)
 
     def test_two_regions_with_interface(self):
         # Two unit boxes side by side; the shared square x = 1 is one interface
@@ -400,6 +408,11 @@ class Cad(unittest.TestCase):
             vdmesh.mesh_cad(path=self.path, deflection=1e-12)
         with self.assertRaisesRegex(ValueError, "option deflection: must be 0 .* or at least 1e-7"):
             vdmesh.tessellate_cad(path=self.path, deflection=1e-12)
+        # As mesh_cad: nan was "must not be negative", inf was taken.
+        for option in ("size", "deflection"):
+            for value in (float("nan"), float("inf")):
+                with self.assertRaisesRegex(vdmesh.UsageError, "option %s: not a finite number" % option):
+                    vdmesh.tessellate_cad(path=self.path, **{option: value})
         # It sent CAD users to mesh_surface's help.
         with self.assertRaisesRegex(TypeError, r"unexpected keyword argument 'sise' \(see help\(vdmesh.mesh_cad\)\)"):
             vdmesh.mesh_cad(path=self.path, sise=2)
@@ -488,6 +501,18 @@ class BadInput(unittest.TestCase):
         self.assertIn("broken.off", str(e.exception))
         with self.assertRaisesRegex(ValueError, "xyz"):
             vdmesh.write(vdmesh.Mesh(), os.path.join(d, "out.xyz"))
+        # One base for vdmesh's errors: the unknown extension was a plain ValueError.
+        with self.assertRaises(vdmesh.UsageError) as e:
+            vdmesh.write(vdmesh.Mesh(), os.path.join(d, "out.xyz"))
+        self.assertIsInstance(e.exception, vdmesh.Error)
+        # Mid-edge rows left from other corners (the tetrahedra's corners
+        # turned, the rows kept) were written 0.25 off their edges.
+        pts, tris, ids = box_surface((0, 0, 0), (1, 1, 1))
+        m, _ = vdmesh.mesh_surface(pts, tris, ids, size=0.5, order=2)
+        m.tets = m.tets[:, [0, 2, 3, 1]]
+        with self.assertRaisesRegex(vdmesh.InputError, "has another edge's mid-edge node"):
+            vdmesh.write(m, os.path.join(d, "turned.vtu"))
+        self.assertFalse(os.path.exists(os.path.join(d, "turned.vtu")))
 
     def test_file_errors_are_os_errors(self):
         # A missing file or folder is an OSError with its errno and filename,

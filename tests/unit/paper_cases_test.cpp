@@ -139,6 +139,39 @@ TEST(PaperCases, TwoBoxesSharingAFace) {
   EXPECT_NEAR(c.region_volume[2], 1.0, 1e-9);
 }
 
+// Tags given on some sides and faces only (a Python tester's arrays with -1
+// for "not known"): the given regions and faces keep their numbers, the rest
+// are found. One side unknown was refused as disagreeing with its
+// neighbours; one face unknown threw every given face id away.
+TEST(PaperCases, PartlyGivenTagsAreKept) {
+  Mesh in = test::two_boxes_sharing_a_face(3);
+  for (Triangle& t : in.triangles) {
+    for (int* side : {&t.front, &t.back})
+      if (*side > 0) *side = *side == 1 ? 10 : 20;
+    t.face += 100;
+  }
+  std::set<int> faces_given;
+  for (size_t f = 0; f < in.triangles.size(); ++f) {
+    Triangle& t = in.triangles[f];
+    if (f % 7 == 0) t.back = kUnknownRegion;
+    if (f % 5 == 0) t.front = kUnknownRegion;
+    if (f % 11 == 3) t.face = kNoFace;
+    else faces_given.insert(t.face);
+  }
+  const MeshResult r = mesh_surface(in, options());
+  const ConformityReport c = check_conformity(r.mesh);
+  EXPECT_TRUE(c.ok()) << c.summary();
+  ASSERT_EQ(c.region_volume.size(), 21u);
+  EXPECT_NEAR(c.region_volume[10], 1.0, 1e-9);
+  EXPECT_NEAR(c.region_volume[20], 1.0, 1e-9);
+  std::set<int> faces_out;
+  for (const Triangle& t : r.mesh.triangles) faces_out.insert(t.face);
+  for (int face : faces_given) EXPECT_TRUE(faces_out.count(face)) << "face " << face << " lost";
+  // The facets without a face took patch numbers past the largest given.
+  for (int face : faces_out) EXPECT_TRUE(faces_given.count(face) || face > *faces_given.rbegin()) << face;
+  EXPECT_GT(r.report.face_patches_assigned, 0);
+}
+
 TEST(PaperCases, BoxNestedInABox) {
   const Mesh in = test::box_in_box();
   const MeshResult r = mesh_surface(in, options());
