@@ -433,6 +433,22 @@ TEST(ConvertersRoundTrip, ConcurrentWritesOfOnePathStayWhole) {
     EXPECT_EQ(entry.path().filename().string().find("shared.msh.part"), std::string::npos) << entry.path();
 }
 
+// VTK has no place for names: vdmesh keeps them in an array of the data set
+// (a CAD mesh's Solid1 came back from a .vtu as Region1).
+TEST(ConvertersRoundTrip, VtuKeepsNames) {
+  Mesh m = cube_tets();
+  m.region_names = {{1, "Solid1"}, {2, "steel part"}};
+  m.face_names = {{3, "Face3"}, {-7, "odd"}};
+  for (bool binary : {false, true}) {
+    const std::string path = test::temp_path(binary ? "names_b.vtu" : "names_a.vtu");
+    io::write_mesh(m, path, {binary, 41});
+    const Mesh back = io::read_mesh(path);
+    EXPECT_EQ(back.region_names, m.region_names);
+    EXPECT_EQ(back.face_names, m.face_names);
+    EXPECT_EQ(back.tets.size(), m.tets.size());
+  }
+}
+
 TEST(ConvertersRoundTrip, GmshKeepsNamesAndSparseTags) {
   Mesh m = cube_tets();
   for (Tetrahedron& t : m.tets) t.region = t.region == 1 ? 10 : 20;
