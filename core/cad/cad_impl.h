@@ -119,9 +119,16 @@ class FaceProjector {
   // (u, v) of the surface point nearest `p`; on a periodic surface moved by
   // whole periods to lie nearest `near` when given (the caller's side of a seam).
   gp_Pnt2d uv(const Vec3& p, double tolerance, const gp_Pnt2d* near = nullptr) const;
+  // The same by Newton's method from `start` (a few evaluations instead of
+  // the global search), on the side of a seam nearest `start`; the global
+  // search where Newton fails or ends farther than `max_gap` from p.
+  gp_Pnt2d uv_from(const gp_Pnt2d& start, const Vec3& p, double tolerance, double max_gap) const;
+  // uv moved by whole periods to lie nearest `near`.
+  gp_Pnt2d near_period(gp_Pnt2d uv, const gp_Pnt2d& near) const;
   Vec3 point(const gp_Pnt2d& uv) const;
 
  private:
+  gp_Pnt local(const Vec3& p) const;
   Handle(ShapeAnalysis_Surface) analyser_;
   TopLoc_Location location_;
 };

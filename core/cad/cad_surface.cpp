@@ -18,6 +18,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <tuple>
 #include <sstream>
 
 #include "cad/cad_impl.h"
@@ -328,16 +329,57 @@ FaceProjector::FaceProjector(const TopoDS_Face& face) {
   if (!surface.IsNull()) analyser_ = new ShapeAnalysis_Surface(surface);
 }
 
-gp_Pnt2d FaceProjector::uv(const Vec3& p, double tolerance, const gp_Pnt2d* near) const {
+gp_Pnt FaceProjector::local(const Vec3& p) const {
   gp_Pnt q(p.x, p.y, p.z);
   if (!location_.IsIdentity()) q.Transform(location_.Transformation().Inverted());
-  gp_Pnt2d uv = analyser_->ValueOfUV(q, tolerance);
-  if (near) {
-    const Handle(Geom_Surface)& s = analyser_->Surface();
-    if (s->IsUPeriodic()) uv.SetX(uv.X() + s->UPeriod() * std::round((near->X() - uv.X()) / s->UPeriod()));
-    if (s->IsVPeriodic()) uv.SetY(uv.Y() + s->VPeriod() * std::round((near->Y() - uv.Y()) / s->VPeriod()));
-  }
+  return q;
+}
+
+gp_Pnt2d FaceProjector::near_period(gp_Pnt2d uv, const gp_Pnt2d& near) const {
+  const Handle(Geom_Surface)& s = analyser_->Surface();
+  if (s->IsUPeriodic()) uv.SetX(uv.X() + s->UPeriod() * std::round((near.X() - uv.X()) / s->UPeriod()));
+  if (s->IsVPeriodic()) uv.SetY(uv.Y() + s->VPeriod() * std::round((near.Y() - uv.Y()) / s->VPeriod()));
   return uv;
+}
+
+gp_Pnt2d FaceProjector::uv(const Vec3& p, double tolerance, const gp_Pnt2d* near) const {
+  const gp_Pnt2d uv = analyser_->ValueOfUV(local(p), tolerance);
+  return near ? near_period(uv, *near) : uv;
+}
+
+gp_Pnt2d FaceProjector::uv_from(const gp_Pnt2d& start, const Vec3& p, double tolerance, double max_gap) const {
+  // Gauss-Newton on |S(u, v) - p|^2, a first-derivative evaluation a step.
+  // ShapeAnalysis_Surface::NextValueOfUV took 108 us a point on
+  // gmsh_ellipses.brep's rational B-splines (the global search 227 us),
+  // most of it in its own fallback to the global search.
+  const gp_Pnt q = local(p);
+  const Handle(Geom_Surface)& surface = analyser_->Surface();
+  double u0, u1, v0, v1;
+  surface->Bounds(u0, u1, v0, v1);
+  const bool u_periodic = surface->IsUPeriodic(), v_periodic = surface->IsVPeriodic();
+  double u = start.X(), v = start.Y();
+  for (int step = 0; step < 16; ++step) {
+    gp_Pnt x;
+    gp_Vec su, sv;
+    try {
+      surface->D1(u, v, x, su, sv);
+    } catch (const Standard_Failure&) {
+      break;  // no derivative there (OpenCASCADE throws): the global search
+    }
+    const gp_Vec r(q, x);
+    const double a = su.SquareMagnitude(), b = su.Dot(sv), c = sv.SquareMagnitude();
+    const double det = a * c - b * b;
+    if (!(det > 1e-12 * a * c)) break;  // a pole or a fold: no tangent plane
+    const double gu = su.Dot(r), gv = sv.Dot(r);
+    const double du = -(c * gu - b * gv) / det, dv = -(a * gv - b * gu) / det;
+    u += du, v += dv;
+    if (!u_periodic) u = std::clamp(u, u0, u1);
+    if (!v_periodic) v = std::clamp(v, v0, v1);
+    if ((su * du + sv * dv).Magnitude() > tolerance) continue;
+    if (surface->Value(u, v).SquareDistance(q) > max_gap * max_gap) break;
+    return near_period(gp_Pnt2d(u, v), start);
+  }
+  return near_period(analyser_->ValueOfUV(q, tolerance), start);
 }
 
 Vec3 FaceProjector::point(const gp_Pnt2d& uv) const {
@@ -392,10 +434,11 @@ class CadGeometry : public SurfaceGeometry {
 
   // Unlike a split vertex, a node goes onto the CAD edge next to a plane too:
   // the circle where a cylinder meets a plane is where it belongs.
-  Vec3 place_node(const std::vector<int>& faces, const Vec3& chord) const override {
+  Vec3 place_node(const std::vector<int>& faces, const Vec3& a, const Vec3& b) const override {
+    const Vec3 chord = 0.5 * (a + b);
     std::set<int> distinct(faces.begin(), faces.end());
     try {
-      if (distinct.size() == 1) return on_face(*distinct.begin(), chord);
+      if (distinct.size() == 1) return node_on_face(*distinct.begin(), a, b, chord);
       // On an edge where three faces meet (a cylinder on a box, partly
       // overhanging it: its side, the box's top and their interface), any
       // two with a border edge there will do; the nearest point wins. With
@@ -436,6 +479,43 @@ class CadGeometry : public SurfaceGeometry {
     return face.valid() ? face.point(face.uv(p, 1e-9 * cad_.diagonal)) : p;
   }
 
+  const FaceProjector& projector(int fi) const {
+    auto it = projectors_.find(fi);
+    if (it == projectors_.end()) it = projectors_.emplace(fi, FaceProjector(cad_.faces[fi])).first;
+    return it->second;
+  }
+
+  // A second-order node inside a face: Newton's method from the middle of
+  // its edge's ends in (u, v), each end found from the face's vertex before
+  // it. The global search of ValueOfUV for every node (Extrema_GenExtPS's
+  // grid) took 34 of gmsh_ellipses.brep's 45 s at order 2. Newton's answer
+  // farther than half the edge from the chord's middle is no foot of it:
+  // the global search decides there.
+  Vec3 node_on_face(int number, const Vec3& a, const Vec3& b, const Vec3& chord) const {
+    const int fi = cad_.index_of_face_number(number);
+    if (fi < 0) return chord;
+    const FaceProjector& face = projector(fi);
+    if (!face.valid()) return chord;
+    const double reach = 0.5 * norm(b - a);
+    const gp_Pnt2d ua = vertex_uv(fi, face, a, reach), ub = face.near_period(vertex_uv(fi, face, b, reach), ua);
+    const gp_Pnt2d middle(0.5 * (ua.X() + ub.X()), 0.5 * (ua.Y() + ub.Y()));
+    return face.point(face.uv_from(middle, chord, 1e-9 * cad_.diagonal, reach));
+  }
+
+  // A surface vertex's (u, v) on face fi, kept. From the face's last vertex
+  // by Newton's method; an answer farther than `reach` from the vertex (half
+  // an edge of it) is no foot of it, and the global search decides.
+  gp_Pnt2d vertex_uv(int fi, const FaceProjector& face, const Vec3& p, double reach) const {
+    const VertexKey key{fi, p.x, p.y, p.z};
+    const auto known = vertex_uv_.find(key);
+    if (known != vertex_uv_.end()) return known->second;
+    const double tolerance = 1e-9 * cad_.diagonal;
+    const auto last = last_uv_.find(fi);
+    const gp_Pnt2d uv = last == last_uv_.end() ? face.uv(p, tolerance) : face.uv_from(last->second, p, tolerance, reach);
+    last_uv_[fi] = uv;
+    vertex_uv_.emplace(key, uv);
+    return uv;
+  }
   bool is_plane(int number) const {
     const int fi = cad_.index_of_face_number(number);
     if (fi < 0) return false;
@@ -471,6 +551,13 @@ class CadGeometry : public SurfaceGeometry {
   std::map<std::pair<int, int>, std::vector<TopoDS_Edge>> border_edges_;
   mutable std::map<int, FaceProjector> projectors_;
   mutable std::map<int, bool> plane_;
+  struct VertexKey {
+    int face;
+    double x, y, z;
+    bool operator<(const VertexKey& o) const { return std::tie(face, x, y, z) < std::tie(o.face, o.x, o.y, o.z); }
+  };
+  mutable std::map<VertexKey, gp_Pnt2d> vertex_uv_;  // second-order nodes' edge ends
+  mutable std::map<int, gp_Pnt2d> last_uv_;          // by face index, the last vertex's
 };
 
 }  // namespace

@@ -142,12 +142,18 @@ SecondOrderStats make_second_order(Mesh& m, const SurfaceGeometry* geometry) {
   stats.surface_nodes = static_cast<long>(faces_at.size());
   if (!geometry) return stats;
 
+  // In the facets' order, so that each node's face was met just before (the
+  // geometry starts its search from there).
   std::vector<int> curved;
-  for (auto& [n, faces] : faces_at) {
-    const Vec3 c = chord[n - first];
-    const Vec3 p = geometry->place_node(faces, c);
-    if (p.x != c.x || p.y != c.y || p.z != c.z) m.points[n] = p, curved.push_back(n);
-  }
+  std::vector<char> placed(ends.size(), 0);
+  for (const TriMidNodes& mids : m.triangle_mid)
+    for (const int n : mids) {
+      if (placed[n - first]) continue;
+      placed[n - first] = 1;
+      const Vec3 c = chord[n - first];
+      const Vec3 p = geometry->place_node(faces_at[n], m.points[ends[n - first][0]], m.points[ends[n - first][1]]);
+      if (p.x != c.x || p.y != c.y || p.z != c.z) m.points[n] = p, curved.push_back(n);
+    }
   std::sort(curved.begin(), curved.end());
   stats.on_geometry = static_cast<long>(curved.size());
 

@@ -19,11 +19,12 @@ class SurfaceGeometry {
   // given its position `chord` on the straight edge. Returns `chord` when
   // the faces give no better place.
   virtual Vec3 place_on_surface(const std::vector<int>& faces, const Vec3& chord) const = 0;
-  // The position of a second-order node on such an edge. A node never feeds
-  // back into Delaunayzation, so it may always go onto the true geometry
-  // where a split vertex sometimes may not.
-  virtual Vec3 place_node(const std::vector<int>& faces, const Vec3& chord) const {
-    return place_on_surface(faces, chord);
+  // The position of a second-order node on the surface edge (a, b). A node
+  // never feeds back into Delaunayzation, so it may always go onto the true
+  // geometry where a split vertex sometimes may not. The edge's ends, not
+  // only its mid-point, so that the geometry can start its search from them.
+  virtual Vec3 place_node(const std::vector<int>& faces, const Vec3& a, const Vec3& b) const {
+    return place_on_surface(faces, 0.5 * (a + b));
   }
   // Each region's true volume by region id, where known (0: unknown).
   virtual std::vector<double> region_volumes() const { return {}; }
