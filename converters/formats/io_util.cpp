@@ -682,4 +682,22 @@ void complete_triangle_mids(Mesh& m, const std::string& name) {
   m.triangle_mid = std::move(mids);
 }
 
+SurfacePoints surface_points(const Mesh& m) {
+  SurfacePoints out;
+  out.number.assign(m.points.size(), m.tets.empty() ? 0 : -1);
+  if (m.tets.empty()) {
+    out.kept.resize(m.points.size());
+    for (size_t i = 0; i < m.points.size(); ++i) out.kept[i] = out.number[i] = static_cast<int>(i);
+    return out;
+  }
+  for (const Triangle& t : m.triangles)
+    for (int v : t.v) out.number[static_cast<size_t>(v)] = 0;
+  for (size_t i = 0; i < m.points.size(); ++i)
+    if (out.number[i] == 0) {
+      out.number[i] = static_cast<int>(out.kept.size());
+      out.kept.push_back(static_cast<int>(i));
+    }
+  return out;
+}
+
 }  // namespace vd::io::detail

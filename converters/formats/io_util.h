@@ -408,6 +408,16 @@ bool sides_close_regions(const Mesh& m);
 std::array<int, 3> corners_without_sides(const Triangle& t);
 // Its mid-edge nodes (edges v0v1, v1v2, v2v0) in the order of those corners.
 TriMidNodes mid_nodes_without_sides(const Triangle& t, const TriMidNodes& mid);
+// The points a surface format lists: for a volume mesh the triangles'
+// corners only (`kept`, in the points' order; `number` each point's number
+// among them, -1 for the others), else every point. A volume mesh written
+// as OFF listed its interior points as isolated vertices (647 vertices for
+// 185 triangles), and a .poly made TetGen keep every one of them.
+struct SurfacePoints {
+  std::vector<int> kept;
+  std::vector<int> number;
+};
+SurfacePoints surface_points(const Mesh& m);
 // The region ids used by the tetrahedra, and the face ids of the triangles.
 std::vector<int> region_ids(const Mesh& m);
 std::vector<int> face_ids(const Mesh& m);

@@ -105,7 +105,8 @@ Mesh read_obj(const std::string& path) {
 void write_obj(const Mesh& m, const std::string& path, const WriteOptions&) {
   detail::Out out(path);
   out << "# written by vdmesh\n";
-  for (const Vec3& p : m.points) out << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
+  const detail::SurfacePoints used = detail::surface_points(m);
+  for (const int i : used.kept) out << "v " << m.points[i].x << ' ' << m.points[i].y << ' ' << m.points[i].z << '\n';
   const bool tagged = m.has_face_tags();
   int current = kNoFace - 1;
   for (const Triangle& t : m.triangles) {
@@ -114,7 +115,7 @@ void write_obj(const Mesh& m, const std::string& path, const WriteOptions&) {
       out << "g " << detail::face_name(m, t.face) << '\n';
     }
     const std::array<int, 3> v = detail::corners_without_sides(t);
-    out << "f " << v[0] + 1 << ' ' << v[1] + 1 << ' ' << v[2] + 1 << '\n';
+    out << "f " << used.number[v[0]] + 1 << ' ' << used.number[v[1]] + 1 << ' ' << used.number[v[2]] + 1 << '\n';
   }
   out.finish();
 }

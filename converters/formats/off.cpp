@@ -62,11 +62,12 @@ Mesh read_off(const std::string& path) {
 
 void write_off(const Mesh& m, const std::string& path, const WriteOptions&) {
   detail::Out out(path);
-  out << "OFF\n" << m.points.size() << ' ' << m.triangles.size() << " 0\n";
-  for (const Vec3& p : m.points) out << p.x << ' ' << p.y << ' ' << p.z << '\n';
+  const detail::SurfacePoints used = detail::surface_points(m);
+  out << "OFF\n" << used.kept.size() << ' ' << m.triangles.size() << " 0\n";
+  for (const int i : used.kept) out << m.points[i].x << ' ' << m.points[i].y << ' ' << m.points[i].z << '\n';
   for (const Triangle& t : m.triangles) {
     const std::array<int, 3> v = detail::corners_without_sides(t);
-    out << "3 " << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+    out << "3 " << used.number[v[0]] << ' ' << used.number[v[1]] << ' ' << used.number[v[2]] << '\n';
   }
   out.finish();
 }

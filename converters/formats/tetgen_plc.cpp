@@ -255,16 +255,17 @@ std::vector<RegionPoint> points_naming_regions(const Mesh& m) {
 void write_plc(const Mesh& m, const std::string& path, const WriteOptions&) {
   const bool poly = detail::extension_of(path) == ".poly";
   detail::Out out(path);
-  out << "# written by vdmesh\n" << m.points.size() << " 3 0 0\n";
-  for (size_t i = 0; i < m.points.size(); ++i) {
-    const Vec3& p = m.points[i];
+  const detail::SurfacePoints used = detail::surface_points(m);
+  out << "# written by vdmesh\n" << used.kept.size() << " 3 0 0\n";
+  for (size_t i = 0; i < used.kept.size(); ++i) {
+    const Vec3& p = m.points[used.kept[i]];
     out << i + 1 << ' ' << p.x << ' ' << p.y << ' ' << p.z << '\n';
   }
   out << m.triangles.size() << " 1\n";
   for (const Triangle& t : m.triangles) {
     if (poly) out << "1 0 " << t.face << "\n";
     const std::array<int, 3> v = detail::corners_without_sides(t);
-    out << "3 " << v[0] + 1 << ' ' << v[1] + 1 << ' ' << v[2] + 1;
+    out << "3 " << used.number[v[0]] + 1 << ' ' << used.number[v[1]] + 1 << ' ' << used.number[v[2]] + 1;
     if (!poly) out << ' ' << t.face;
     out << '\n';
   }
