@@ -139,6 +139,13 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
   for (const auto& [f, tris] : named_faces)
     face_set_name[f] = names.unique(f == kNoFace ? "FaceNone" : detail::face_name(m, f));
   auto face_set = [&](int f) { return face_set_name.at(f); };
+  // Ids a set's name does not carry (Region<k>, Solid<k>, Face<k> do), for
+  // the reader: a named region came back numbered by its lowest element.
+  for (const auto& [r, name] : region_set)
+    if (r > 0 && detail::id_from_name(name, "Region") != r && detail::id_from_name(name, "Solid") != r)
+      out << "** vdmesh region " << r << ' ' << name << '\n';
+  for (const auto& [f, name] : face_set_name)
+    if (f >= 0 && detail::id_from_name(name, "Face") != f) out << "** vdmesh face " << f << ' ' << name << '\n';
 
   if (m.tets.empty()) {
     const bool quad = !m.triangle_mid.empty();
@@ -290,6 +297,10 @@ class InpReader {
   bool quad_shells_ = false;
   std::vector<std::pair<std::string, std::vector<std::pair<int64_t, int>>>> surfaces_;
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> surface_sets_;
+  // The ids vdmesh's writer gives in comments ("** vdmesh region 1 Zeta"),
+  // by upper-case set name: names that are no Region<k>, Solid<k>, Face<k>.
+  std::map<std::string, int> region_id_of_name_, face_id_of_name_;
+  void read_id_comment(std::string_view line);
 };
 
 std::string_view trim(std::string_view s) {
@@ -325,11 +336,25 @@ bool InpReader::at_data_line() {
     if (in_->at_end()) return false;
     const std::string_view rest = in_->data().substr(in_->pos());
     if (rest.compare(0, 2, "**") == 0) {
+      if (rest.compare(0, 10, "** vdmesh ") == 0) read_id_comment(rest.substr(0, std::min(rest.find('\n'), rest.size())));
       in_->skip_line();
       continue;
     }
     return rest[0] != '*';
   }
+}
+
+void InpReader::read_id_comment(std::string_view line) {
+  line = trim(line.substr(10));
+  const bool region = line.compare(0, 7, "region ") == 0, face = line.compare(0, 5, "face ") == 0;
+  if (!region && !face) return;
+  line = trim(line.substr(region ? 7 : 5));
+  const size_t space = line.find(' ');
+  if (space == std::string_view::npos) return;
+  int64_t id = 0;
+  if (!Cursor::parse_int(line.substr(0, space), id) || id < (region ? 1 : 0) || id > INT32_MAX) return;
+  const std::string name = upper(trim(line.substr(space + 1)));
+  if (!name.empty()) (region ? region_id_of_name_ : face_id_of_name_).emplace(name, static_cast<int>(id));
 }
 
 std::vector<std::string_view> InpReader::fields(size_t want) {
@@ -707,6 +732,15 @@ Mesh InpReader::read() {
     next_region = std::max(next_region, r + 1);
     m_.region_names[r] = set_names_[k];
   }
+  // Other names with the id vdmesh's writer gave them in a comment: Zeta,
+  // region 1, came back as region 2 when region 2's tetrahedra came first.
+  for (size_t k = 0; k < set_names_.size(); ++k) {
+    const auto given = region_id_of_name_.find(upper(set_names_[k]));
+    if (given == region_id_of_name_.end() || region_of_set[k] != 0 || !claimed.insert(given->second).second) continue;
+    region_of_set[k] = given->second;
+    next_region = std::max(next_region, given->second + 1);
+    m_.region_names[given->second] = set_names_[k];
+  }
   for (Tetrahedron& t : m_.tets) {
     if (t.region < 0) continue;  // no ELSET: unknown
     const size_t k = static_cast<size_t>(t.region);
@@ -718,15 +752,18 @@ Mesh InpReader::read() {
   }
   // Face ids from names "Face<k>", others numbered after them.
   std::map<std::string, int> face_of_name;
+  std::set<int> face_ids_taken;
   int next_face = 1;
   auto face_id = [&](const std::string& name) {
     auto it = face_of_name.find(name);
     if (it != face_of_name.end()) return it->second;
     int k = detail::id_from_name(name, "Face");
     if (k < 1) {
-      k = next_face;
+      const auto given = face_id_of_name_.find(upper(name));
+      k = given != face_id_of_name_.end() && !face_ids_taken.count(given->second) ? given->second : next_face;
       if (!name.empty()) m_.face_names[k] = name;
     }
+    face_ids_taken.insert(k);
     next_face = std::max(next_face, k + 1);
     return face_of_name[name] = k;
   };

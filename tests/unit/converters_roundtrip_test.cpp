@@ -473,6 +473,31 @@ TEST(ConvertersRoundTrip, SurfaceFormatsOfAVolumeMeshListTheBoundaryPoints) {
   }
 }
 
+// Names that carry no id (Zeta, not Region1 or Solid1) keep their ids
+// through an Abaqus deck, given in comments: they were numbered by their
+// lowest element, and with region 2's tetrahedra first Zeta (1) came back 2.
+TEST(ConvertersRoundTrip, AbaqusKeepsTheIdsOfNamedSets) {
+  Mesh m = cube_tets();
+  std::stable_sort(m.tets.begin(), m.tets.end(),
+                   [](const Tetrahedron& a, const Tetrahedron& b) { return a.region > b.region; });
+  m.region_names = {{1, "Zeta"}, {2, "Alpha"}};
+  std::set<int> faces;
+  for (const Triangle& t : m.triangles) faces.insert(t.face);
+  ASSERT_GE(faces.size(), 2u);
+  const int f1 = *faces.begin(), f2 = *std::next(faces.begin());
+  m.face_names = {{f1, "wall"}, {f2, "contact"}};
+  const std::string path = test::temp_path("named_ids.inp");
+  io::write_mesh(m, path);
+  const Mesh back = io::read_mesh(path);
+  EXPECT_EQ(back.region_names, m.region_names);
+  EXPECT_EQ(back.face_names.at(f1), "wall");
+  EXPECT_EQ(back.face_names.at(f2), "contact");
+  std::map<int, size_t> count_in, count_back;
+  for (const Tetrahedron& t : m.tets) ++count_in[t.region];
+  for (const Tetrahedron& t : back.tets) ++count_back[t.region];
+  EXPECT_EQ(count_back, count_in);
+}
+
 TEST(ConvertersRoundTrip, GmshKeepsNamesAndSparseTags) {
   Mesh m = cube_tets();
   for (Tetrahedron& t : m.tets) t.region = t.region == 1 ? 10 : 20;
