@@ -51,6 +51,12 @@ struct WriteTarget {
 };
 WriteTarget write_target(const std::string& path);
 
+// Removes what writes of `path` by processes that no longer run left beside
+// it (PATH.part.<pid>.*, files or folders): each write has a part of its
+// own, which a killed run (SIGKILL, Ctrl-C) leaves, and nothing else would
+// remove them.
+void remove_stale_parts(const std::string& path);
+
 Mesh read_mesh(const std::string& path, const std::string& format_name = "");
 void write_mesh(const Mesh& mesh, const std::string& path, const WriteOptions& options = {},
                 const std::string& format_name = "");

@@ -1,6 +1,7 @@
 #include "io_util.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -364,6 +365,26 @@ WriteTarget write_target(const std::string& path) {
   return t;
 }
 
+void remove_stale_parts(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const std::string prefix = target.filename().string() + ".part.";
+  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    int64_t pid = 0;
+    const size_t dot = name.find('.', prefix.size());
+    if (dot == std::string::npos || !detail::Cursor::parse_int(std::string_view(name).substr(prefix.size(), dot - prefix.size()), pid) ||
+        pid <= 0 || pid > INT32_MAX || pid == ::getpid())
+      continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // running, or not ours to ask
+    std::error_code ignored;
+    fs::remove_all(it->path(), ignored);
+  }
+}
+
 }  // namespace vd::io
 
 namespace vd::io::detail {
@@ -378,6 +399,7 @@ Out::Out(const std::string& path) {
   // the same path shared PATH.part, and the reader of the result found it
   // empty or cut (a Python tester, 2026-11-30).
   static std::atomic<unsigned long> writes{0};
+  if (!target.in_place) remove_stale_parts(target.path);
   const bool gz = ends_with_ci(path, ".gz");
   for (int attempt = 0;; ++attempt) {
     sink->part = target.in_place ? target.path

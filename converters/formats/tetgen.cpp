@@ -168,12 +168,7 @@ bool read_face(const std::string& path, Mesh& m, int first) {
 
 bool exists(const std::string& p) {
   std::error_code ec;
-  return std::filesystem::exists(p, ec) || std::filesystem::exists(p + ".gz", ec);
-}
-
-std::string existing(const std::string& p) {
-  std::error_code ec;
-  return std::filesystem::exists(p, ec) ? p : p + ".gz";
+  return std::filesystem::exists(p, ec);
 }
 
 // `tetgen -f` lists every face of the mesh, the inner ones with marker 0:
@@ -191,31 +186,37 @@ void drop_inner_faces(Mesh& m, bool markers) {
 
 Mesh read_tetgen(const std::string& path) {
   const std::string base = detail::tetgen_base(path);
-  const std::string node = base + ".node";
+  // One set: compressed when the path says so (or only the compressed node
+  // file is there), else plain; the other kind's files are another set.
+  const bool gz = (path.size() > 3 && detail::iequals(path.substr(path.size() - 3), ".gz")) ||
+                  (!exists(base + ".node") && exists(base + ".node.gz"));
+  const std::string suffix = gz ? ".gz" : "";
+  const std::string node = base + ".node" + suffix;
   if (!exists(node)) throw InputError(path + ": the TetGen node file " + node + " does not exist");
   Mesh m;
-  const detail::FileBytes data(existing(node));
-  Cursor in(data, existing(node));
+  const detail::FileBytes data(node);
+  Cursor in(data, node);
   in.set_comment('#');
   const int first = detail::read_tetgen_nodes(in, m);
-  if (exists(base + ".ele")) read_ele(existing(base + ".ele"), m, first);
+  if (exists(base + ".ele" + suffix)) read_ele(base + ".ele" + suffix, m, first);
   bool markers = false;
-  if (exists(base + ".face")) markers = read_face(existing(base + ".face"), m, first);
+  if (exists(base + ".face" + suffix)) markers = read_face(base + ".face" + suffix, m, first);
   detail::require_valid(m, path);
   detail::sides_from_tets(m);
   drop_inner_faces(m, markers);
   return m;
 }
 
-// The files of the set `path` names, plain and compressed. A write
-// replaces them all: one left from an earlier mesh was read with the new
-// ones (a surface written over a volume mesh came back with the old .ele,
-// "a tetrahedron node 22 does not exist", or a stale tetrahedron).
+// The files of the set `path` names (compressed or plain, as the path is;
+// the other kind is another set, read by its own name). A write replaces
+// them all: one left from an earlier mesh was read with the new ones (a
+// surface written over a volume mesh came back with the old .ele, "a
+// tetrahedron node 22 does not exist", or a stale tetrahedron).
 std::vector<std::string> tetgen_set_files(const std::string& path) {
   const std::string base = detail::tetgen_base(path);
+  const bool gz = path.size() > 3 && detail::iequals(path.substr(path.size() - 3), ".gz");
   std::vector<std::string> files;
-  for (const char* ext : {".node", ".ele", ".face"})
-    for (const char* suffix : {"", ".gz"}) files.push_back(base + ext + suffix);
+  for (const char* ext : {".node", ".ele", ".face"}) files.push_back(base + ext + (gz ? ".gz" : ""));
   return files;
 }
 

@@ -136,7 +136,9 @@ void write_result(const Mesh& mesh, const std::string& path, const io::WriteOpti
   const fs::path target(where.path);
   // A folder of its own (mkdtemp): two runs writing the same output at once
   // shared OUT.part.d, and one moved the other's half-written files.
-  std::string staging_name = (target.parent_path() / (target.filename().string() + ".part.XXXXXX")).string();
+  io::remove_stale_parts(target.string());
+  std::string staging_name =
+      (target.parent_path() / (target.filename().string() + ".part." + std::to_string(::getpid()) + ".XXXXXX")).string();
   if (!::mkdtemp(staging_name.data())) throw FileError(path + ": cannot write: " + std::strerror(errno), path, errno);
   const fs::path staging(staging_name);
   std::error_code ignored, ec;

@@ -371,11 +371,13 @@ gp_Pnt2d FaceProjector::uv_from(const gp_Pnt2d& start, const Vec3& p, double tol
     const double det = a * c - b * b;
     if (!(det > 1e-12 * a * c)) break;  // a pole or a fold: no tangent plane
     const double gu = su.Dot(r), gv = sv.Dot(r);
-    const double du = -(c * gu - b * gv) / det, dv = -(a * gv - b * gu) / det;
-    u += du, v += dv;
+    const double u_was = u, v_was = v;
+    u -= (c * gu - b * gv) / det, v -= (a * gv - b * gu) / det;
     if (!u_periodic) u = std::clamp(u, u0, u1);
     if (!v_periodic) v = std::clamp(v, v0, v1);
-    if ((su * du + sv * dv).Magnitude() > tolerance) continue;
+    // Converged when the step taken (after the clamp) moves the point by less
+    // than the tolerance.
+    if ((su * (u - u_was) + sv * (v - v_was)).Magnitude() > tolerance) continue;
     if (surface->Value(u, v).SquareDistance(q) > max_gap * max_gap) break;
     return near_period(gp_Pnt2d(u, v), start);
   }

@@ -103,13 +103,18 @@ void register_exceptions(py::module_& m) {
   });
 }
 
-// str, bytes or os.PathLike, converted while the GIL is held (bytes were
+// str, bytes or os.PathLike, as the file system's bytes (os.fsencode: a
+// name that is no UTF-8 too), converted while the GIL is held (bytes were
 // refused with "expected a str path", 2026-11-30).
 std::string path_string(py::handle path, const char* name) {
   py::object os = py::module_::import("os");
-  py::object s = os.attr("fspath")(path);
-  if (py::isinstance<py::bytes>(s)) s = os.attr("fsdecode")(s);
-  if (!py::isinstance<py::str>(s)) throw py::type_error(std::string(name) + ": expected a str, bytes or os.PathLike path");
+  py::object s;
+  try {
+    s = os.attr("fsencode")(path);
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_TypeError)) throw;
+    throw py::type_error(std::string(name) + ": expected a str, bytes or os.PathLike path");
+  }
   return s.cast<std::string>();
 }
 

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "mesh/disjoint_sets.h"
+#include "mesh/error.h"
 #include "surface/edge_map.h"
 
 namespace vd {
@@ -38,8 +40,15 @@ int assign_face_patches(Mesh& m, double sharp_angle_deg, const EdgeMap* given) {
   // at once in the map's own order (a walk from each facet looked every
   // edge up twice: a sixteenth of a surface-only run on the bunny).
   DisjointSets patch(m.triangles.size());
+  // Past every id given, named or grouped too: a new patch took the name of
+  // a face no facet had (2026-11-30).
   int last_given = 0;
   for (const Triangle& t : m.triangles) last_given = std::max(last_given, t.face);
+  for (const auto& [face, name] : m.face_names) last_given = std::max(last_given, face);
+  for (const auto& [face, groups] : m.face_groups) {
+    last_given = std::max(last_given, face);
+    for (const int g : groups) last_given = std::max(last_given, g);
+  }
   for (const auto& [key, across] : edges.all()) {
     if (across.size() != 2) continue;
     const int f = across[0], g = across[1];
@@ -58,7 +67,12 @@ int assign_face_patches(Mesh& m, double sharp_angle_deg, const EdgeMap* given) {
   for (size_t f = 0; f < m.triangles.size(); ++f) {
     if (m.triangles[f].face != kNoFace) continue;
     const int r = patch.find(static_cast<int>(f));
-    if (number[r] == 0) number[r] = last_given + ++patches;
+    if (number[r] == 0) {
+      if (last_given > std::numeric_limits<int>::max() - 1 - patches)
+        throw InputError("face ids up to " + std::to_string(last_given) +
+                         " leave no room for the faces of the facets without one");
+      number[r] = last_given + ++patches;
+    }
     m.triangles[f].face = number[r];
   }
   return patches;

@@ -50,6 +50,9 @@ int orient_consistently(Mesh& m) {
   for (size_t f = 0; f < m.triangles.size(); ++f)
     if (flip[f]) {
       std::swap(m.triangles[f].v[1], m.triangles[f].v[2]);
+      // Edges 01, 12, 20 of the turned corners are 20, 12, 01 of the old:
+      // second-order surfaces came out with nodes on other edges.
+      if (m.triangle_mid.size() == m.triangles.size()) std::swap(m.triangle_mid[f][0], m.triangle_mid[f][2]);
       ++turned;
     }
   return turned;

@@ -1,5 +1,7 @@
 #include "volume/region_tetrahedra.h"
 
+#include "surface/validate_surface.h"
+
 #include <algorithm>
 #include <cstdint>
 #include <map>
@@ -112,9 +114,10 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   // 2026-11-30: regions 10 and 20 came out as 1 and 2).
   int largest_tag = 0;
   for (const Triangle& t : m.triangles) largest_tag = std::max({largest_tag, t.front, t.back});
-  stats.regions_from_tags = std::any_of(m.triangles.begin(), m.triangles.end(), [](const Triangle& t) {
-    return t.front != kUnknownRegion || t.back != kUnknownRegion;
-  });
+  // Tags of the exterior alone (0) name no region: the regions are found,
+  // and region points may name them, as without tags.
+  stats.regions_from_tags = std::any_of(m.triangles.begin(), m.triangles.end(),
+                                        [](const Triangle& t) { return t.front > 0 || t.back > 0; });
   if (stats.regions_from_tags) {
     for (size_t f = 0; f < m.triangles.size(); ++f) {
       const Triangle& t = m.triangles[f];
@@ -141,7 +144,13 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
     }
     int next = largest_tag + 1;
     for (int c = 0; c < components; ++c)
-      if (region_of[c] == kUnknownRegion) region_of[c] = next++;
+      if (region_of[c] == kUnknownRegion) {
+        if (next > kLargestRegionId)
+          throw InputError("region ids up to " + std::to_string(largest_tag) +
+                           " leave no room under " + std::to_string(kLargestRegionId) +
+                           " for the regions no tag names");
+        region_of[c] = next++;
+      }
     for (size_t f = 0; f < m.triangles.size(); ++f) {
       Triangle& t = m.triangles[f];
       if (t.front == kUnknownRegion) t.front = sides[f][0] >= 0 ? region_of[sides[f][0]] : 0;

@@ -146,6 +146,10 @@ class MeshFromArrays(unittest.TestCase):
         self.assertTrue(made.second_order)
         self.assertTrue(np.array_equal(made.tet_mid, mesh.tet_mid))
         self.assertEqual(len(vdmesh.read(os.fsencode(path)).tets), half)
+        # A name that is no UTF-8, as bytes (it failed to convert).
+        odd = os.path.join(os.fsencode(os.path.dirname(path)), b"lat\xe9.vtu")
+        vdmesh.write(made, odd)
+        self.assertEqual(len(vdmesh.read(odd).tets), half)
 
     def test_two_regions_with_interface(self):
         # Two unit boxes side by side; the shared square x = 1 is one interface

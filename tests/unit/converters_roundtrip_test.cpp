@@ -21,6 +21,7 @@
 #include "geometry/predicates.h"
 #include "mesh/error.h"
 #include "mesh/parallel.h"
+#include "mesh/second_order.h"
 #include "mesh/shapes.h"
 #include "test_support.h"
 
@@ -369,8 +370,9 @@ TEST(ConvertersRoundTrip, MixedOrdersInOneFile) {
 }
 
 // A TetGen set is replaced whole: a surface written over a volume mesh came
-// back with the old .ele (or failed on it), and a compressed set written
-// over a plain one was read as the plain one.
+// back with the old .ele (or failed on it). The compressed set and the
+// plain one are two sets: writing one leaves the other (converting one into
+// the other deleted the input), and each reads without the other's files.
 TEST(ConvertersRoundTrip, TetgenSetIsReplacedWhole) {
   const Mesh volume = cube_tets();
   Mesh surface = volume;
@@ -385,11 +387,17 @@ TEST(ConvertersRoundTrip, TetgenSetIsReplacedWhole) {
   EXPECT_EQ(back.triangles.size(), surface.triangles.size());
   io::write_mesh(volume, base + ".node");
   io::write_mesh(surface, base + ".node.gz");
-  for (const char* ext : {".node", ".ele", ".face", ".ele.gz"})
-    EXPECT_FALSE(std::filesystem::exists(base + ext)) << ext;
+  for (const char* ext : {".node", ".ele", ".face", ".node.gz", ".face.gz"})
+    EXPECT_TRUE(std::filesystem::exists(base + ext)) << ext;
+  EXPECT_FALSE(std::filesystem::exists(base + ".ele.gz"));
   back = io::read_mesh(base + ".node.gz");
   EXPECT_TRUE(back.tets.empty());
   EXPECT_EQ(back.triangles.size(), surface.triangles.size());
+  EXPECT_EQ(io::read_mesh(base + ".node").tets.size(), volume.tets.size());
+  // Only the compressed set there: the base's plain name finds it.
+  const std::string lone = test::temp_path("lone");
+  io::write_mesh(volume, lone + ".node.gz");
+  EXPECT_EQ(io::read_mesh(lone + ".node").tets.size(), volume.tets.size());
 }
 
 // Two threads writing one path while a third reads it: each write goes to a
@@ -496,6 +504,51 @@ TEST(ConvertersRoundTrip, AbaqusKeepsTheIdsOfNamedSets) {
   for (const Tetrahedron& t : m.tets) ++count_in[t.region];
   for (const Tetrahedron& t : back.tets) ++count_back[t.region];
   EXPECT_EQ(count_back, count_in);
+}
+
+// A second-order surface whose triangles a reader turns to one side (Gmsh
+// files without volumes): the mid-edge nodes turn with the corners. They
+// stayed, on other edges, and the mid-node check refused such a file.
+TEST(ConvertersRoundTrip, TurnedSecondOrderTrianglesKeepTheirMidNodes) {
+  Mesh m = shapes::box({0, 0, 0}, {1, 1, 1}, 2);
+  make_second_order(m);
+  for (size_t f = 0; f < m.triangles.size(); f += 3) {  // a third turned in
+    std::swap(m.triangles[f].v[1], m.triangles[f].v[2]);
+    std::swap(m.triangle_mid[f][0], m.triangle_mid[f][2]);
+  }
+  for (int version : {22, 41}) {
+    const std::string path = test::temp_path("turned_p2_" + std::to_string(version) + ".msh");
+    io::write_mesh(m, path, {false, version});
+    const Mesh back = io::read_mesh(path);
+    ASSERT_EQ(back.triangle_mid.size(), m.triangles.size());
+    for (size_t f = 0; f < back.triangles.size(); ++f)
+      for (int e = 0; e < 3; ++e) {
+        const Vec3 a = back.points[back.triangles[f].v[e]], b = back.points[back.triangles[f].v[(e + 1) % 3]];
+        EXPECT_EQ(norm(back.points[back.triangle_mid[f][e]] - 0.5 * (a + b)), 0.0) << version << " triangle " << f;
+      }
+  }
+}
+
+// Parts left beside a file by writes of processes that are gone are removed
+// at the next write; a running process's are not.
+TEST(ConvertersRoundTrip, StalePartsOfDeadWritersAreRemoved) {
+  const std::string path = test::temp_path("stale.msh");
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  ASSERT_GT(child, 0);
+  waitpid(child, nullptr, 0);
+  const std::string dead = path + ".part." + std::to_string(child) + ".0";
+  const std::string dead_folder = path + ".part." + std::to_string(child) + ".Ab12Cd";
+  const std::string alive = path + ".part." + std::to_string(getppid()) + ".0";
+  std::ofstream(dead) << "cut";
+  std::filesystem::create_directory(dead_folder);
+  std::ofstream(dead_folder + "/stale.msh") << "cut";
+  std::ofstream(alive) << "another run's";
+  io::write_mesh(cube_tets(), path);
+  EXPECT_FALSE(std::filesystem::exists(dead));
+  EXPECT_FALSE(std::filesystem::exists(dead_folder));
+  EXPECT_TRUE(std::filesystem::exists(alive));
+  std::filesystem::remove(alive);
 }
 
 TEST(ConvertersRoundTrip, GmshKeepsNamesAndSparseTags) {

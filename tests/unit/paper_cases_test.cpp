@@ -170,6 +170,16 @@ TEST(PaperCases, PartlyGivenTagsAreKept) {
   // The facets without a face took patch numbers past the largest given.
   for (int face : faces_out) EXPECT_TRUE(faces_given.count(face) || face > *faces_given.rbegin()) << face;
   EXPECT_GT(r.report.face_patches_assigned, 0);
+
+  // A region no tag names takes the id after the largest given.
+  Mesh unnamed = test::two_boxes_sharing_a_face(3);
+  for (Triangle& t : unnamed.triangles)
+    for (int* side : {&t.front, &t.back}) *side = *side == 1 ? 10 : *side == 2 ? kUnknownRegion : *side;
+  const ConformityReport u = check_conformity(mesh_surface(unnamed, options()).mesh);
+  EXPECT_TRUE(u.ok()) << u.summary();
+  ASSERT_EQ(u.region_volume.size(), 12u);
+  EXPECT_NEAR(u.region_volume[10], 1.0, 1e-9);
+  EXPECT_NEAR(u.region_volume[11], 1.0, 1e-9);
 }
 
 TEST(PaperCases, BoxNestedInABox) {
