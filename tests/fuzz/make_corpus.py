@@ -98,6 +98,30 @@ def main():
             seed("tetgen", "seed_tetgen_o2", b"\0".join(parts))
         else:
             print("make_corpus: tetgen not found, seed_tetgen_o2 not made", file=sys.stderr)
+        # VTU as VTK writes it: LZ4, LZMA, big-endian, three pieces; and
+        # vdmesh's names array (FieldData). Made by Debian's python3-vtk9.
+        vtu = open(os.path.join(tmp, "out.vtu"), "rb").read()
+        seed("vtu", "seed_vtu_names", vtu.replace(b"  <UnstructuredGrid>\n", b"  <UnstructuredGrid>\n    <FieldData>\n"
+             b"      <DataArray type=\"UInt8\" Name=\"vdmesh_names\" NumberOfTuples=\"16\" format=\"ascii\">\n"
+             + " ".join(str(b) for b in b"region 1 Solid1\n").encode() + b"\n      </DataArray>\n    </FieldData>\n", 1))
+        try:
+            import vtk
+        except ImportError:
+            print("make_corpus: no python3-vtk9, VTK's VTU variants not made", file=sys.stderr)
+            return
+        reader = vtk.vtkXMLUnstructuredGridReader()
+        reader.SetFileName(os.path.join(tmp, "out.vtu"))
+        reader.Update()
+        for name, setup in (("lz4", lambda w: w.SetCompressorTypeToLZ4()),
+                            ("lzma", lambda w: w.SetCompressorTypeToLZMA()),
+                            ("big_endian", lambda w: (w.SetByteOrderToBigEndian(), w.SetDataModeToBinary())),
+                            ("pieces", lambda w: (w.SetNumberOfPieces(3), w.SetDataModeToAscii()))):
+            writer = vtk.vtkXMLUnstructuredGridWriter()
+            writer.SetInputData(reader.GetOutput())
+            writer.SetFileName(os.path.join(tmp, name + ".vtu"))
+            setup(writer)
+            writer.Write()
+            seed("vtu", "seed_vtu_" + name, open(os.path.join(tmp, name + ".vtu"), "rb").read())
 
 
 if __name__ == "__main__":
