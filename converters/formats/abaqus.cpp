@@ -81,6 +81,72 @@ void node_list(detail::Out& out, const std::vector<int>& ids) {
 
 // For each triangle: (tetrahedron, face 0..3) having it as a face, preferring
 // the tetrahedron behind it (its back region); (-1, -1) when none.
+// For each triangle, the (tetrahedron, face) on its front side and on its
+// back side ({-1, -1} where none).
+struct SideOwners {
+  std::pair<int, int> front{-1, -1}, back{-1, -1};
+};
+std::vector<SideOwners> triangle_side_owners(const Mesh& m) {
+  using Key = std::array<int, 3>;
+  auto key = [](Key k) {
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  std::vector<std::pair<Key, int>> index;
+  index.reserve(m.triangles.size());
+  for (size_t i = 0; i < m.triangles.size(); ++i) index.push_back({key(m.triangles[i].v), static_cast<int>(i)});
+  std::sort(index.begin(), index.end());
+  std::vector<SideOwners> owner(m.triangles.size());
+  for (size_t ti = 0; ti < m.tets.size(); ++ti) {
+    const Tetrahedron& t = m.tets[ti];
+    for (int f = 0; f < 4; ++f) {
+      const Key k = key({t.v[kFaces[f][0]], t.v[kFaces[f][1]], t.v[kFaces[f][2]]});
+      for (auto it = std::lower_bound(index.begin(), index.end(), std::make_pair(k, -1));
+           it != index.end() && it->first == k; ++it) {
+        const Triangle& tri = m.triangles[static_cast<size_t>(it->second)];
+        SideOwners& o = owner[static_cast<size_t>(it->second)];
+        // The corner off face f lies behind the triangle when it is on the
+        // side its normal points away from.
+        static constexpr int kOff[4] = {3, 2, 0, 1};
+        const int apex = t.v[kOff[f]];
+        const double side = detail::tet_det(m, {tri.v[0], tri.v[1], tri.v[2], apex});
+        (side < 0 ? o.back : o.front) = {static_cast<int>(ti), f};
+      }
+    }
+  }
+  return owner;
+}
+
+// The region whose element sides a face group's *SURFACE names, by group:
+// the solid inside its facets on the exterior, when they agree; for a
+// group of interface facets only (a face glued whole to another solid's),
+// of the two groups on the interface the lower-numbered one takes the
+// lower-numbered region, as CAD numbers faces solid by solid (FreeCAD's
+// Face<j> of Solid<k>). Until 2026-11-30 both groups named the sides in the
+// region behind the facet, so one solid's face listed the other's elements.
+std::map<int, int> group_regions(const Mesh& m, const std::map<int, std::vector<size_t>>& by_group) {
+  std::map<int, int> region;
+  for (const auto& [g, tris] : by_group) {
+    int found = 0;
+    for (size_t i : tris) {
+      const Triangle& t = m.triangles[i];
+      if ((t.front == 0) == (t.back == 0)) continue;
+      const int r = std::max(t.front, t.back);
+      found = found == 0 || found == r ? r : -1;
+    }
+    if (found > 0) region[g] = found;
+  }
+  for (const auto& [g, tris] : by_group) {
+    if (region.count(g) || tris.empty()) continue;
+    const Triangle& t = m.triangles[tris.front()];
+    const std::vector<int> groups = face_groups_of(m, t.face);
+    if (groups.size() != 2 || t.front <= 0 || t.back <= 0 || t.front == t.back) continue;
+    const bool lower = g == std::min(groups[0], groups[1]);
+    region[g] = lower ? std::min(t.front, t.back) : std::max(t.front, t.back);
+  }
+  return region;
+}
+
 std::vector<std::pair<int, int>> triangle_owners(const Mesh& m) {
   using Key = std::array<int, 3>;
   auto key = [](Key k) {
@@ -193,13 +259,27 @@ void write_abaqus(const Mesh& m, const std::string& path, const WriteOptions&) {
       node_list(out, nodes);
     }
     const auto owner = triangle_owners(m);
+    const auto sides = triangle_side_owners(m);
+    const std::map<int, int> group_region = group_regions(m, by_group);
     for (const auto& [f, tris] : by_group) {
+      // The side in the group's region where the facet has one there.
+      const auto it = group_region.find(f);
+      const auto side_of = [&](size_t i) {
+        if (it != group_region.end()) {
+          const Triangle& t = m.triangles[i];
+          if (t.front == it->second && sides[i].front.first >= 0) return sides[i].front;
+          if (t.back == it->second && sides[i].back.first >= 0) return sides[i].back;
+        }
+        return owner[i];
+      };
       bool any = false;
-      for (size_t i : tris) any |= owner[i].first >= 0;
+      for (size_t i : tris) any |= side_of(i).first >= 0;
       if (!any) continue;
       out << "*SURFACE, NAME=" << face_set(f) << ", TYPE=ELEMENT\n";
-      for (size_t i : tris)
-        if (owner[i].first >= 0) out << owner[i].first + 1 << ", S" << owner[i].second + 1 << '\n';
+      for (size_t i : tris) {
+        const auto [tet, face] = side_of(i);
+        if (tet >= 0) out << tet + 1 << ", S" << face + 1 << '\n';
+      }
     }
   }
   for (const auto& [f, tris] : named_faces) {

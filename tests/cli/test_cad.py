@@ -385,6 +385,17 @@ for name, x0, bottom_on_top in (("overhang", 15, 50.0), ("resting", 5, 100.0)):
         check(flat == [100.0, 400.0],
               "%s block on a block: the groups in z = 10 are the top (400) and the block's bottom (100), "
               "%.0f of it on the top (%s)" % (name, bottom_on_top, flat))
+        # Each face's *SURFACE names its own solid's element sides: the
+        # bottom (Solid2's face) named Solid1's elements on the interface,
+        # whose pressure or contact then acted on the wrong solid (an FE
+        # tester, 2026-11-30).
+        _, elsets, _, surfaces = read_abaqus_deck(deck)
+        solid_of = {e[0]: set_name for set_name, es in elsets.items() for e in es}
+        areas = deck_surface_areas(deck)
+        owners = {round(areas[s_name][0]): sorted({solid_of[e] for e, _ in entries})
+                  for s_name, entries in surfaces.items() if areas[s_name][1] == {10.0}}
+        check(owners == {400: ["Solid1"], 100: ["Solid2"]},
+              "%s block on a block: the top's sides are Solid1's elements, the bottom's Solid2's (%s)" % (name, owners))
 
 # Second order on an edge where three faces meet: a cylinder standing on a
 # box, partly overhanging it, has its base circle between its side, the
