@@ -136,11 +136,20 @@ std::map<int, int> group_regions(const Mesh& m, const std::map<int, std::vector<
     }
     if (found > 0) region[g] = found;
   }
+  // Groups of interface facets only: the other side of the facet from the
+  // partner group's solid where that is known, else the numbering.
+  const std::map<int, int> known = region;
   for (const auto& [g, tris] : by_group) {
     if (region.count(g) || tris.empty()) continue;
     const Triangle& t = m.triangles[tris.front()];
     const std::vector<int> groups = face_groups_of(m, t.face);
     if (groups.size() != 2 || t.front <= 0 || t.back <= 0 || t.front == t.back) continue;
+    const int partner = groups[0] == g ? groups[1] : groups[0];
+    const auto other = known.find(partner);
+    if (other != known.end() && (other->second == t.front || other->second == t.back)) {
+      region[g] = other->second == t.front ? t.back : t.front;
+      continue;
+    }
     const bool lower = g == std::min(groups[0], groups[1]);
     region[g] = lower ? std::min(t.front, t.back) : std::max(t.front, t.back);
   }
@@ -432,7 +441,9 @@ void InpReader::read_id_comment(std::string_view line) {
   const size_t space = line.find(' ');
   if (space == std::string_view::npos) return;
   int64_t id = 0;
-  if (!Cursor::parse_int(line.substr(0, space), id) || id < (region ? 1 : 0) || id > INT32_MAX) return;
+  // Within what a name Region<k> or Face<k> can say (9 digits), so that the
+  // numbers after them cannot overflow.
+  if (!Cursor::parse_int(line.substr(0, space), id) || id < (region ? 1 : 0) || id > 999999999) return;
   const std::string name = upper(trim(line.substr(space + 1)));
   if (!name.empty()) (region ? region_id_of_name_ : face_id_of_name_).emplace(name, static_cast<int>(id));
 }
@@ -798,9 +809,19 @@ Mesh InpReader::read() {
   std::vector<int> region_of_set(set_names_.size(), 0);  // 0: not numbered yet
   int next_region = 1;
   std::set<int> claimed;
+  // The ids vdmesh's writer gave in comments first: they say what a name
+  // cannot (Zeta) or says otherwise (a region 1 named Region2).
+  for (size_t k = 0; k < set_names_.size(); ++k) {
+    const auto given = region_id_of_name_.find(upper(set_names_[k]));
+    if (given == region_id_of_name_.end() || !claimed.insert(given->second).second) continue;
+    region_of_set[k] = given->second;
+    next_region = std::max(next_region, given->second + 1);
+    if (detail::id_from_name(set_names_[k], "Region") != given->second) m_.region_names[given->second] = set_names_[k];
+  }
   for (size_t k = 0; k < set_names_.size(); ++k) {
     const int r = detail::id_from_name(set_names_[k], "Region");
-    if (r >= 0) region_of_set[k] = r, next_region = std::max(next_region, r + 1), claimed.insert(r);
+    if (r >= 0 && region_of_set[k] == 0 && claimed.insert(r).second)
+      region_of_set[k] = r, next_region = std::max(next_region, r + 1);
   }
   // Solid<k>, vdmesh's name for CAD solid k, keeps its number and its name
   // (numbered by the lowest element before 2026-11-30: Solid2 came back as
@@ -811,15 +832,6 @@ Mesh InpReader::read() {
     region_of_set[k] = r;
     next_region = std::max(next_region, r + 1);
     m_.region_names[r] = set_names_[k];
-  }
-  // Other names with the id vdmesh's writer gave them in a comment: Zeta,
-  // region 1, came back as region 2 when region 2's tetrahedra came first.
-  for (size_t k = 0; k < set_names_.size(); ++k) {
-    const auto given = region_id_of_name_.find(upper(set_names_[k]));
-    if (given == region_id_of_name_.end() || region_of_set[k] != 0 || !claimed.insert(given->second).second) continue;
-    region_of_set[k] = given->second;
-    next_region = std::max(next_region, given->second + 1);
-    m_.region_names[given->second] = set_names_[k];
   }
   for (Tetrahedron& t : m_.tets) {
     if (t.region < 0) continue;  // no ELSET: unknown
@@ -837,17 +849,23 @@ Mesh InpReader::read() {
   auto face_id = [&](const std::string& name) {
     auto it = face_of_name.find(name);
     if (it != face_of_name.end()) return it->second;
-    int k = detail::id_from_name(name, "Face");
-    if (k < 1) {
-      const auto given = face_id_of_name_.find(upper(name));
-      k = given != face_id_of_name_.end() && !face_ids_taken.count(given->second) ? given->second : next_face;
-      if (!name.empty()) m_.face_names[k] = name;
-    }
+    // The writer's comment first (Zeta, or a face 5 named Face7), then the
+    // name's own number, then the next free one.
+    const auto given = face_id_of_name_.find(upper(name));
+    int k = given != face_id_of_name_.end() && !face_ids_taken.count(given->second) ? given->second
+                                                                                     : detail::id_from_name(name, "Face");
+    if (k < 1) k = next_face;
+    if (!name.empty() && detail::id_from_name(name, "Face") != k) m_.face_names[k] = name;
     face_ids_taken.insert(k);
     next_face = std::max(next_face, k + 1);
     return face_of_name[name] = k;
   };
-  // Names "Face<k>" claim their ids before other names are numbered.
+  // Names with a comment's id, then names "Face<k>", claim their ids before
+  // other names are numbered.
+  for (const auto& [name, entries] : surface_sets_)
+    if (face_id_of_name_.count(upper(name))) face_id(name);
+  for (const Shell& s : shells_)
+    if (face_id_of_name_.count(upper(s.set))) face_id(s.set);
   for (const auto& [name, entries] : surface_sets_)
     if (detail::id_from_name(name, "Face") >= 1) face_id(name);
   for (const Shell& s : shells_)

@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <charconv>
 #include <cmath>
@@ -366,20 +367,42 @@ WriteTarget write_target(const std::string& path) {
 }
 
 void remove_stale_parts(const std::string& path) {
+  // Only the names vdmesh makes: PATH.part.<pid>.<n>, a file (a write's
+  // part), or PATH.part.<pid>.<6 characters>, a folder (vdmesh mesh -o's
+  // staging); ours, of a process that does not run here, and untouched for
+  // ten minutes (a writer in another process namespace, sharing the folder,
+  // would look dead by its pid). A user's x.msh.part.12.txt was removed by
+  // the first version of this (a review, 2026-11-30).
   namespace fs = std::filesystem;
   const fs::path target(path);
   const std::string prefix = target.filename().string() + ".part.";
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const auto digits = [](std::string_view s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
   std::error_code ec;
   for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (name.compare(0, prefix.size(), prefix) != 0) continue;
-    int64_t pid = 0;
-    const size_t dot = name.find('.', prefix.size());
-    if (dot == std::string::npos || !detail::Cursor::parse_int(std::string_view(name).substr(prefix.size(), dot - prefix.size()), pid) ||
-        pid <= 0 || pid > INT32_MAX || pid == ::getpid())
-      continue;
-    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // running, or not ours to ask
+    const std::string_view rest = std::string_view(name).substr(prefix.size());
+    const size_t dot = rest.find('.');
+    if (dot == std::string_view::npos || !digits(rest.substr(0, dot)) || dot > 9) continue;
+    const std::string_view tail = rest.substr(dot + 1);
+    struct stat st {};
+    if (::lstat(it->path().c_str(), &st) != 0 || st.st_uid != ::getuid()) continue;
+    const bool part_file = S_ISREG(st.st_mode) && digits(tail) && tail.size() <= 20;
+    const bool staging = S_ISDIR(st.st_mode) && tail.size() == 6;
+    if (!part_file && !staging) continue;
+    const long pid = std::stol(std::string(rest.substr(0, dot)));
+    if (pid <= 0 || pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    time_t newest = st.st_mtime;
+    if (staging)
+      for (fs::directory_iterator in(it->path(), ec), none; !ec && in != none; in.increment(ec)) {
+        struct stat inner {};
+        if (::lstat(in->path().c_str(), &inner) == 0) newest = std::max(newest, inner.st_mtime);
+      }
+    ec.clear();
+    if (std::time(nullptr) - newest < 600) continue;
     std::error_code ignored;
     fs::remove_all(it->path(), ignored);
   }

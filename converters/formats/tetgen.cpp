@@ -198,9 +198,18 @@ Mesh read_tetgen(const std::string& path) {
   Cursor in(data, node);
   in.set_comment('#');
   const int first = detail::read_tetgen_nodes(in, m);
-  if (exists(base + ".ele" + suffix)) read_ele(base + ".ele" + suffix, m, first);
+  // A member in the other kind belongs to this set when that kind has no
+  // node file, no set of its own (a .ele compressed alone was dropped).
+  const std::string other = gz ? "" : ".gz";
+  const bool other_set = exists(base + ".node" + other);
+  const auto member = [&](const char* ext) {
+    if (exists(base + ext + suffix)) return base + ext + suffix;
+    if (!other_set && exists(base + ext + other)) return base + ext + other;
+    return std::string();
+  };
+  if (const std::string ele = member(".ele"); !ele.empty()) read_ele(ele, m, first);
   bool markers = false;
-  if (exists(base + ".face" + suffix)) markers = read_face(base + ".face" + suffix, m, first);
+  if (const std::string face = member(".face"); !face.empty()) markers = read_face(face, m, first);
   detail::require_valid(m, path);
   detail::sides_from_tets(m);
   drop_inner_faces(m, markers);

@@ -373,10 +373,15 @@ gp_Pnt2d FaceProjector::uv_from(const gp_Pnt2d& start, const Vec3& p, double tol
     const double gu = su.Dot(r), gv = sv.Dot(r);
     const double u_was = u, v_was = v;
     u -= (c * gu - b * gv) / det, v -= (a * gv - b * gu) / det;
+    // Pushed past the surface's bounds: the nearest point may lie along the
+    // bound, which this step does not find; the global search decides.
+    // (A hair past, a vertex on the bound: clamped.)
+    const double du_slack = 1e-9 * (u1 - u0), dv_slack = 1e-9 * (v1 - v0);
+    if ((!u_periodic && (u < u0 - du_slack || u > u1 + du_slack)) ||
+        (!v_periodic && (v < v0 - dv_slack || v > v1 + dv_slack)))
+      break;
     if (!u_periodic) u = std::clamp(u, u0, u1);
     if (!v_periodic) v = std::clamp(v, v0, v1);
-    // Converged when the step taken (after the clamp) moves the point by less
-    // than the tolerance.
     if ((su * (u - u_was) + sv * (v - v_was)).Magnitude() > tolerance) continue;
     if (surface->Value(u, v).SquareDistance(q) > max_gap * max_gap) break;
     return near_period(gp_Pnt2d(u, v), start);

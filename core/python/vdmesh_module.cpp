@@ -76,29 +76,39 @@ void register_exceptions(py::module_& m) {
       "Bad use: an option or argument out of its range, arrays that do not fit together, an unknown file "
       "extension (exit code 2 of the command line). Also a ValueError.",
       py::make_tuple(py::handle(g_error), py::handle(PyExc_ValueError)));
+  // Messages and paths may hold a file name that is no UTF-8 (bytes paths):
+  // decoded with surrogateescape, as Python decodes such names, where
+  // PyErr_SetString lost the message and the path raised UnicodeDecodeError.
+  static const auto text = [](const std::string& s) {
+    return py::reinterpret_steal<py::object>(
+        PyUnicode_DecodeUTF8(s.data(), static_cast<Py_ssize_t>(s.size()), "surrogateescape"));
+  };
+  static const auto set_error = [](PyObject* type, const char* what) { PyErr_SetObject(type, text(what).ptr()); };
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const RecoveryWithReport& e) {
-      py::object error = py::handle(g_recovery_error)(e.what());
+      py::object error = py::handle(g_recovery_error)(text(e.what()));
       error.attr("report") = report_dict(e.report);
       error.attr("mesh") = py::cast(e.surface);
       PyErr_SetObject(g_recovery_error, error.ptr());
     } catch (const RecoveryError& e) {
-      PyErr_SetString(g_recovery_error, e.what());
+      set_error(g_recovery_error, e.what());
     } catch (const FileError& e) {
       // OSError's own text: "[Errno 2] cannot write: No such file or directory: 'path'".
       std::string message = e.what();
       const std::string named = e.path() + ": ";
       if (message.compare(0, named.size(), named) == 0) message.erase(0, named.size());
-      py::object error = py::handle(g_file_error)(e.error_number(), message, e.path());
+      py::object path = py::reinterpret_steal<py::object>(
+          PyUnicode_DecodeFSDefaultAndSize(e.path().data(), static_cast<Py_ssize_t>(e.path().size())));
+      py::object error = py::handle(g_file_error)(e.error_number(), text(message), path);
       PyErr_SetObject(g_file_error, error.ptr());
     } catch (const InputError& e) {
-      PyErr_SetString(g_input_error, e.what());
+      set_error(g_input_error, e.what());
     } catch (const UsageError& e) {
-      PyErr_SetString(g_usage_error, e.what());
+      set_error(g_usage_error, e.what());
     } catch (const CancelledError& e) {
-      PyErr_SetString(g_cancelled, e.what());
+      set_error(g_cancelled, e.what());
     }
   });
 }

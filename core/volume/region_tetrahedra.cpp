@@ -157,9 +157,17 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
       if (t.back == kUnknownRegion) t.back = sides[f][1] >= 0 ? region_of[sides[f][1]] : 0;
     }
   } else {
+    // A side tagged 0 is exterior still: a cavity whose walls say so stays
+    // empty (it was filled as a region once tags of 0 alone no longer went
+    // the tags' way, in a build of 2026-11-30).
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+      const Triangle& t = m.triangles[f];
+      if (t.front == 0 && sides[f][0] >= 0) region_of[sides[f][0]] = 0;
+      if (t.back == 0 && sides[f][1] >= 0) region_of[sides[f][1]] = 0;
+    }
     int next = 1;
     for (int c = 0; c < components; ++c)
-      if (c != outside) region_of[c] = next++;
+      if (c != outside && region_of[c] == kUnknownRegion) region_of[c] = next++;
     for (size_t f = 0; f < m.triangles.size(); ++f) {
       m.triangles[f].front = sides[f][0] >= 0 ? region_of[sides[f][0]] : 0;
       m.triangles[f].back = sides[f][1] >= 0 ? region_of[sides[f][1]] : 0;

@@ -150,6 +150,19 @@ class MeshFromArrays(unittest.TestCase):
         odd = os.path.join(os.fsencode(os.path.dirname(path)), b"lat\xe9.vtu")
         vdmesh.write(made, odd)
         self.assertEqual(len(vdmesh.read(odd).tets), half)
+        # Errors naming such a file: a FileError with the name as Python
+        # decodes it, and a message (UnicodeDecodeError and an empty
+        # InputError before).
+        missing = os.path.join(os.fsencode(os.path.dirname(path)), b"lat\xe9_missing.vtu")
+        with self.assertRaises(vdmesh.FileError) as e:
+            vdmesh.read(missing)
+        self.assertEqual(os.fsencode(e.exception.filename), missing)
+        garbled = os.path.join(os.fsencode(os.path.dirname(path)), b"lat\xe9_bad.off")
+        with open(garbled, "w") as f:
+            f.write("OFF\n3 1 0\n0 0 zero\n")
+        with self.assertRaises(vdmesh.InputError) as e:
+            vdmesh.read(garbled)
+        self.assertIn("_bad.off", str(e.exception))
 
     def test_two_regions_with_interface(self):
         # Two unit boxes side by side; the shared square x = 1 is one interface

@@ -4,6 +4,7 @@
 // the interface triangles between the regions (face 7).
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -398,6 +399,14 @@ TEST(ConvertersRoundTrip, TetgenSetIsReplacedWhole) {
   const std::string lone = test::temp_path("lone");
   io::write_mesh(volume, lone + ".node.gz");
   EXPECT_EQ(io::read_mesh(lone + ".node").tets.size(), volume.tets.size());
+  // A plain set whose .ele alone is compressed, with no compressed set
+  // beside it: the .ele.gz is its own (it was dropped, 0 tetrahedra).
+  const std::string mixed = test::temp_path("mixed"), donor = test::temp_path("donor");
+  io::write_mesh(volume, mixed + ".node");
+  io::write_mesh(volume, donor + ".node.gz");
+  std::filesystem::remove(mixed + ".ele");
+  std::filesystem::rename(donor + ".ele.gz", mixed + ".ele.gz");
+  EXPECT_EQ(io::read_mesh(mixed + ".node").tets.size(), volume.tets.size());
 }
 
 // Two threads writing one path while a third reads it: each write goes to a
@@ -462,7 +471,12 @@ TEST(ConvertersRoundTrip, VtuKeepsNames) {
 // (647 vertices for 185 triangles), and points TetGen had to keep in a .poly.
 TEST(ConvertersRoundTrip, SurfaceFormatsOfAVolumeMeshListTheBoundaryPoints) {
   Mesh m = cube_tets();
-  m.points.push_back({0.5, 0.5, 0.5});  // a point no triangle uses
+  // A point no triangle uses, first: the others' numbers change.
+  m.points.insert(m.points.begin(), {0.5, 0.5, 0.5});
+  for (Triangle& t : m.triangles)
+    for (int& v : t.v) ++v;
+  for (Tetrahedron& t : m.tets)
+    for (int& v : t.v) ++v;
   std::set<int> used;
   for (const Triangle& t : m.triangles) used.insert(t.v.begin(), t.v.end());
   ASSERT_LT(used.size(), m.points.size());
@@ -504,6 +518,57 @@ TEST(ConvertersRoundTrip, AbaqusKeepsTheIdsOfNamedSets) {
   for (const Tetrahedron& t : m.tets) ++count_in[t.region];
   for (const Tetrahedron& t : back.tets) ++count_back[t.region];
   EXPECT_EQ(count_back, count_in);
+  // A name that looks like another id: the comment wins (region 1 named
+  // Region2 came back as region 2, and Beta as 3).
+  m.region_names = {{1, "Region2"}, {2, "Beta"}};
+  io::write_mesh(m, path);
+  const Mesh again = io::read_mesh(path);
+  EXPECT_EQ(again.region_names, m.region_names);
+  std::map<int, size_t> count_again;
+  for (const Tetrahedron& t : again.tets) ++count_again[t.region];
+  EXPECT_EQ(count_again, count_in);
+}
+
+// On an interface each face's *SURFACE names its own solid's element sides:
+// its solid from its facets on the exterior, or for a face glued whole the
+// other side from its partner's solid (the numbering rule gave both the
+// same solid where the partner was known otherwise, a review's case).
+TEST(ConvertersRoundTrip, AbaqusInterfaceSurfacesNameTheirOwnSolid) {
+  Mesh m = cube_tets();
+  int interface = -1;
+  for (Triangle& t : m.triangles) {
+    if (t.front > 0 && t.back > 0) interface = t.face;
+    else if (t.back == 1 || t.front == 1) t.face = 20;  // region 1's outside, in group 20
+  }
+  ASSERT_GE(interface, 0);
+  m.face_groups[interface] = {5, 20};
+  m.face_names = {{5, "Glued"}, {20, "Outer"}};
+  const std::string path = test::temp_path("interface_sides.inp");
+  io::write_mesh(m, path);
+  // Element -> region, and each *SURFACE's elements on the interface.
+  std::ifstream in(path);
+  std::map<int, std::string> set_of;
+  std::map<std::string, std::set<std::string>> sets_of_surface;
+  std::string line, elset, surface;
+  std::set<int> interface_elements;
+  for (size_t i = 0; i < m.tets.size(); ++i) {
+    int on = 0;
+    for (const Triangle& t : m.triangles)
+      if (t.face == interface) {
+        std::set<int> tv(t.v.begin(), t.v.end()), vv(m.tets[i].v.begin(), m.tets[i].v.end());
+        on |= std::includes(vv.begin(), vv.end(), tv.begin(), tv.end());
+      }
+    if (on) interface_elements.insert(static_cast<int>(i) + 1);
+  }
+  while (std::getline(in, line)) {
+    if (line.rfind("*ELEMENT", 0) == 0) elset = line.substr(line.find("ELSET=") + 6), surface.clear();
+    else if (line.rfind("*SURFACE", 0) == 0) surface = line.substr(line.find("NAME=") + 5, line.find(',', line.find("NAME=")) - line.find("NAME=") - 5), elset.clear();
+    else if (line.rfind("*", 0) == 0) elset.clear(), surface.clear();
+    else if (!elset.empty()) set_of[std::stoi(line)] = elset;
+    else if (!surface.empty() && interface_elements.count(std::stoi(line))) sets_of_surface[surface].insert(set_of.at(std::stoi(line)));
+  }
+  EXPECT_EQ(sets_of_surface["Outer"], std::set<std::string>{"Region1"});
+  EXPECT_EQ(sets_of_surface["Glued"], std::set<std::string>{"Region2"});
 }
 
 // A second-order surface whose triangles a reader turns to one side (Gmsh
@@ -530,8 +595,10 @@ TEST(ConvertersRoundTrip, TurnedSecondOrderTrianglesKeepTheirMidNodes) {
 }
 
 // Parts left beside a file by writes of processes that are gone are removed
-// at the next write; a running process's are not.
+// at the next write, once untouched for ten minutes; a running process's,
+// fresh ones and a user's files of similar names are not.
 TEST(ConvertersRoundTrip, StalePartsOfDeadWritersAreRemoved) {
+  namespace fs = std::filesystem;
   const std::string path = test::temp_path("stale.msh");
   const pid_t child = fork();
   if (child == 0) _exit(0);
@@ -539,16 +606,24 @@ TEST(ConvertersRoundTrip, StalePartsOfDeadWritersAreRemoved) {
   waitpid(child, nullptr, 0);
   const std::string dead = path + ".part." + std::to_string(child) + ".0";
   const std::string dead_folder = path + ".part." + std::to_string(child) + ".Ab12Cd";
+  const std::string fresh = path + ".part." + std::to_string(child) + ".1";
   const std::string alive = path + ".part." + std::to_string(getppid()) + ".0";
-  std::ofstream(dead) << "cut";
-  std::filesystem::create_directory(dead_folder);
+  const std::string users = path + ".part." + std::to_string(child) + ".txt";
+  const std::string users_folder = path + ".part." + std::to_string(child) + ".d";
+  for (const std::string& f : {dead, fresh, alive, users}) std::ofstream(f) << "cut";
+  fs::create_directory(dead_folder);
+  fs::create_directory(users_folder);
   std::ofstream(dead_folder + "/stale.msh") << "cut";
-  std::ofstream(alive) << "another run's";
+  const auto old = fs::file_time_type::clock::now() - std::chrono::hours(1);
+  for (const std::string& f : {dead, dead_folder, dead_folder + "/stale.msh", alive, users, users_folder})
+    fs::last_write_time(f, old);
   io::write_mesh(cube_tets(), path);
-  EXPECT_FALSE(std::filesystem::exists(dead));
-  EXPECT_FALSE(std::filesystem::exists(dead_folder));
-  EXPECT_TRUE(std::filesystem::exists(alive));
-  std::filesystem::remove(alive);
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_FALSE(fs::exists(dead_folder));
+  for (const std::string& f : {fresh, alive, users, users_folder}) {
+    EXPECT_TRUE(fs::exists(f)) << f;
+    fs::remove_all(f);
+  }
 }
 
 TEST(ConvertersRoundTrip, GmshKeepsNamesAndSparseTags) {

@@ -171,6 +171,20 @@ TEST(PaperCases, PartlyGivenTagsAreKept) {
   for (int face : faces_out) EXPECT_TRUE(faces_given.count(face) || face > *faces_given.rbegin()) << face;
   EXPECT_GT(r.report.face_patches_assigned, 0);
 
+  // Tags of the exterior alone (0 on the outer box's outside and on the
+  // inner box's inside, -1 elsewhere): the inner box is a cavity, not a
+  // region (a build of the same day filled it, a reviewer's case).
+  Mesh cavity = test::box_in_box();
+  for (Triangle& t : cavity.triangles) {
+    const bool inner = t.back == 2 || t.front == 2;
+    t.front = inner ? kUnknownRegion : 0;
+    t.back = inner ? 0 : kUnknownRegion;
+  }
+  const ConformityReport cv = check_conformity(mesh_surface(cavity, options()).mesh);
+  EXPECT_TRUE(cv.ok()) << cv.summary();
+  ASSERT_EQ(cv.region_volume.size(), 2u);
+  EXPECT_NEAR(cv.region_volume[1], 26.0, 1e-9);
+
   // A region no tag names takes the id after the largest given.
   Mesh unnamed = test::two_boxes_sharing_a_face(3);
   for (Triangle& t : unnamed.triangles)
