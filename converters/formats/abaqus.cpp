@@ -79,14 +79,10 @@ void node_list(detail::Out& out, const std::vector<int>& ids) {
   for (size_t i = 0; i < ids.size(); ++i) out << ids[i] + 1 << ((i + 1) % 16 == 0 || i + 1 == ids.size() ? "\n" : ", ");
 }
 
-// For each triangle: (tetrahedron, face 0..3) having it as a face, preferring
-// the tetrahedron behind it (its back region); (-1, -1) when none.
-// For each triangle, the (tetrahedron, face) on its front side and on its
-// back side ({-1, -1} where none).
-struct SideOwners {
-  std::pair<int, int> front{-1, -1}, back{-1, -1};
-};
-std::vector<SideOwners> triangle_side_owners(const Mesh& m) {
+// Calls visit(tet, face, triangle) for every tetrahedron face that is a
+// triangle of the mesh (face: Abaqus's S1..S4 as 0..3).
+template <class Visit>
+void for_each_tet_face_on_triangle(const Mesh& m, Visit visit) {
   using Key = std::array<int, 3>;
   auto key = [](Key k) {
     std::sort(k.begin(), k.end());
@@ -96,24 +92,33 @@ std::vector<SideOwners> triangle_side_owners(const Mesh& m) {
   index.reserve(m.triangles.size());
   for (size_t i = 0; i < m.triangles.size(); ++i) index.push_back({key(m.triangles[i].v), static_cast<int>(i)});
   std::sort(index.begin(), index.end());
-  std::vector<SideOwners> owner(m.triangles.size());
   for (size_t ti = 0; ti < m.tets.size(); ++ti) {
     const Tetrahedron& t = m.tets[ti];
     for (int f = 0; f < 4; ++f) {
       const Key k = key({t.v[kFaces[f][0]], t.v[kFaces[f][1]], t.v[kFaces[f][2]]});
       for (auto it = std::lower_bound(index.begin(), index.end(), std::make_pair(k, -1));
-           it != index.end() && it->first == k; ++it) {
-        const Triangle& tri = m.triangles[static_cast<size_t>(it->second)];
-        SideOwners& o = owner[static_cast<size_t>(it->second)];
-        // The corner off face f lies behind the triangle when it is on the
-        // side its normal points away from.
-        static constexpr int kOff[4] = {3, 2, 0, 1};
-        const int apex = t.v[kOff[f]];
-        const double side = detail::tet_det(m, {tri.v[0], tri.v[1], tri.v[2], apex});
-        (side < 0 ? o.back : o.front) = {static_cast<int>(ti), f};
-      }
+           it != index.end() && it->first == k; ++it)
+        visit(static_cast<int>(ti), f, static_cast<size_t>(it->second));
     }
   }
+}
+
+// For each triangle, the (tetrahedron, face) on its front side and on its
+// back side ({-1, -1} where none).
+struct SideOwners {
+  std::pair<int, int> front{-1, -1}, back{-1, -1};
+};
+std::vector<SideOwners> triangle_side_owners(const Mesh& m) {
+  std::vector<SideOwners> owner(m.triangles.size());
+  for_each_tet_face_on_triangle(m, [&](int ti, int f, size_t i) {
+    const Triangle& tri = m.triangles[i];
+    // The corner off face f lies behind the triangle when it is on the
+    // side its normal points away from.
+    static constexpr int kOff[4] = {3, 2, 0, 1};
+    const int apex = m.tets[static_cast<size_t>(ti)].v[kOff[f]];
+    const double side = detail::tet_det(m, {tri.v[0], tri.v[1], tri.v[2], apex});
+    (side < 0 ? owner[i].back : owner[i].front) = {ti, f};
+  });
   return owner;
 }
 
@@ -156,29 +161,14 @@ std::map<int, int> group_regions(const Mesh& m, const std::map<int, std::vector<
   return region;
 }
 
+// For each triangle: (tetrahedron, face 0..3) having it as a face, preferring
+// the tetrahedron behind it (its back region); (-1, -1) when none.
 std::vector<std::pair<int, int>> triangle_owners(const Mesh& m) {
-  using Key = std::array<int, 3>;
-  auto key = [](Key k) {
-    std::sort(k.begin(), k.end());
-    return k;
-  };
-  std::vector<std::pair<Key, int>> index;
-  index.reserve(m.triangles.size());
-  for (size_t i = 0; i < m.triangles.size(); ++i) index.push_back({key(m.triangles[i].v), static_cast<int>(i)});
-  std::sort(index.begin(), index.end());
   std::vector<std::pair<int, int>> owner(m.triangles.size(), {-1, -1});
-  for (size_t ti = 0; ti < m.tets.size(); ++ti) {
-    const Tetrahedron& t = m.tets[ti];
-    for (int f = 0; f < 4; ++f) {
-      const Key k = key({t.v[kFaces[f][0]], t.v[kFaces[f][1]], t.v[kFaces[f][2]]});
-      for (auto it = std::lower_bound(index.begin(), index.end(), std::make_pair(k, -1));
-           it != index.end() && it->first == k; ++it) {
-        auto& o = owner[static_cast<size_t>(it->second)];
-        if (o.first < 0 || t.region == m.triangles[static_cast<size_t>(it->second)].back)
-          o = {static_cast<int>(ti), f};
-      }
-    }
-  }
+  for_each_tet_face_on_triangle(m, [&](int ti, int f, size_t i) {
+    auto& o = owner[i];
+    if (o.first < 0 || m.tets[static_cast<size_t>(ti)].region == m.triangles[i].back) o = {ti, f};
+  });
   return owner;
 }
 
