@@ -22,11 +22,12 @@
 #include <unordered_map>
 
 namespace vd::io::detail {
-namespace {
 
 bool ends_with_ci(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && iequals(s.substr(s.size() - suffix.size()), suffix);
 }
+
+namespace {
 
 // "path: what: the system's reason", with the error number (taken before
 // anything else can change errno).
@@ -638,6 +639,10 @@ int id_from_name(std::string_view name, std::string_view prefix) {
 
 namespace {
 
+// Tetrahedron edges in Mesh::TetMidNodes order, and an order-free key of an edge.
+constexpr int kTetEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+uint64_t edge_key(int a, int b) { return (uint64_t(std::min(a, b)) << 32) | uint32_t(std::max(a, b)); }
+
 // Second order: a mid-edge node belongs to one edge, the same in every
 // element that lists it, and is no element's corner. Tetrahedra given new
 // corners beside the old rows of mid-edge nodes were written with nodes
@@ -651,7 +656,7 @@ void check_mid_nodes(const Mesh& m, const std::string& name) {
   for (const Triangle& t : m.triangles)
     for (int v : t.v) edge_of[static_cast<size_t>(v)] = kCorner;
   const auto claim = [&](int node, int a, int b, const char* what, size_t i) {
-    const uint64_t key = (uint64_t(std::min(a, b)) << 32) | uint32_t(std::max(a, b));
+    const uint64_t key = edge_key(a, b);
     uint64_t& e = edge_of[static_cast<size_t>(node)];
     if (e == kFree) e = key;
     if (e == key) return;
@@ -659,7 +664,6 @@ void check_mid_nodes(const Mesh& m, const std::string& name) {
                      (e == kCorner ? " has a corner of an element as a mid-edge node"
                                    : " has another edge's mid-edge node (its mid-edge nodes do not follow its corners)"));
   };
-  static constexpr int kTetEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
   for (size_t i = 0; i < m.tet_mid.size(); ++i)
     for (int e = 0; e < 6; ++e)
       claim(m.tet_mid[i][e], m.tets[i].v[kTetEdge[e][0]], m.tets[i].v[kTetEdge[e][1]], "tetrahedron", i);
@@ -706,18 +710,16 @@ void require_valid(const Mesh& m, const std::string& name) {
 
 void complete_triangle_mids(Mesh& m, const std::string& name) {
   if (m.tet_mid.empty() || m.tets.empty() || m.triangles.empty() || !m.triangle_mid.empty()) return;
-  static constexpr int kTetEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
-  const auto key = [](int a, int b) { return (uint64_t(std::min(a, b)) << 32) | uint32_t(std::max(a, b)); };
   std::unordered_map<uint64_t, int> mid_of_edge;
   mid_of_edge.reserve(m.tets.size() * 2);
   for (size_t t = 0; t < m.tets.size(); ++t)
     for (int e = 0; e < 6; ++e)
-      mid_of_edge.emplace(key(m.tets[t].v[kTetEdge[e][0]], m.tets[t].v[kTetEdge[e][1]]), m.tet_mid[t][e]);
+      mid_of_edge.emplace(edge_key(m.tets[t].v[kTetEdge[e][0]], m.tets[t].v[kTetEdge[e][1]]), m.tet_mid[t][e]);
   std::vector<TriMidNodes> mids(m.triangles.size());
   for (size_t f = 0; f < m.triangles.size(); ++f)
     for (int e = 0; e < 3; ++e) {
       const int a = m.triangles[f].v[e], b = m.triangles[f].v[(e + 1) % 3];
-      const auto it = mid_of_edge.find(key(a, b));
+      const auto it = mid_of_edge.find(edge_key(a, b));
       if (it == mid_of_edge.end())
         throw InputError(name + ": triangle " + std::to_string(f + 1) +
                          " is first order and an edge of it is no edge of the second-order tetrahedra, so it has "

@@ -58,6 +58,7 @@ std::string strip_extension(const std::string& path);
 std::string to_lower(std::string_view s);
 bool iequals(std::string_view a, std::string_view b);
 bool starts_with_ci(std::string_view s, std::string_view prefix);
+bool ends_with_ci(std::string_view s, std::string_view suffix);
 
 // Never reserve more than the file could hold: counts come from the input.
 inline size_t capped(uint64_t count, size_t file_bytes, size_t min_bytes_per_item) {

@@ -188,7 +188,7 @@ Mesh read_tetgen(const std::string& path) {
   const std::string base = detail::tetgen_base(path);
   // One set: compressed when the path says so (or only the compressed node
   // file is there), else plain; the other kind's files are another set.
-  const bool gz = (path.size() > 3 && detail::iequals(path.substr(path.size() - 3), ".gz")) ||
+  const bool gz = detail::ends_with_ci(path, ".gz") ||
                   (!exists(base + ".node") && exists(base + ".node.gz"));
   const std::string suffix = gz ? ".gz" : "";
   const std::string node = base + ".node" + suffix;
@@ -223,7 +223,7 @@ Mesh read_tetgen(const std::string& path) {
 // tetrahedron node 22 does not exist", or a stale tetrahedron).
 std::vector<std::string> tetgen_set_files(const std::string& path) {
   const std::string base = detail::tetgen_base(path);
-  const bool gz = path.size() > 3 && detail::iequals(path.substr(path.size() - 3), ".gz");
+  const bool gz = detail::ends_with_ci(path, ".gz");
   std::vector<std::string> files;
   for (const char* ext : {".node", ".ele", ".face"}) files.push_back(base + ext + (gz ? ".gz" : ""));
   return files;
@@ -231,7 +231,7 @@ std::vector<std::string> tetgen_set_files(const std::string& path) {
 
 void write_tetgen(const Mesh& m, const std::string& path, const WriteOptions&) {
   const std::string base = detail::tetgen_base(path);
-  const bool gz = path.size() > 3 && detail::iequals(path.substr(path.size() - 3), ".gz");
+  const bool gz = detail::ends_with_ci(path, ".gz");
   const std::string suffix = gz ? ".gz" : "";
   std::vector<std::string> written = {base + ".node" + suffix};
   if (!m.tets.empty()) written.push_back(base + ".ele" + suffix);

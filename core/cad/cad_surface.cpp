@@ -480,9 +480,7 @@ class CadGeometry : public SurfaceGeometry {
   Vec3 on_face(int number, const Vec3& p) const {
     const int fi = cad_.index_of_face_number(number);
     if (fi < 0) return p;
-    auto it = projectors_.find(fi);
-    if (it == projectors_.end()) it = projectors_.emplace(fi, FaceProjector(cad_.faces[fi])).first;
-    const FaceProjector& face = it->second;
+    const FaceProjector& face = projector(fi);
     return face.valid() ? face.point(face.uv(p, 1e-9 * cad_.diagonal)) : p;
   }
 
