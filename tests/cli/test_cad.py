@@ -175,6 +175,23 @@ check(len(errors) == 3 and errors[0] > errors[1] > errors[2],
       "short cylinder volume error shrinks with the size: %s" % ", ".join("%.4f %%" % (100 * e) for e in errors))
 check(len(errors) == 3 and errors[2] < 0.001, "short cylinder at size 0.25: volume error under 0.1 %")
 
+# A thin rod sunk into a plate (radius 1, its axis 0.5 under the top), at
+# the default size (5.7, chord height 0.285): the chord height alone let the
+# 120-degree strip above the plate be crossed by single chords, and its
+# face kept 95.6 % of its area (gmsh_dlr_f6.brep's Face74, a radius-4
+# strip: 86.8 %). Chords across a cylinder or torus now span 60 degrees at
+# most.
+rod = make_brep("rod_on_plate", lambda occ: occ.fuse([(3, occ.addBox(0, 0, 0, 100, 100, 20))],
+                                                     [(3, occ.addCylinder(10, 50, 19.5, 80, 0, 0, 1))]))
+code, rep, _, err = mesh(rod, "--quiet")
+check(code == 0, "rod on a plate meshes (exit %s: %s)" % (code, err.strip()[-200:]))
+if code == 0:
+    half_rod = np.pi * 1 * 80 * 2 / 3  # the 120 degrees above the plate
+    face = min(rep["cad"]["areas"], key=lambda a: abs(a["cad"] - half_rod))
+    check(abs(face["cad"] - half_rod) < 1e-6 * half_rod and abs(face["mesh"] / face["cad"] - 1) < 0.02,
+          "rod on a plate: the rod's %s has %.3f of its CAD area %.4g (within 2 %%)"
+          % (face["name"], face["mesh"] / face["cad"], face["cad"]))
+
 # --angular-deflection: at size 2 the disc's circles are OpenCASCADE's
 # chords alone; 10 degrees instead of 20 halves them, and the volume lost
 # to them drops about fourfold (an inscribed polygon loses about t^2/6).
