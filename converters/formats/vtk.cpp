@@ -59,7 +59,10 @@ class LegacyReader {
   detail::VtkCellRoles roles_of(const std::string& name);
   // A cell data array: its values go to the tetrahedra or triangles.
   void cell_array(const std::string& name, uint64_t n, std::string_view type);
-  void attributes(uint64_t n, bool cell_data);
+  // `dataset`: the field data of the data set itself, before any section.
+  void attributes(uint64_t n, bool cell_data, bool dataset = false);
+  // The region and face names of kVtkNamesArray (other types skipped).
+  void names(uint64_t count, std::string_view type);
   void skip_metadata();
   void expect_word(std::string_view w);
 
@@ -325,7 +328,17 @@ void LegacyReader::skip_metadata() {
   }
 }
 
-void LegacyReader::attributes(uint64_t n, bool cell_data) {
+void LegacyReader::names(uint64_t count, std::string_view type) {
+  if (!detail::iequals(type, "unsigned_char")) return skip_values(count, type);
+  std::string text(count, '\0');
+  values(count, type, [&](uint64_t i, double v) {
+    if (!(v >= 0 && v <= 255)) in_.fail("a byte of " + std::string(detail::kVtkNamesArray) + " out of 0..255");
+    text[i] = static_cast<char>(static_cast<unsigned char>(v));
+  });
+  detail::read_vtk_names_text(text, m_);
+}
+
+void LegacyReader::attributes(uint64_t n, bool cell_data, bool dataset) {
   // Runs until the next CELL_DATA / POINT_DATA or the end of the file.
   for (;;) {
     if (in_.at_end()) return;
@@ -360,6 +373,7 @@ void LegacyReader::attributes(uint64_t n, bool cell_data) {
         const std::string type(in_.token("an array type"));
         if (ncomp == 0 || tuples > in_.remaining()) in_.fail("bad field array size");
         if (cell_data && ncomp == 1 && tuples == n) cell_array(name, n, type);
+        else if (dataset && ncomp == 1 && name == detail::kVtkNamesArray) names(tuples, type);
         else skip_values(ncomp * tuples, type);
       }
       continue;
@@ -425,7 +439,7 @@ Mesh LegacyReader::read() {
       attributes(in_.count("the number of points"), false);
     } else if (keyword == "field" || keyword == "metadata") {
       in_.seek(in_.pos() - keyword.size());
-      attributes(0, false);
+      attributes(0, false, true);
     } else {
       in_.fail("unexpected keyword '" + keyword.substr(0, 40) + "'");
     }
@@ -449,7 +463,20 @@ void write_vtk(const Mesh& m, const std::string& path, const WriteOptions& optio
   const size_t ncells = c.size();
   detail::Out out(path);
   out << "# vtk DataFile Version 3.0\nwritten by vdmesh\n" << (bin ? "BINARY" : "ASCII")
-      << "\nDATASET UNSTRUCTURED_GRID\nPOINTS " << m.points.size() << " double\n";
+      << "\nDATASET UNSTRUCTURED_GRID\n";
+  // Region and face names in the data set's field data (vtk_common.h).
+  const std::string names = detail::vtk_names_text(m);
+  if (!names.empty()) {
+    out << "FIELD FieldData 1\n" << detail::kVtkNamesArray << " 1 " << names.size() << " unsigned_char\n";
+    if (bin) {
+      for (char ch : names) out.raw_be(static_cast<uint8_t>(ch));
+      out << '\n';
+    } else {
+      detail::write_text_values(out, names.size(), 12,
+                                [&](size_t i) { return static_cast<int>(static_cast<unsigned char>(names[i])); });
+    }
+  }
+  out << "POINTS " << m.points.size() << " double\n";
   for (const Vec3& p : m.points) {
     if (bin) out.raw_be(p.x), out.raw_be(p.y), out.raw_be(p.z);
     else out << p.x << ' ' << p.y << ' ' << p.z << '\n';

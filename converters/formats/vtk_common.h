@@ -7,8 +7,10 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "io_util.h"
 #include "mesh/mesh.h"
 
 namespace vd::io::detail {
@@ -163,5 +165,41 @@ class VtkCellView {
   size_t tets_;
   int tet_nodes_, tri_nodes_;
 };
+
+// Region and face names (Solid1, Face3), which VTK has no place for: the
+// bytes of "region <id> <name>" and "face <id> <name>" lines in an unsigned
+// char array of the data set's field data, which VTK, ParaView and meshio
+// read as numbers and vdmesh reads back (both formats: a .vtu or .vtk gave
+// Region1 for Solid1, and a deck's *SOLID SECTION, ELSET=Solid1 named
+// nothing).
+inline constexpr const char* kVtkNamesArray = "vdmesh_names";
+
+// One line per name (a name with a line break in it is left out).
+inline std::string vtk_names_text(const Mesh& m) {
+  std::string text;
+  for (const auto& [kind, names] : {std::pair{"region", &m.region_names}, std::pair{"face", &m.face_names}})
+    for (const auto& [id, name] : *names)
+      if (!name.empty() && name.find_first_of("\r\n") == std::string::npos)
+        text += std::string(kind) + " " + std::to_string(id) + " " + name + "\n";
+  return text;
+}
+
+// Reads vtk_names_text's lines back; other lines are skipped.
+inline void read_vtk_names_text(std::string_view text, Mesh& m) {
+  while (!text.empty()) {
+    const size_t end = std::min(text.find('\n'), text.size());
+    const std::string_view line = text.substr(0, end);
+    text.remove_prefix(std::min(end + 1, text.size()));
+    const size_t a = line.find(' ');
+    if (a == std::string_view::npos) continue;
+    const size_t b = line.find(' ', a + 1);
+    if (b == std::string_view::npos || b + 1 >= line.size()) continue;
+    int64_t id = 0;
+    if (!Cursor::parse_int(line.substr(a + 1, b - a - 1), id) || id < INT32_MIN || id > INT32_MAX) continue;
+    const std::string_view kind = line.substr(0, a);
+    auto& names = kind == "region" ? m.region_names : m.face_names;
+    if (kind == "region" || kind == "face") names[static_cast<int>(id)] = std::string(line.substr(b + 1));
+  }
+}
 
 }  // namespace vd::io::detail

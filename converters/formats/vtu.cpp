@@ -147,37 +147,6 @@ bool Base64Reader::read(char* out, size_t cap, size_t& got) {
 // ---------------------------------------------------------------------------
 // writer
 
-constexpr const char* kNamesArray = "vdmesh_names";
-
-// "region <id> <name>" and "face <id> <name>" lines, one per name (a name
-// with a line break in it is left out).
-std::string names_text(const Mesh& m) {
-  std::string text;
-  for (const auto& [kind, names] : {std::pair{"region", &m.region_names}, std::pair{"face", &m.face_names}})
-    for (const auto& [id, name] : *names)
-      if (!name.empty() && name.find_first_of("\r\n") == std::string::npos)
-        text += std::string(kind) + " " + std::to_string(id) + " " + name + "\n";
-  return text;
-}
-
-// Reads names_text's lines back; other lines are skipped.
-void read_names_text(std::string_view text, Mesh& m) {
-  while (!text.empty()) {
-    const size_t end = std::min(text.find('\n'), text.size());
-    const std::string_view line = text.substr(0, end);
-    text.remove_prefix(std::min(end + 1, text.size()));
-    const size_t a = line.find(' ');
-    if (a == std::string_view::npos) continue;
-    const size_t b = line.find(' ', a + 1);
-    if (b == std::string_view::npos || b + 1 >= line.size()) continue;
-    int64_t id = 0;
-    if (!Cursor::parse_int(line.substr(a + 1, b - a - 1), id) || id < INT32_MIN || id > INT32_MAX) continue;
-    const std::string_view kind = line.substr(0, a);
-    auto& names = kind == "region" ? m.region_names : m.face_names;
-    if (kind == "region" || kind == "face") names[static_cast<int>(id)] = std::string(line.substr(b + 1));
-  }
-}
-
 void write_vtu(const Mesh& m, const std::string& path, const WriteOptions& options) {
   const bool bin = options.binary;
   const detail::VtkCellView c(m);
@@ -187,14 +156,10 @@ void write_vtu(const Mesh& m, const std::string& path, const WriteOptions& optio
   out << "<?xml version=\"1.0\"?>\n"
          "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
          "  <UnstructuredGrid>\n";
-  // Region and face names (Solid1, Face3), which VTK has no place for: the
-  // bytes of "region <id> <name>" lines in an array of the data set, which
-  // VTK, ParaView and meshio read as numbers and vdmesh reads back (a .vtu
-  // gave Region1 for Solid1, and a deck's *SOLID SECTION, ELSET=Solid1
-  // named nothing, 2026-11-30).
-  const std::string names = names_text(m);
+  // Region and face names in the data set's field data (vtk_common.h).
+  const std::string names = detail::vtk_names_text(m);
   if (!names.empty()) {
-    out << "    <FieldData>\n      <DataArray type=\"UInt8\" Name=\"" << kNamesArray << "\" NumberOfTuples=\""
+    out << "    <FieldData>\n      <DataArray type=\"UInt8\" Name=\"" << detail::kVtkNamesArray << "\" NumberOfTuples=\""
         << names.size() << "\" format=\"ascii\">\n";
     detail::write_text_values(out, names.size(), 12, [&](size_t i) { return static_cast<int>(static_cast<unsigned char>(names[i])); });
     out << "      </DataArray>\n    </FieldData>\n";
@@ -405,7 +370,7 @@ class VtuReader {
   bool appended_base64_ = false;
   Mesh m_;
   std::vector<uint8_t> types_;  // per cell; 255 for types beyond 254
-  std::optional<Tag> names_;    // the data set's kNamesArray
+  std::optional<Tag> names_;    // the data set's detail::kVtkNamesArray
 };
 
 bool VtuReader::next_tag(Tag& t) {
@@ -877,7 +842,7 @@ Mesh VtuReader::read() {
       // ParaView more): nothing vdmesh keeps. Refused as "<DataArray>
       // outside a <Piece>" until 2026-11-30.
       if (section == "FieldData") {
-        if (attr(t, "Name", "") == kNamesArray) names_ = t;
+        if (attr(t, "Name", "") == detail::kVtkNamesArray) names_ = t;
         continue;
       }
       if (pieces.empty()) fail(t.begin, "<DataArray> outside a <Piece>");
@@ -937,7 +902,7 @@ Mesh VtuReader::read() {
       if (!(v >= 0 && v <= 255)) fail(names_->begin, "a byte of the names out of range");
       text[i] = static_cast<char>(static_cast<unsigned char>(v));
     });
-    read_names_text(text, whole);
+    detail::read_vtk_names_text(text, whole);
   }
   return whole;
 }

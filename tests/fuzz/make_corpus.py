@@ -98,6 +98,14 @@ def main():
             seed("tetgen", "seed_tetgen_o2", b"\0".join(parts))
         else:
             print("make_corpus: tetgen not found, seed_tetgen_o2 not made", file=sys.stderr)
+        # Legacy VTK with the names array in the data set's field data.
+        names = b"region 1 Solid1\n"
+        field = b"FIELD FieldData 1\nvdmesh_names 1 %d unsigned_char\n" % len(names)
+        for suffix, values in (("", " ".join(str(b) for b in names).encode() + b"\n"), ("_binary", names + b"\n")):
+            convert(vdmesh, src, os.path.join(tmp, "names.vtk"), ["--binary"] if suffix else [])
+            vtk_file = open(os.path.join(tmp, "names.vtk"), "rb").read()
+            seed("vtk", "seed_vtk_names" + suffix,
+                 vtk_file.replace(b"DATASET UNSTRUCTURED_GRID\n", b"DATASET UNSTRUCTURED_GRID\n" + field + values, 1))
         # VTU as VTK writes it: LZ4, LZMA, big-endian, three pieces; and
         # vdmesh's names array (FieldData). Made by Debian's python3-vtk9.
         vtu = open(os.path.join(tmp, "out.vtu"), "rb").read()

@@ -451,19 +451,20 @@ TEST(ConvertersRoundTrip, ConcurrentWritesOfOnePathStayWhole) {
 }
 
 // VTK has no place for names: vdmesh keeps them in an array of the data set
-// (a CAD mesh's Solid1 came back from a .vtu as Region1).
-TEST(ConvertersRoundTrip, VtuKeepsNames) {
+// (a CAD mesh's Solid1 came back from a .vtu or a .vtk as Region1).
+TEST(ConvertersRoundTrip, VtkFormatsKeepNames) {
   Mesh m = cube_tets();
   m.region_names = {{1, "Solid1"}, {2, "steel part"}};
   m.face_names = {{3, "Face3"}, {-7, "odd"}};
-  for (bool binary : {false, true}) {
-    const std::string path = test::temp_path(binary ? "names_b.vtu" : "names_a.vtu");
-    io::write_mesh(m, path, {binary, 41});
-    const Mesh back = io::read_mesh(path);
-    EXPECT_EQ(back.region_names, m.region_names);
-    EXPECT_EQ(back.face_names, m.face_names);
-    EXPECT_EQ(back.tets.size(), m.tets.size());
-  }
+  for (const char* ext : {".vtu", ".vtk"})
+    for (bool binary : {false, true}) {
+      const std::string path = test::temp_path(std::string(binary ? "names_b" : "names_a") + ext);
+      io::write_mesh(m, path, {binary, 41});
+      const Mesh back = io::read_mesh(path);
+      EXPECT_EQ(back.region_names, m.region_names) << path;
+      EXPECT_EQ(back.face_names, m.face_names) << path;
+      EXPECT_EQ(back.tets.size(), m.tets.size()) << path;
+    }
 }
 
 // A volume mesh written to a surface format lists its boundary's points
