@@ -278,6 +278,10 @@ Mesh make_mesh(py::object points, py::object triangles, py::object triangle_face
   if (!tet_mid.is_none()) set_tet_mid(m, tet_mid);
   m.region_names = std::move(region_names);
   m.face_names = std::move(face_names);
+  // Given whole, a mesh is checked at once: a vertex number past the points
+  // was said only by the first call that used the mesh. Without points the
+  // corners wait for them (assigned next).
+  if (!points.is_none()) check_indices(m);
   return m;
 }
 

@@ -470,6 +470,12 @@ class BadInput(unittest.TestCase):
             bad = tris.copy()
             bad[3, 1] = 8
             vdmesh.mesh_surface(pts, bad)
+        # Said by the constructor itself, not by the first call to use it.
+        with self.assertRaisesRegex(ValueError, r"triangles\[3\] refers to vertex 8"):
+            vdmesh.Mesh(points=pts, triangles=bad)
+        with self.assertRaisesRegex(ValueError, r"tets\[0\] refers to vertex -1"):
+            vdmesh.Mesh(points=pts, tets=np.array([[0, 1, 2, -1]]))
+        self.assertEqual(len(vdmesh.Mesh(triangles=bad).triangles), len(bad))  # points to come
         with self.assertRaisesRegex(TypeError, "expected integers"):
             vdmesh.mesh_surface(pts, tris.astype(float))
         with self.assertRaisesRegex(ValueError, "shape"):
