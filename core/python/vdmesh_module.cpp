@@ -220,7 +220,7 @@ py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs
   return result_tuple(run_interruptible(run, work));
 }
 
-Mesh tessellate_cad_py(py::object path, py::object brep, double size, double deflection) {
+Mesh tessellate_cad_py(py::object path, py::object brep, double size, double deflection, py::object cancel) {
   const CadSource source = cad_source(path, brep, "tessellate_cad");
   // As mesh_cad checks them (nan was "must not be negative", inf taken).
   if (!std::isfinite(size)) throw UsageError("option size: not a finite number");
@@ -228,11 +228,22 @@ Mesh tessellate_cad_py(py::object path, py::object brep, double size, double def
   if (!(size >= 0)) throw UsageError("option size: must not be negative");
   if (!(deflection == 0 || deflection >= cad::kSmallestDeflection))
     throw UsageError("option deflection: must be 0 (chosen per face) or at least 1e-7 (OpenCASCADE's precision)");
-  py::gil_scoped_release release;
-  cad::TessellationOptions topt;
-  topt.size = size;
-  topt.deflection = deflection;
-  return read_cad(source).tessellate(topt);
+  // On a worker, as meshing: Ctrl-C or the token stops a tessellation of a
+  // large assembly (it ran on to the end, minutes on the fuse alone).
+  RunOptions run;
+  if (!cancel.is_none()) run.token = cancel.cast<const CancelToken&>().flag;
+  auto work = [&source, size, deflection](const MeshOptions& opt) {
+    cad::TessellationOptions topt;
+    topt.size = size;
+    topt.deflection = deflection;
+    topt.cancel = opt.cancel;
+    const cad::CadModel model = read_cad(source, opt.cancel);
+    throw_if_cancelled(opt.cancel);
+    MeshResult result;
+    result.mesh = model.tessellate(topt);
+    return result;
+  };
+  return std::move(run_interruptible(run, work).mesh);
 }
 
 Mesh read_py(py::object path, const std::string& format) {
@@ -439,9 +450,9 @@ OpenCASCADE's volume per solid and area per face beside the mesh's.
 
 )" + options_doc).c_str());
   m.def("tessellate_cad", &tessellate_cad_py, "path"_a = py::none(), "brep"_a = py::none(), "size"_a = 0.0,
-        "deflection"_a = 0.0,
+        "deflection"_a = 0.0, "cancel"_a = py::none(),
         "The tagged surface mesh_cad starts from (face ids, solid regions), as `vdmesh convert part.step out.stl` "
-        "writes it; size 0: chosen from the part.");
+        "writes it; size 0: chosen from the part. Stops on Ctrl-C or through cancel (a vdmesh.CancelToken).");
   m.def("read", &read_py, "path"_a, "format"_a = "",
         "Read a mesh file of any format vdmesh knows (see formats()); format: a format name when the extension "
         "is ambiguous. Raises vdmesh.InputError naming the file and line for malformed content.");

@@ -676,6 +676,18 @@ class Interrupt(unittest.TestCase):
         self.assertEqual(sent and phases, ["read CAD"], "stopped while reading or fusing, not after")
         self.assertLess(time.monotonic() - sent[0], 2.0)
 
+    def test_cancel_token_stops_tessellate_cad(self):
+        # tessellate_cad ran to its end, the fuse of 18 solids included,
+        # whatever was asked (2026-11-30); now it runs as mesh_cad does.
+        path = os.path.join(DATA, "cad-assembly", "caxif_as1-oc-214.stp")
+        if not os.path.exists(path):
+            self.skipTest("shared data missing: " + path)
+        token, sent = vdmesh.CancelToken(), []
+        threading.Timer(0.5, lambda: (sent.append(time.monotonic()), token.set())).start()
+        with self.assertRaises(vdmesh.Cancelled):
+            vdmesh.tessellate_cad(path=path, cancel=token)
+        self.assertLess(time.monotonic() - sent[0], 2.0)
+
     def test_no_flips_keeps_a_thin_slab(self):
         # A convex slab 0.003 thick and 4 wide, without face ids: case A of
         # the sliver pass replaced facet pairs over ridges under 0.1 deg and
