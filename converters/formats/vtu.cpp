@@ -740,6 +740,10 @@ void append_piece(Mesh& whole, Mesh&& part) {
   shifted(whole.tet_mid, part.tet_mid, itself);
   shifted(whole.triangles, part.triangles, corners);
   shifted(whole.triangle_mid, part.triangle_mid, itself);
+  // Each piece of VTK's parallel writer repeats the data set's names (a
+  // .pvtu of a CAD mesh came back with Region1 for Solid1); the first wins.
+  whole.region_names.merge(part.region_names);
+  whole.face_names.merge(part.face_names);
 }
 
 // Elements whose corners another one before them has, dropped (their

@@ -248,6 +248,15 @@ def check_reads_vtk_writers(binary, vtu, tmp, n_tets, expected):
     author.SetName("author")
     author.InsertNextValue("me and you")
     grid.GetFieldData().AddArray(author)
+    # vdmesh's region names (vtk_common.h), which every writer must carry
+    # through: a .pvtu's pieces and legacy .vtk files lost them (2026-11-30).
+    names = vtk.vtkUnsignedCharArray()
+    names.SetName("vdmesh_names")
+    named = {r: "Part_%d" % r for r in expected}
+    for byte in "".join("region %d %s\n" % (r, n) for r, n in named.items()).encode():
+        names.InsertNextValue(byte)
+    grid.GetFieldData().RemoveArray("vdmesh_names")
+    grid.GetFieldData().AddArray(names)
     variants = []
     # Since 2026-11-30 also VTK's other compressors (LZ4, LZMA), big-endian
     # files and several pieces, each refused before ("unsupported compressor
@@ -333,6 +342,11 @@ def check_reads_vtk_writers(binary, vtu, tmp, n_tets, expected):
             abs(volumes[r] - v) < 1e-9 for r, v in expected.items())
         check(ok, "vdmesh info %s (written by VTK): exit %d, %s tetrahedra, volumes %s %s" %
               (os.path.basename(path), code, tets, volumes, err))
+        deck = path + ".inp"
+        subprocess.run([binary, "convert", path, deck], capture_output=True)
+        elsets = set(re.findall(r"ELSET=(\w+)", open(deck).read())) if os.path.exists(deck) else set()
+        check(set(named.values()) <= elsets, "%s: the region names %s in the deck's element sets" %
+              (os.path.basename(path), sorted(named.values())))
         # The pieces repeat the points where they meet: welded, the mesh has
         # the points of the one-piece file, and a deck of it holds together.
         info = subprocess.run([binary, "info", path], capture_output=True, text=True).stdout
