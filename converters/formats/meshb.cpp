@@ -40,7 +40,14 @@ enum Keyword : int32_t {
 const std::map<int32_t, const char*>& lost_keywords() {
   static const std::map<int32_t, const char*> lost = {
       {7, "quadrilaterals"}, {9, "prisms"},     {10, "hexahedra"},   {27, "second-order quadrilaterals"},
-      {33, "second-order hexahedra"}, {46, "polyhedra"}, {49, "pyramids"}};
+      {33, "second-order hexahedra"}, {46, "polyhedra"}, {49, "pyramids"},
+      // libMeshb 7's higher orders (skipped until 2026-11-30: a file of
+      // third-order tetrahedra came out with none).
+      {86, "second-order prisms"}, {87, "second-order pyramids"}, {88, "third-order quadrilaterals"},
+      {89, "fourth-order quadrilaterals"}, {90, "third-order triangles"}, {91, "fourth-order triangles"},
+      {96, "third-order tetrahedra"}, {97, "fourth-order tetrahedra"}, {98, "third-order hexahedra"},
+      {99, "fourth-order hexahedra"}, {100, "third-order pyramids"}, {101, "fourth-order pyramids"},
+      {102, "third-order prisms"}, {103, "fourth-order prisms"}};
   return lost;
 }
 

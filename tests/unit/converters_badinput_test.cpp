@@ -35,6 +35,25 @@ std::string input_error(const std::string& path) {
   return "";
 }
 
+// Binary Medit elements vdmesh does not keep are refused, not skipped:
+// libMeshb 7's third-order tetrahedra (keyword 96) read as no element at
+// all. The file: the header, Dimension 3, one element of `code`, End.
+TEST(ConvertersBadInput, MeshbElementsNotKeptAreRefused) {
+  const std::pair<int32_t, const char*> cases[] = {
+      {96, "1 third-order tetrahedra"}, {90, "1 third-order triangles"}, {86, "1 second-order prisms"}, {9, "1 prisms"}};
+  for (const auto& [code, words] : cases) {
+    std::string b;
+    auto put32 = [&b](int32_t v) { b.append(reinterpret_cast<const char*>(&v), 4); };
+    for (int32_t v : {1, 2, 3, 20, 3, code, 32, 1, 54, 0}) put32(v);
+    const std::string path = test::temp_path("kept_" + std::to_string(code) + ".meshb");
+    write_text(path, b);
+    const std::string message = input_error(path);
+    EXPECT_NE(message.find(path + ": byte 20: " + words + ": vdmesh reads triangles and tetrahedra only"),
+              std::string::npos)
+        << message;
+  }
+}
+
 struct Snippet {
   const char* file;
   int line;  // where the error is; 0: a byte offset
