@@ -301,8 +301,13 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   if (report.size_splits > 0 || report.size_flips > 0) edges.reset();
 
   timer.start("random shift");
-  if (options.shift > 0)
+  // On CAD input the surface vertices go back after the volume (below).
+  std::vector<Vec3> unshifted, shifted;
+  if (options.shift > 0) {
+    if (options.delaunayzation.geometry) unshifted = m.points;
     report.shift = random_shift(m, {options.shift, options.seed, options.sharp_angle_deg}, edges ? &*edges : nullptr);
+    if (options.delaunayzation.geometry) shifted = m.points;
+  }
 
   timer.start("tetrahedralize");
   // Owned apart so that the sliver pass can free it once it is done with it.
@@ -627,7 +632,14 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
           return_free_memory();
         });
     report.output_facets = static_cast<int>(m.triangles.size());
-  } else {
+  }
+  // After the sliver pass, whose facet witnesses are the shifted points'
+  // Delaunay tetrahedra; the quality figures are then the output's.
+  if (!unshifted.empty()) {
+    timer.start("unshift surface");
+    report.shift.restored = restore_surface_positions(m, unshifted, shifted);
+  }
+  if (!options.remove_slivers || report.shift.restored > 0) {
     timer.start("quality");
     report.quality = summarize_quality(m);
   }

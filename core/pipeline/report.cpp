@@ -86,7 +86,8 @@ std::string report_json(const MeshReport& r) {
     << sl.below_10_before << ", \"tets_below_5_deg_after\": " << sl.below_5_after
     << ", \"tets_below_10_deg_after\": " << sl.below_10_after << "},\n";
   s << "  \"shift\": {\"free\": " << r.shift.moved_free << ", \"in_plane\": " << r.shift.moved_in_plane
-    << ", \"on_edge\": " << r.shift.moved_on_edge << ", \"fixed\": " << r.shift.fixed << "},\n";
+    << ", \"on_edge\": " << r.shift.moved_on_edge << ", \"fixed\": " << r.shift.fixed
+    << ", \"restored\": " << r.shift.restored << "},\n";
   s << "  \"seconds\": {";
   for (size_t i = 0; i < r.seconds.size(); ++i)
     s << (i ? ", " : "") << "\"" << r.seconds[i].first << "\": " << exact(r.seconds[i].second);

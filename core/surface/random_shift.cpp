@@ -5,6 +5,7 @@
 #include <optional>
 #include <random>
 
+#include "geometry/predicates.h"
 #include "surface/edge_map.h"
 #include "surface/face_patches.h"
 
@@ -154,6 +155,39 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* giv
     }
   }
   return stats;
+}
+
+int restore_surface_positions(Mesh& m, const std::vector<Vec3>& before, const std::vector<Vec3>& shifted) {
+  const auto same = [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+  const size_t n = std::min({before.size(), shifted.size(), m.points.size()});
+  std::vector<char> wanted(n, 0);
+  for (const Triangle& t : m.triangles)
+    for (int v : t.v)
+      if (static_cast<size_t>(v) < n && same(m.points[v], shifted[v]) && !same(before[v], shifted[v])) wanted[v] = 1;
+  // The tetrahedra around each wanted vertex, as offsets into one array.
+  std::vector<int> start(n + 1, 0);
+  for (const Tetrahedron& t : m.tets)
+    for (int v : t.v)
+      if (static_cast<size_t>(v) < n && wanted[v]) ++start[v + 1];
+  for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<int> around(start[n]);
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (size_t t = 0; t < m.tets.size(); ++t)
+    for (int v : m.tets[t].v)
+      if (static_cast<size_t>(v) < n && wanted[v]) around[fill[v]++] = static_cast<int>(t);
+  int restored = 0;
+  for (size_t v = 0; v < n; ++v) {
+    if (!wanted[v]) continue;
+    m.points[v] = before[v];
+    bool positive = true;
+    for (int k = start[v]; k < start[v + 1] && positive; ++k) {
+      const auto& c = m.tets[around[k]].v;
+      positive = orientation(m.points[c[0]], m.points[c[1]], m.points[c[2]], m.points[c[3]]) > 0;
+    }
+    if (positive) ++restored;
+    else m.points[v] = shifted[v];
+  }
+  return restored;
 }
 
 }  // namespace vd
