@@ -8,9 +8,12 @@ task panel and presses the task view's OK button (TaskView -> MeshTaskPanel.acce
 checks the mesh object; opens it again for editing (the view provider's setEdit), presses Remesh
 and saves a screenshot of the window with the panel's report and the mesh in the 3D view into
 VDMESH_GUI_OUT (default: a temporary folder) as freecad-workbench.png, and the 3D view alone as
-freecad-workbench-3dview.png.
+freecad-workbench-3dview.png. Then the panel's other paths: OK in edit mode applies a changed size,
+Remesh is one undo step, two selected parts are said, an unwritable export path shows a dialog, and
+closing the document or deleting the part while meshing stops the run and closes the panel.
 """
 import os
+import shutil
 import tempfile
 import time
 import unittest
@@ -20,7 +23,7 @@ import FreeCADGui as Gui
 from FreeCAD import Vector
 from PySide import QtCore, QtGui
 
-from vdmeshwb import femmesh
+from vdmeshwb import engine, femmesh, meshobject
 
 from .support import figure, print_figures
 
@@ -71,6 +74,7 @@ class TestVDMeshGui(unittest.TestCase):
         mw = Gui.getMainWindow()
         mw.resize(1600, 1000)
         mw.showMaximized()
+        Gui.activateWorkbench("VDMeshWorkbench")  # registers the commands, whichever test runs first
 
     @classmethod
     def tearDownClass(cls):
@@ -156,3 +160,116 @@ class TestVDMeshGui(unittest.TestCase):
         Gui.Control.closeDialog()
         Gui.ActiveDocument.resetEdit()
         process_events()
+
+    def mesh_object(self, doc, size=2.0):
+        return meshobject.create_mesh(self.box_with_hole(doc), engine.Parameters(size=size))[0]
+
+    def test_edit_ok_applies_and_remesh_undoes(self):
+        # OK in edit mode closed the panel and dropped a changed Size; Remesh opened no transaction,
+        # and Undo deleted the mesh object (it undid its creation).
+        doc = FreeCAD.newDocument("VDMeshGuiEdit")
+        obj = self.mesh_object(doc)
+        at2 = obj.FemMesh.VolumeCount
+        Gui.ActiveDocument.setEdit(obj.Name)
+        process_events()
+        task_panel().findChild(QtGui.QDoubleSpinBox, "size").setValue(1.5)
+        self.assertTrue(click_task_view_button(QtGui.QDialogButtonBox.Ok))
+        process_events()
+        self.assertFalse(Gui.Control.activeDialog())
+        self.assertAlmostEqual(obj.Size.Value, 1.5)
+        at15 = obj.FemMesh.VolumeCount
+        self.assertGreater(at15, at2)
+        undo_steps = len(doc.UndoNames)
+
+        Gui.ActiveDocument.setEdit(obj.Name)
+        process_events()
+        form = task_panel()
+        form.findChild(QtGui.QDoubleSpinBox, "size").setValue(3.0)
+        form.findChild(QtGui.QPushButton, "run").click()
+        process_events()
+        self.assertTrue(click_task_view_button(QtGui.QDialogButtonBox.Close))
+        process_events()
+        self.assertAlmostEqual(obj.Size.Value, 3.0)
+        self.assertEqual(len(doc.UndoNames), undo_steps + 1)
+        self.assertEqual(doc.UndoNames[0], "VDMesh remesh")
+        Gui.runCommand("Std_Undo")
+        process_events()
+        self.assertTrue(meshobject.is_alive(obj), "Undo deleted the mesh object")
+        self.assertAlmostEqual(obj.Size.Value, 1.5)
+        doc.recompute()
+        self.assertEqual(obj.FemMesh.VolumeCount, at15)
+        figure("edit, Size 2 -> 1.5, OK: %d -> %d tetrahedra; Remesh at 3, Undo: Size 1.5, %d tetrahedra"
+               % (at2, at15, obj.FemMesh.VolumeCount), "gui")
+
+    def test_two_selected_parts_are_said(self):
+        # BoxB was left out without a word.
+        doc = FreeCAD.newDocument("VDMeshGuiTwo")
+        a, b = doc.addObject("Part::Box", "BoxA"), doc.addObject("Part::Box", "BoxB")
+        b.Placement.Base = Vector(50, 0, 0)
+        doc.recompute()
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(a)
+        Gui.Selection.addSelection(b)
+        Gui.runCommand("VDMesh_Mesh")
+        process_events()
+        form = task_panel()
+        status = form.findChild(QtGui.QLabel, "status").text()
+        self.assertIn("only BoxA is meshed", status)
+        self.assertIn("BoxB", status)
+        figure("two parts selected: %s" % QtGui.QTextDocumentFragment.fromHtml(status).toPlainText(), "gui")
+
+    def test_export_error_shows_a_dialog(self):
+        # An unwritable path gave a traceback in the report view and no dialog.
+        doc = FreeCAD.newDocument("VDMeshGuiExport")
+        obj = self.mesh_object(doc, 4.0)
+        shown = []
+        path = "/nonexistent-vdmesh-dir/x.inp"
+        for cls, name, fake in ((QtGui.QFileDialog, "getSaveFileName", lambda *a, **k: (path, "")),
+                                (QtGui.QMessageBox, "critical", lambda *a, **k: shown.append(a[2]))):
+            self.addCleanup(setattr, cls, name, getattr(cls, name))
+            setattr(cls, name, staticmethod(fake))
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(obj)
+        Gui.runCommand("VDMesh_Export")
+        process_events()
+        self.assertEqual(len(shown), 1)
+        self.assertIn(path, shown[0])
+        figure("export to an unwritable path: dialog says %r" % shown[0], "gui")
+
+    def test_document_closed_or_part_deleted_while_meshing(self):
+        # The run went on (16 s), then a ReferenceError; the panel stayed ("meshing ... (Stop
+        # cancels)" for a closed document) and the run's /tmp/vdmesh-* folder too.
+        tmp = tempfile.mkdtemp(prefix="vdmesh-fc-tmpdir-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        self.addCleanup(setattr, tempfile, "tempdir", tempfile.tempdir)
+        tempfile.tempdir = tmp
+        for mode in ("close", "delete"):
+            doc = FreeCAD.newDocument("VDMeshGuiGone")
+            part = self.box_with_hole(doc)
+            Gui.Selection.clearSelection()
+            Gui.Selection.addSelection(part)
+            Gui.runCommand("VDMesh_Mesh")
+            process_events()
+            form = task_panel()
+            form.findChild(QtGui.QDoubleSpinBox, "size").setValue(0.15)  # 16 s to the end
+            name = doc.Name
+
+            def act():
+                if mode == "close":
+                    FreeCAD.closeDocument(name)
+                else:
+                    doc.removeObject(part.Name)
+                    doc.recompute()
+
+            QtCore.QTimer.singleShot(800, act)
+            t = time.time()
+            form.findChild(QtGui.QPushButton, "run").click()
+            seconds = time.time() - t
+            process_events()
+            self.assertFalse(Gui.Control.activeDialog(), "the panel stayed (%s)" % mode)
+            self.assertLess(seconds, 6.0)
+            self.assertEqual(os.listdir(tmp), [])
+            if mode == "delete":
+                self.assertEqual([o.Name for o in doc.Objects], [])
+            figure("%s while meshing: run stopped, panel closed %.1f s after Mesh, no folder left" % (mode, seconds),
+                   "gui")

@@ -16,6 +16,10 @@ contact patch is in both the box's top and the block's bottom, and all Face<j>_N
 Export without the kept deck (its folder removed, the document reopened) writes the same *SURFACE,
 *NSET and *ELSET sets as the kept deck, and vdmesh reads them back as Gmsh physical groups; the
 vdmesh-keep-* folders do not pile up (undo, redo, remesh, delete, close), nor do failed runs' folders.
+Tests 10-16: a part changed while meshing leaves the mesh to recompute; a mesh joining an analysis
+gets its materials' groups; a part deleted (or its document closed) while meshing stops the run;
+remesh is one undo step; a failed create_mesh without undo removes its object; export to an
+unwritable path and bad geometry give errors that name the path and the part.
 """
 import os
 import shutil
@@ -42,6 +46,7 @@ def boolean_fragments(doc, name, *boxes):
         box.Placement.Base = corner
         parts.append(box)
     doc.recompute()
+    FreeCAD.setActiveDocument(doc.Name)  # makeBooleanFragments adds to the active document
     bf = BOPTools.SplitFeatures.makeBooleanFragments(name=name)
     bf.Objects = parts
     bf.Mode = "Standard"
@@ -602,6 +607,192 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         expected = {"deleted": 0, "document closed": 0, "two more objects": 2}  # else the current run's 1
         self.assertEqual(counts, [(step, expected.get(step, 1)) for step, _ in counts])
         self.assertEqual(left, [])
+
+
+    def private_tmpdir(self):
+        """A temporary folder of this test's own (tempfile.tempdir), so that nobody else's runs count."""
+        tmp = tempfile.mkdtemp(prefix="vdmesh-fc-tmpdir-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        self.addCleanup(setattr, tempfile, "tempdir", tempfile.tempdir)
+        tempfile.tempdir = tmp
+        return tmp
+
+    def test_10_part_changed_while_meshing_is_meshed_again(self):
+        # The task panel's event loop runs while meshing, and a user may edit the part meanwhile.
+        # The fingerprint was taken after meshing, from the changed part: the old mesh stayed
+        # "Up-to-date" through every recompute.
+        doc = FreeCAD.newDocument("VDMeshStale")
+        self.addCleanup(close_if_open, doc.Name)
+        box = doc.addObject("Part::Box", "Box")
+        box.Length, box.Width, box.Height = 20, 10, 10
+        doc.recompute()
+        edited = []
+
+        def idle():  # the property editor, through the panel's event loop
+            if not edited:
+                edited.append(1)
+                box.Length = 40
+                doc.recompute()
+
+        obj, info, report, text = meshobject.create_mesh(box, engine.Parameters(size=2.0), idle=idle)
+        self.assertAlmostEqual(obj.FemMesh.BoundBox.XLength, 20.0, places=6)  # the part as it was meshed
+        self.assertIn("Touched", obj.State)
+        self.assertTrue(info["stale"])
+        doc.recompute()
+        self.assertAlmostEqual(obj.FemMesh.BoundBox.XLength, 40.0, places=6)
+        self.assertNotIn("Touched", obj.State)
+        figure("part 20 -> 40 long while meshing: left marked for recompute, which meshed it at %g long"
+               % obj.FemMesh.BoundBox.XLength)
+
+    def test_11_mesh_joining_an_analysis_gets_material_groups(self):
+        # A mesh made before its analysis: recompute after analysis.addObject(mesh) made no
+        # <Material>_Volumes groups (nothing touched the mesh), and FreeCAD's CalculiX writer's
+        # geometric search gave 3,347 of 5,003 tetrahedra a material.
+        import ObjectsFem
+        doc = FreeCAD.newDocument("VDMeshLateAnalysis")
+        self.addCleanup(close_if_open, doc.Name)
+        bf = boolean_fragments(doc, "Late", ("LateLeft", 10, Vector(0, 0, 0)), ("LateRight", 10, Vector(10, 0, 0)))
+        obj, info, report, text = meshobject.create_mesh(bf, engine.Parameters(size=3.0))
+        deck = obj.OutputFile
+        analysis = ObjectsFem.makeAnalysis(doc, "LateAnalysis")
+        steel = ObjectsFem.makeMaterialSolid(doc, "LateSteel")
+        steel.References = [(bf, "Solid1")]
+        analysis.addObject(steel)
+        analysis.addObject(obj)
+        doc.recompute()
+
+        def volumes(group):
+            return set(obj.FemMesh.getGroupElements(femmesh.group_ids(obj.FemMesh)[group]))
+
+        self.assertEqual(volumes(steel.Name + "_Volumes"), volumes("Solid1_Volumes"))
+        # a material added to the analysis later: its group on the next recompute too
+        alu = ObjectsFem.makeMaterialSolid(doc, "LateAlu")
+        alu.References = [(bf, "Solid2")]
+        analysis.addObject(alu)
+        doc.recompute()
+        self.assertEqual(volumes(alu.Name + "_Volumes"), volumes("Solid2_Volumes"))
+        self.assertEqual(len(volumes(steel.Name + "_Volumes")) + len(volumes(alu.Name + "_Volumes")),
+                         obj.FemMesh.VolumeCount)
+        self.assertEqual(obj.OutputFile, deck)  # not meshed again
+        figure("mesh added to an analysis after meshing, then a second material: %d + %d of %d tetrahedra "
+               "in the materials' groups, not meshed again" % (len(volumes(steel.Name + "_Volumes")),
+                                                              len(volumes(alu.Name + "_Volumes")),
+                                                              obj.FemMesh.VolumeCount))
+
+    def test_12_part_deleted_or_document_closed_while_meshing(self):
+        # The run went on to its end (16 s at size 0.15), then failed with a ReferenceError and left
+        # its /tmp/vdmesh-* folder; the panel stayed. Now the run stops (PartGone).
+        tmp = self.private_tmpdir()
+        for what in ("deleted", "closed"):
+            doc = FreeCAD.newDocument("VDMeshGone")
+            doc_name = doc.Name
+            self.addCleanup(close_if_open, doc_name)
+            cut = add_box_with_hole(doc)
+            t0, done = time.monotonic(), []
+
+            def idle():
+                if not done and time.monotonic() - t0 > 0.5:
+                    done.append(time.monotonic())
+                    if what == "deleted":
+                        doc.removeObject(cut.Name)
+                    else:
+                        FreeCAD.closeDocument(doc.Name)
+
+            with self.assertRaises(engine.VDMeshError) as ctx:  # was a ReferenceError after the whole run
+                meshobject.create_mesh(cut, engine.Parameters(size=0.15), idle=idle)
+            self.assertIsInstance(ctx.exception, meshobject.PartGone)
+            stopped = time.monotonic() - done[0]
+            self.assertLess(stopped, 5.0)
+            self.assertEqual(os.listdir(tmp), [])
+            if what == "deleted":
+                self.assertEqual([o for o in doc.Objects if meshobject.is_vdmesh_object(o)], [])
+                FreeCAD.closeDocument(doc_name)
+            else:
+                self.assertNotIn(doc_name, FreeCAD.listDocuments())
+            figure("part %s while meshing: stopped %.2f s later, no folder left" % (what, stopped))
+
+    def test_13_remesh_is_one_undo_step(self):
+        # The panel's Remesh opened no transaction: Undo undid the object's creation and deleted it.
+        doc = FreeCAD.newDocument("VDMeshRemeshUndo")
+        self.addCleanup(close_if_open, doc.Name)
+        doc.UndoMode = 1
+        box = doc.addObject("Part::Box", "Box")
+        box.Length, box.Width, box.Height = 20, 10, 10
+        doc.recompute()
+        obj, info, report, text = meshobject.create_mesh(box, engine.Parameters(size=3.0))
+        at3 = obj.FemMesh.VolumeCount
+        meshobject.remesh(obj, engine.Parameters(size=5.0))
+        at5 = obj.FemMesh.VolumeCount
+        self.assertLess(at5, at3)
+        # (the first also shows that no other test left FreeCAD's application transaction open:
+        # the box would have been recorded under its name)
+        self.assertEqual(doc.UndoNames, ["VDMesh remesh", "VDMesh"])
+        doc.undo()
+        self.assertTrue(meshobject.is_alive(obj))
+        self.assertAlmostEqual(obj.Size.Value, 3.0)
+        doc.recompute()
+        self.assertEqual(obj.FemMesh.VolumeCount, at3)
+        figure("remesh 3 -> 5 (%d -> %d tetrahedra), undo: the object stays, Size 3, %d tetrahedra after recompute"
+               % (at3, at5, obj.FemMesh.VolumeCount))
+
+    def test_14_failed_create_mesh_without_undo_leaves_document_unchanged(self):
+        # freecadcmd's documents record no undo: abortTransaction left the new object in the
+        # document and in the analysis when a material named a solid the part does not have.
+        import ObjectsFem
+        tmp = self.private_tmpdir()
+        doc = FreeCAD.newDocument("VDMeshBadMaterial")
+        self.addCleanup(close_if_open, doc.Name)
+        self.assertEqual(doc.UndoMode, 0)
+        box = doc.addObject("Part::Box", "Box")
+        doc.recompute()
+        analysis = ObjectsFem.makeAnalysis(doc, "Analysis")
+        steel = ObjectsFem.makeMaterialSolid(doc, "Steel")
+        steel.References = [(box, "Solid2")]
+        analysis.addObject(steel)
+        doc.recompute()
+        names = [o.Name for o in doc.Objects]
+        with self.assertRaises(engine.VDMeshError) as ctx:
+            meshobject.create_mesh(box, engine.Parameters(size=3.0), analysis=analysis)
+        self.assertIn("Solid2", ctx.exception.message)
+        self.assertEqual([o.Name for o in doc.Objects], names)
+        self.assertEqual(analysis.Group, [steel])
+        self.assertEqual(os.listdir(tmp), [])
+        figure("material on a missing Solid2, undo off: VDMeshError, document and temporary folder unchanged")
+
+    def test_15_export_to_an_unwritable_path_is_a_vdmesh_error(self):
+        # An OSError went through the Export command as a traceback, and no dialog showed.
+        doc = FreeCAD.newDocument("VDMeshExportError")
+        self.addCleanup(close_if_open, doc.Name)
+        box = doc.addObject("Part::Box", "Box")
+        doc.recompute()
+        obj = meshobject.create_mesh(box, engine.Parameters(size=4.0))[0]
+        for name in ("x.inp", "x.msh"):
+            path = "/nonexistent-vdmesh-dir/" + name
+            with self.assertRaises(engine.VDMeshError) as ctx:
+                meshobject.export_mesh(obj, path)
+            figure("export to %s: %s" % (path, ctx.exception.message.splitlines()[0]))
+
+    def test_16_errors_name_the_part_not_a_removed_file(self):
+        # The program's message named its input, /tmp/vdmesh-.../part.brep, gone by then.
+        doc = FreeCAD.newDocument("VDMeshErrorName")
+        self.addCleanup(close_if_open, doc.Name)
+        bad = doc.addObject("Part::Feature", "OpenSolid")
+        bad.Shape = Part.Solid(Part.Shell(Part.makeBox(1, 1, 1).Faces[:5]))
+        doc.recompute()
+        engines = ["program"] + (["module"] if engine.core_module() is not None else [])
+        for name in engines:
+            if name == "program":
+                os.environ["VDMESH_ENGINE"] = "program"
+            try:
+                with self.assertRaises(engine.VDMeshError) as ctx:
+                    meshobject.create_mesh(bad)
+            finally:
+                os.environ.pop("VDMESH_ENGINE", None)
+            message = ctx.exception.message
+            self.assertIn("OpenSolid: Solid1 is not closed", message)
+            self.assertNotIn("part.brep", message)
+            self.assertNotIn("<brep>", message)
+            figure("bad part (%s): %s" % (name, message.splitlines()[-1]))
 
 
 def close_if_open(name):

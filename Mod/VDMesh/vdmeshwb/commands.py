@@ -8,13 +8,19 @@ from PySide import QtGui
 from . import engine, icon, meshobject
 
 
-def selected_part():
-    """The selected object with a solid shape (Part, PartDesign Body, compound, BooleanFragments)."""
+def selected_parts():
+    """The selected objects with a solid shape (Part, PartDesign Body, compound, BooleanFragments)."""
+    out = []
     for o in FreeCADGui.Selection.getSelection():
         shape = getattr(o, "Shape", None)
         if shape is not None and not shape.isNull() and shape.Solids:
-            return o
-    return None
+            out.append(o)
+    return out
+
+
+def selected_part():
+    parts = selected_parts()
+    return parts[0] if parts else None
 
 
 def selected_mesh():
@@ -35,7 +41,9 @@ class MeshCommand:
 
     def Activated(self):
         from . import taskpanel
-        FreeCADGui.Control.showDialog(taskpanel.MeshTaskPanel(part=selected_part()))
+        parts = selected_parts()
+        # one mesh per part, as FEM's Gmsh and Netgen meshers; the panel says which are left out
+        FreeCADGui.Control.showDialog(taskpanel.MeshTaskPanel(part=parts[0], others=parts[1:]))
 
 
 class ExportCommand:
@@ -58,8 +66,10 @@ class ExportCommand:
             path += ext
         try:
             meshobject.export_mesh(obj, path)
-        except engine.VDMeshError as e:
-            QtGui.QMessageBox.critical(FreeCADGui.getMainWindow(), "vdmesh export", e.message)
+        except (engine.VDMeshError, OSError) as e:  # OSError: the temporary folder, say
+            message = e.message if isinstance(e, engine.VDMeshError) else "could not write %s: %s" % (path, e)
+            FreeCAD.Console.PrintError("VDMesh export: %s\n" % message)
+            QtGui.QMessageBox.critical(FreeCADGui.getMainWindow(), "vdmesh export", message)
             return
         FreeCAD.Console.PrintMessage("VDMesh: %s written\n" % path)
 

@@ -251,12 +251,13 @@ def _mesh_with_module(core, brep, params, inp, cancel):
     return report, "vdmesh %s: %d tetrahedra\n" % (getattr(core, "__file__", "module"), len(mesh.tets))
 
 
-def mesh_shape(shape, params, workdir=None, cancel=None, idle=None):
+def mesh_shape(shape, params, workdir=None, cancel=None, idle=None, name=None):
     """Meshes a Part shape; returns (inp path, report dict, report text). The files stay in workdir:
     the Abaqus deck is what Export converts and what the FemMesh is read from.
 
     cancel: a CancelRequest; once set, the run stops and VDMeshCancelled is raised. idle: called
-    every 20 ms on this thread while the mesher works on another (a GUI passes its event loop)."""
+    every 20 ms on this thread while the mesher works on another (a GUI passes its event loop).
+    name: what an error calls the shape (the part's label)."""
     if shape is None or shape.isNull():
         raise VDMeshError("the selected object has no shape")
     if not shape.Solids:
@@ -266,12 +267,26 @@ def mesh_shape(shape, params, workdir=None, cancel=None, idle=None):
     workdir = workdir or tempfile.mkdtemp(prefix="vdmesh-")
     try:
         return _mesh_in(workdir, shape, params, cancel, idle)
+    except VDMeshError as e:
+        if own:
+            shutil.rmtree(workdir, ignore_errors=True)
+        raise _named(e, workdir, name)
     except BaseException:
         # A failed or stopped run's folder is nobody's: each Stop and each refused part left one
         # in the temporary folder.
         if own:
             shutil.rmtree(workdir, ignore_errors=True)
         raise
+
+
+def _named(error, workdir, name):
+    """error with the shape called by name: the program names its input file, which is gone by the
+    time a user reads the message (/tmp/vdmesh-.../part.brep), the module calls it <brep>."""
+    if name:
+        for said in (os.path.join(workdir, "part.brep"), "<brep>"):
+            error.message = error.message.replace(said, name)
+        error.args = (error.message,)
+    return error
 
 
 def _mesh_in(workdir, shape, params, cancel, idle):

@@ -4,6 +4,7 @@ Meshing happens before anything is added to the document: when vdmesh fails (bad
 unrecoverable facets: exit 4, ...) `create_mesh` raises VDMeshError and the document is unchanged.
 Recompute re-runs vdmesh with the current properties.
 """
+import contextlib
 import hashlib
 import json
 import math
@@ -50,19 +51,78 @@ def shape_of(part):
     return shape
 
 
-def run_mesh(part, params, cancel=None, idle=None):
+class PartGone(engine.VDMeshError):
+    """The part (or the mesh object a run is for) was deleted, or its document closed, while meshing:
+    the run was stopped and nothing was made."""
+
+    def __init__(self, label):
+        super().__init__("%s was deleted, or its document closed, while meshing: meshing stopped" % label)
+
+
+def is_alive(obj):
+    """Whether obj is still in an open document (a deleted object raises ReferenceError, one kept
+    for undo RuntimeError)."""
+    try:
+        doc = obj.Document
+        return doc is not None and doc.getObject(obj.Name) is not None
+    except (ReferenceError, RuntimeError):
+        return False
+
+
+def watching(idle, objects, cancel, gone):
+    """idle, then a check that objects are still there: the GUI's event loop runs while meshing,
+    and a user may delete the part or close its document meanwhile (the run went on to its end,
+    then failed with a ReferenceError and left its folder, and the panel stayed)."""
+    def run():
+        idle()
+        if not gone and not all(is_alive(o) for o in objects):
+            gone.append(True)
+            cancel.set()
+    return run
+
+
+def run_mesh(part, params, cancel=None, idle=None, watch=()):
     """Meshes part's shape; returns (FemMesh, info, inp path, report dict, report text).
-    cancel, idle: see engine.mesh_shape."""
+    info["inputs"] is mesh_inputs of the shape meshed, taken before meshing: the part may change
+    while idle runs. cancel, idle: see engine.mesh_shape; with idle, a deleted part or watch object
+    stops the run (PartGone)."""
+    if not is_alive(part):
+        raise PartGone("the part")
+    label = part.Label
     shape = shape_of(part)
-    inp, report, text = engine.mesh_shape(shape, params, cancel=cancel, idle=idle)
-    deck = inpreader.read_inp(inp)
-    if not deck.elements:
-        raise engine.VDMeshError("vdmesh wrote no tetrahedra for %s" % part.Label)
-    fm, info = femmesh.to_femmesh(deck)
+    key = inputs_of_shape(shape, params)
+    gone = []
+    if idle is not None:
+        cancel = cancel or engine.CancelRequest()
+        idle = watching(idle, [part] + list(watch), cancel, gone)
+    try:
+        inp, report, text = engine.mesh_shape(shape, params, cancel=cancel, idle=idle, name=label)
+    except engine.VDMeshCancelled:
+        if gone:
+            raise PartGone(label)
+        raise
+    try:
+        if not all(is_alive(o) for o in [part] + list(watch)):
+            raise PartGone(label)
+        deck = inpreader.read_inp(inp)
+        if not deck.elements:
+            raise engine.VDMeshError("vdmesh wrote no tetrahedra for %s" % label)
+        fm, info = femmesh.to_femmesh(deck)
+    except BaseException:
+        shutil.rmtree(os.path.dirname(inp), ignore_errors=True)  # nobody's now
+        raise
     info["nodes"] = len(deck.nodes)
     info["tetrahedra"] = len(deck.elements)
     info["nodes_per_tetrahedron"] = max(len(c) for c in deck.elements.values())
+    info["inputs"] = key
     return fm, info, inp, report, text
+
+
+def set_params(obj, p):
+    """The mesh object's properties from Parameters p."""
+    obj.Size, obj.Interior, obj.Flips, obj.RidgeAngle = p.size, p.interior, p.flips, p.ridge_angle
+    obj.Oracle, obj.LPLimit, obj.SliverAngle, obj.Seed = p.oracle, p.lp_limit, p.sliver_angle, p.seed
+    obj.ElementOrder = ELEMENT_ORDERS[p.order - 1]
 
 
 class VDMeshObject:
@@ -113,7 +173,7 @@ class VDMeshObject:
             # The FemMesh counts too: undo restores the properties and MeshInputs but not the FemMesh.
             if not mesh_is_current(obj, key) or obj.FemMesh.VolumeCount == 0:
                 fm, info, inp, report, text = run_mesh(obj.Part, params_of(obj))
-                adopt_result(obj, fm, inp, report, key)
+                adopt_result(obj, fm, inp, report, info["inputs"])
             else:
                 # Only a material changed (the mesh links them): its groups are renewed, the mesh kept.
                 renew_material_groups(obj)
@@ -178,7 +238,11 @@ def mesh_inputs(part, params):
     """What a mesh is made from: the part's shape (its BREP text, see stable_brep) and the options.
     Until 2026-11-30 the raw BREP text was hashed, and every recompute after reopening a document
     meshed again."""
-    brep = stable_brep(shape_of(part))
+    return inputs_of_shape(shape_of(part), params)
+
+
+def inputs_of_shape(shape, params):
+    brep = stable_brep(shape)
     return hashlib.sha256(brep.encode()).hexdigest() + " " + json.dumps(sorted(vars(params).items()))
 
 
@@ -283,6 +347,37 @@ def remove_keep_folders(obj, but=None):
     made[:] = [f for f in made if f == but]
 
 
+def solid_materials(analysis):
+    return [m for m in analysis.Group
+            if m.isDerivedFrom("App::MaterialObjectPython") and getattr(m, "Category", "Solid") == "Solid"]
+
+
+def materials_of(obj):
+    """The solid materials of the analyses holding obj, in renew_material_groups' order."""
+    out = []
+    for analysis in analyses_of(obj):
+        out += [m for m in solid_materials(analysis) if m not in out]
+    return out
+
+
+class AnalysisWatcher:
+    """A document observer that marks a mesh object for recompute when an analysis holding it gains
+    or loses a material, or when the mesh joins an analysis: its <Material>_Volumes groups are made
+    on recompute (without meshing again when the part did not change). Neither touches the mesh
+    object itself: a mesh made before its analysis had no material groups, and FreeCAD's CalculiX
+    writer fell back to a geometric search that gave 3,347 of 5,003 second-order tetrahedra a
+    material."""
+
+    def slotChangedObject(self, obj, prop):
+        if prop != "Group" or not obj.isDerivedFrom("Fem::FemAnalysis"):
+            return
+        if getattr(obj.Document, "Restoring", False):
+            return  # a document being read: its groups were saved with it
+        for o in obj.Group:
+            if is_vdmesh_object(o) and list(o.Materials) != materials_of(o):
+                o.touch()
+
+
 class KeepFolderJanitor:
     """A document observer that removes a mesh object's keep folders when it leaves its document
     (deleted, or its creation undone: redo brings it back without them, and Export writes its
@@ -301,15 +396,19 @@ class KeepFolderJanitor:
 
 
 _janitor = None
+_watcher = None
 
 
 def watch_documents():
-    """Registers the KeepFolderJanitor once (on import: any mesh object, made or restored, imports
-    this module first)."""
-    global _janitor
+    """Registers the KeepFolderJanitor and the AnalysisWatcher once (on import: any mesh object,
+    made or restored, imports this module first)."""
+    global _janitor, _watcher
     if _janitor is None:
         _janitor = KeepFolderJanitor()
         FreeCAD.addDocumentObserver(_janitor)
+    if _watcher is None:
+        _watcher = AnalysisWatcher()
+        FreeCAD.addDocumentObserver(_watcher)
 
 
 def kept_deck(obj):
@@ -339,8 +438,7 @@ def add_material_groups(obj, analysis):
     are classified outside the solid (it failed on second-order meshes of curved parts)."""
     fm = obj.FemMesh
     groups = femmesh.group_ids(fm)
-    materials = [m for m in analysis.Group
-                 if m.isDerivedFrom("App::MaterialObjectPython") and getattr(m, "Category", "Solid") == "Solid"]
+    materials = solid_materials(analysis)
     changed = False
     for m in materials:
         if m.Name + "_Volumes" in groups:
@@ -393,13 +491,25 @@ def renew_material_groups(obj):
     return [m.Name for m in materials]
 
 
-def adopt_result(obj, fm, inp, report, key=None):
-    """The mesh of a run made from the object's part and properties, with what goes with it.
-    key: mesh_inputs of that part and those properties, when the caller has it already."""
+def adopt_result(obj, fm, inp, report, key):
+    """The mesh of a run, with what goes with it. key: mesh_inputs of the shape and parameters that
+    run meshed (run_mesh's info["inputs"]), taken before it: until 2026-11-30 it was taken after,
+    and a part moved while the panel meshed kept the old mesh as current through every recompute."""
     apply_result(obj, fm, inp, report)
-    obj.MeshInputs = mesh_record(key or mesh_inputs(obj.Part, params_of(obj)), obj.FemMesh)
+    obj.MeshInputs = mesh_record(key, obj.FemMesh)
     print_warnings(obj, report)
     renew_material_groups(obj)
+
+
+def touch_if_part_changed(obj):
+    """Marks obj for recompute when its part changed while it was meshed (the GUI runs meanwhile);
+    returns whether it did."""
+    if mesh_is_current(obj, mesh_inputs(obj.Part, params_of(obj))):
+        return False
+    obj.touch()
+    FreeCAD.Console.PrintWarning("VDMesh %s: %s changed while it was meshed: recompute to mesh it again\n"
+                                 % (obj.Label, obj.Part.Label))
+    return True
 
 
 def find_analysis(doc):
@@ -422,24 +532,72 @@ def create_mesh(part, params=None, analysis=None, name="VDMesh", cancel=None, id
     params = params or engine.Parameters()
     fm, info, inp, report, text = run_mesh(part, params, cancel, idle)
     doc = part.Document
-    doc.openTransaction("VDMesh")
+    made = []
     try:
-        obj = doc.addObject(TYPE, name)
-        VDMeshObject(obj, params)
-        if FreeCAD.GuiUp:
-            from . import viewprovider
-            viewprovider.ViewProviderVDMesh(obj.ViewObject)
-        obj.Part = part
-        analysis = analysis or find_analysis(doc)
-        if analysis is not None:
-            analysis.addObject(obj)
-        adopt_result(obj, fm, inp, report)
-        obj.purgeTouched()
+        with transaction(doc, "VDMesh"):
+            obj = doc.addObject(TYPE, name)
+            made.append(obj)
+            VDMeshObject(obj, params)
+            if FreeCAD.GuiUp:
+                from . import viewprovider
+                viewprovider.ViewProviderVDMesh(obj.ViewObject)
+            obj.Part = part
+            analysis = analysis or find_analysis(doc)
+            if analysis is not None:
+                analysis.addObject(obj)
+            adopt_result(obj, fm, inp, report, info["inputs"])
+            obj.purgeTouched()
+            info["stale"] = touch_if_part_changed(obj)
     except Exception:
-        doc.abortTransaction()
+        discard(made, inp)
         raise
-    doc.commitTransaction()
     return obj, info, report, text
+
+
+@contextlib.contextmanager
+def transaction(doc, name):
+    """One undo step, aborted on an exception; none when the document records no undo (freecadcmd's
+    default): there doc.openTransaction opens the application's transaction and commitTransaction
+    leaves it open, and the next change of any other document was recorded under its name."""
+    undo = bool(doc.UndoMode)
+    if undo:
+        doc.openTransaction(name)
+    try:
+        yield
+    except BaseException:
+        if undo:
+            doc.abortTransaction()
+        raise
+    if undo:
+        doc.commitTransaction()
+
+
+def discard(made, inp):
+    """Removes what a failed create_mesh made. abortTransaction does it only when the document
+    records undo, which freecadcmd's documents do not: the object stayed, in the analysis too."""
+    shutil.rmtree(os.path.dirname(inp), ignore_errors=True)
+    for obj in made:
+        if is_alive(obj):
+            remove_keep_folders(obj)
+            obj.Document.removeObject(obj.Name)  # also takes it out of the analysis
+
+
+def remesh(obj, params, cancel=None, idle=None):
+    """The task panel's Remesh (and OK after a change): meshes obj's part with params, then sets the
+    properties and the mesh in one transaction, so that undo gives back the previous size (and,
+    on recompute, its mesh): without one, Undo undid the object's creation. A failed or stopped
+    run changes nothing. Returns (info, report dict, report text); info["stale"] as create_mesh."""
+    fm, info, inp, report, text = run_mesh(obj.Part, params, cancel, idle, watch=[obj])
+    try:
+        with transaction(obj.Document, "VDMesh remesh"):
+            set_params(obj, params)
+            adopt_result(obj, fm, inp, report, info["inputs"])
+            obj.purgeTouched()
+            info["stale"] = touch_if_part_changed(obj)
+    except Exception:
+        shutil.rmtree(os.path.dirname(inp), ignore_errors=True)
+        raise
+    return info, report, text
 
 
 def warnings_of(report):
@@ -652,7 +810,10 @@ def export_mesh(obj, path, extra=()):
         src = write_inp_from_femmesh(obj.FemMesh, os.path.join(tmpdir, "mesh.inp"))
     try:
         if os.path.splitext(path)[1].lower() == ".inp" and not extra:
-            shutil.copyfile(src, path)
+            try:
+                shutil.copyfile(src, path)
+            except OSError as e:  # the GUI shows VDMeshError in a dialog, an OSError as a traceback
+                raise engine.VDMeshError("could not write %s: %s" % (path, e.strerror or e))
             return path
         return engine.convert(src, path, extra)
     finally:

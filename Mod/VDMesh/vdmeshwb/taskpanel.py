@@ -1,8 +1,10 @@
 """Task panel of the Mesh command: parameters, Mesh / Apply, the report (or the error) below.
 
 With a part: meshing creates the mesh object only when vdmesh succeeded (the document is left as
-it was otherwise, and the error shows in the panel). With a mesh object (double-click): the
-parameters are written to its properties and it is recomputed.
+it was otherwise, and the error shows in the panel). With a mesh object (double-click): Remesh, or
+OK after a change, writes the parameters to its properties with the new mesh, in one transaction
+(meshobject.remesh). Deleting the part or closing its document while meshing stops the run and
+closes the panel.
 """
 import FreeCAD
 import FreeCADGui
@@ -12,7 +14,8 @@ from . import engine, icon, meshobject
 
 
 class MeshTaskPanel:
-    def __init__(self, part=None, mesh_object=None):
+    def __init__(self, part=None, mesh_object=None, others=()):
+        """others: further selected parts, which are not meshed (said in the panel)."""
         self.part = part if part is not None else (mesh_object.Part if mesh_object else None)
         self.obj = mesh_object
         self.form = QtGui.QWidget()
@@ -28,6 +31,7 @@ class MeshTaskPanel:
         self.size.setObjectName("size")
         self.size.setRange(0.0, 1e9)
         self.size.setDecimals(4)
+        self.size.setSuffix(" mm")  # the Size property is a length in mm
         self.size.setSpecialValueText("automatic (diagonal / 25)")
         self.size.setValue(p.size)
         grid.addRow("Size", self.size)
@@ -98,6 +102,19 @@ class MeshTaskPanel:
         self.report.setFont(font)
         self.report.setMinimumHeight(220)
         lay.addWidget(self.report)
+        self.applied = vars(self.params())  # OK meshes again when the settings differ from these
+        if others:
+            self.say_only_one(others)
+
+    def say_only_one(self, others):
+        """One mesh per part, as FEM's Gmsh and Netgen meshers: the other selected parts were left
+        out without a word."""
+        names = ", ".join(o.Label for o in others)
+        text = ("%d parts selected: only %s is meshed; %s not. Mesh each on its own, or join them with "
+                "Part BooleanFragments for one mesh." % (len(others) + 1, self.part.Label, names))
+        self.target.setText("Part: %s (%s not meshed)" % (self.part.Label, names))
+        self.status.setText('<span style="color:#b06000">%s</span>' % text)
+        FreeCAD.Console.PrintWarning("VDMesh: %s\n" % text)
 
     def params(self):
         return engine.Parameters(size=self.size.value(), interior=self.interior.isChecked(),
@@ -134,20 +151,16 @@ class MeshTaskPanel:
         QtGui.QApplication.processEvents()
         QtGui.QApplication.setOverrideCursor(QtCore.Qt.BusyCursor)
         idle = QtGui.QApplication.processEvents
+        p = self.params()
+        gone = None
         try:
             if self.obj is None:
-                self.obj, info, report, text = meshobject.create_mesh(self.part, self.params(), cancel=self.cancel,
-                                                                      idle=idle)
+                self.obj, info, report, text = meshobject.create_mesh(self.part, p, cancel=self.cancel, idle=idle)
             else:
-                p = self.params()
-                fm, info, inp, report, text = meshobject.run_mesh(self.part, p, self.cancel, idle)
                 # The properties change only with the mesh: a failed or stopped run leaves both.
-                o = self.obj
-                o.Size, o.Interior, o.Flips, o.RidgeAngle = p.size, p.interior, p.flips, p.ridge_angle
-                o.Oracle, o.LPLimit, o.SliverAngle, o.Seed = p.oracle, p.lp_limit, p.sliver_angle, p.seed
-                o.ElementOrder = meshobject.ELEMENT_ORDERS[p.order - 1]
-                meshobject.adopt_result(o, fm, inp, report)
-                o.purgeTouched()
+                info, report, text = meshobject.remesh(self.obj, p, self.cancel, idle)
+        except meshobject.PartGone as e:
+            gone = e
         except engine.VDMeshError as e:
             self.show_error(e)
             return False
@@ -156,21 +169,44 @@ class MeshTaskPanel:
             self.cancel = None
             self.run.setEnabled(True)
             self.stop.setEnabled(False)
+        if gone is not None:  # after the finally: closing the panel deletes its widgets
+            self.close_for_gone(gone)
+            return False
+        self.applied = vars(p)
         summary = meshobject.mesh_summary(info, report)
         self.status.setText("<b>%s</b>: %d tetrahedra" % (self.obj.Label, info["tetrahedra"]))
         self.report.setPlainText(summary)
         FreeCAD.Console.PrintMessage("VDMesh %s:\n%s\n" % (self.obj.Label, summary))
         self.run.setText("Remesh")
-        FreeCAD.ActiveDocument.recompute()
+        if info.get("stale"):
+            # no recompute here: it would mesh again with the GUI blocked and no Stop
+            self.status.setText(self.status.text() + '<br><span style="color:#b06000">%s changed while meshing: '
+                                'this mesh is of it as it was; Remesh or recompute to mesh it again</span>'
+                                % self.part.Label)
+        else:
+            self.obj.Document.recompute()
         return True
+
+    def close_for_gone(self, e):
+        """The part or the mesh object was deleted, or its document closed, while meshing: the run
+        was stopped (its folder removed); the panel is for nothing now."""
+        FreeCAD.Console.PrintWarning("VDMesh: %s\n" % e.message)
+        self.part = self.obj = None
+        FreeCADGui.Control.closeDialog()
+        gui_doc = FreeCADGui.ActiveDocument
+        if gui_doc is not None and gui_doc.getInEdit():
+            gui_doc.resetEdit()
 
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Close)
 
     def accept(self):
-        """OK: mesh (when Mesh was not pressed yet) and close; on failure the panel stays open with the
-        error, as after Mesh."""
-        if self.obj is None and not self.mesh():
+        """OK: mesh (when Mesh was not pressed yet, or the settings changed since the last mesh) and
+        close; on failure the panel stays open with the error, as after Mesh. OK in edit mode closed
+        the panel and dropped a changed Size without a word."""
+        if self.cancel is not None:
+            return False  # meshing: OK waits for it (Close stops it)
+        if (self.obj is None or vars(self.params()) != self.applied) and not self.mesh():
             return False
         return self.reject()
 
