@@ -47,7 +47,8 @@ const std::map<int32_t, const char*>& lost_keywords() {
       {89, "fourth-order quadrilaterals"}, {90, "third-order triangles"}, {91, "fourth-order triangles"},
       {96, "third-order tetrahedra"}, {97, "fourth-order tetrahedra"}, {98, "third-order hexahedra"},
       {99, "fourth-order hexahedra"}, {100, "third-order pyramids"}, {101, "fourth-order pyramids"},
-      {102, "third-order prisms"}, {103, "fourth-order prisms"}};
+      {102, "third-order prisms"}, {103, "fourth-order prisms"}, {47, "polygons"}, {200, "9-node prisms"},
+      {201, "12-node hexahedra"}, {202, "6-node quadrilaterals"}};
   return lost;
 }
 

@@ -344,7 +344,8 @@ bool FaceChart::make(const TopoDS_Face& face, double size, double deflection, co
       if (!(r > 0)) return false;
       kind_ = Kind::kScaled;
       scale_u_ = r;
-      // The chord height only. The angular deflection in every direction
+      // The chord height, and arcs of at most kMaxArcDeg (chord_for): the
+      // angular deflection (20 deg by default) in every direction
       // (edges of 2 R sin(angle / 2)) made tiny triangles on small
       // cylinders: the pump housing 60k -> 240k tetrahedra, 126k with the
       // growth guard below, and its smallest angle 0.95 deg where the

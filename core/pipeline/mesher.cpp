@@ -637,11 +637,17 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   // Delaunay tetrahedra; the quality figures are then the output's.
   if (!unshifted.empty()) {
     timer.start("unshift surface");
-    report.shift.restored = restore_surface_positions(m, unshifted, shifted);
+    report.shift.restored = restore_surface_positions(m, unshifted, shifted, sliver_options.sliver_angle_deg);
   }
   if (!options.remove_slivers || report.shift.restored > 0) {
     timer.start("quality");
-    report.quality = summarize_quality(m);
+    report.quality = summarize_quality(m, report.slivers.angle_deg);
+    if (options.remove_slivers) {
+      report.slivers.min_dihedral_after_deg = report.quality.min_dihedral_deg;
+      report.slivers.below_5_after = report.quality.below_5_deg;
+      report.slivers.below_10_after = report.quality.below_10_deg;
+      report.slivers.slivers_after = report.quality.below_asked_deg;
+    }
   }
   for (const Tetrahedron& t : m.tets) {
     if (t.region >= static_cast<int>(report.tets_per_region.size())) report.tets_per_region.resize(t.region + 1, 0);

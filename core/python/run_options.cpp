@@ -113,6 +113,13 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
         (Delaunay refinement); False is --no-face-remesh
 )";
 
+std::shared_ptr<std::atomic<bool>> cancel_flag(py::handle value) {
+  if (value.is_none()) return nullptr;
+  if (!py::isinstance<CancelToken>(value))
+    throw py::type_error("option cancel: expected a vdmesh.CancelToken, got " + type_name(value));
+  return value.cast<const CancelToken&>().flag;
+}
+
 RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   static const std::set<std::string> kCommon = {
       "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "cautious", "oracle",     "lp_limit", "volume",
@@ -183,11 +190,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
         throw py::type_error("option progress: expected a callable, got " + type_name(value));
       run.progress = py::reinterpret_borrow<py::object>(value);
     } else if (name == "cancel") {
-      if (!value.is_none()) {
-        if (!py::isinstance<CancelToken>(value))
-          throw py::type_error("option cancel: expected a vdmesh.CancelToken, got " + type_name(value));
-        run.token = value.cast<const CancelToken&>().flag;
-      }
+      run.token = cancel_flag(value);
     } else if (name == "deflection") {
       run.cad.tessellation.deflection = number(value, name);
       run.cad.retry_angles_deg.clear();  // a tessellation given by hand is kept

@@ -30,6 +30,9 @@ struct RunOptions {
   std::shared_ptr<std::atomic<bool>> token;  // from CancelToken, or null
 };
 
+// The flag of a `cancel` argument: None, or a CancelToken (else TypeError).
+std::shared_ptr<std::atomic<bool>> cancel_flag(py::handle value);
+
 // The keyword options shared by mesh_surface and mesh_cad; `cad_input`
 // allows the CAD-only ones (deflection, planar_splits). Unknown names raise
 // TypeError, out-of-range values ValueError, as the command line refuses them.

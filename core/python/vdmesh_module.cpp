@@ -221,6 +221,8 @@ py::tuple mesh_cad_py(py::object path, py::object brep, const py::kwargs& kwargs
 }
 
 Mesh tessellate_cad_py(py::object path, py::object brep, double size, double deflection, py::object cancel) {
+  RunOptions run;
+  run.token = cancel_flag(cancel);
   const CadSource source = cad_source(path, brep, "tessellate_cad");
   // As mesh_cad checks them (nan was "must not be negative", inf taken).
   if (!std::isfinite(size)) throw UsageError("option size: not a finite number");
@@ -230,8 +232,6 @@ Mesh tessellate_cad_py(py::object path, py::object brep, double size, double def
     throw UsageError("option deflection: must be 0 (chosen per face) or at least 1e-7 (OpenCASCADE's precision)");
   // On a worker, as meshing: Ctrl-C or the token stops a tessellation of a
   // large assembly (it ran on to the end, minutes on the fuse alone).
-  RunOptions run;
-  if (!cancel.is_none()) run.token = cancel.cast<const CancelToken&>().flag;
   auto work = [&source, size, deflection](const MeshOptions& opt) {
     cad::TessellationOptions topt;
     topt.size = size;
@@ -291,8 +291,18 @@ Mesh make_mesh(py::object points, py::object triangles, py::object triangle_face
   m.face_names = std::move(face_names);
   // Given whole, a mesh is checked at once: a vertex number past the points
   // was said only by the first call that used the mesh. Without points the
-  // corners wait for them (assigned next).
-  if (!points.is_none()) check_indices(m);
+  // corners wait for them (assigned next), but none is ever negative.
+  if (!points.is_none()) {
+    check_indices(m);
+  } else {
+    auto non_negative = [](const auto& elements, const char* name) {
+      for (size_t i = 0; i < elements.size(); ++i)
+        for (int v : elements[i].v)
+          if (v < 0) throw UsageError(std::string(name) + "[" + std::to_string(i) + "] refers to vertex " + std::to_string(v));
+    };
+    non_negative(m.triangles, "triangles");
+    non_negative(m.tets, "tets");
+  }
   return m;
 }
 

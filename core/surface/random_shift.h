@@ -37,11 +37,14 @@ ShiftStats random_shift(Mesh& m, const ShiftOptions& options, const EdgeMap* edg
 // Puts surface vertices back where they were before the shift (`before`,
 // indexed as m.points) where they have not moved since (still at
 // `shifted`) and every tetrahedron around them stays positive (exact
-// orientation). The tangent plane of the shift is the facets', not the
+// orientation) with its smallest dihedral angle at least the smaller of
+// its own and `keep_above_deg` (the sliver pass's angle: what it reached
+// is kept). The tangent plane of the shift is the facets', not the
 // true surface's: on CAD input it took nodes of a radius-3 cylinder up to
 // 1.1e-6 off it, past the tolerance FreeCAD's constraints find their nodes
 // by (a pressure on a hole loaded 2.2 % of its area). Returns the number of
 // vertices put back.
-int restore_surface_positions(Mesh& m, const std::vector<Vec3>& before, const std::vector<Vec3>& shifted);
+int restore_surface_positions(Mesh& m, const std::vector<Vec3>& before, const std::vector<Vec3>& shifted,
+                              double keep_above_deg);
 
 }  // namespace vd

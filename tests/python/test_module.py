@@ -476,6 +476,10 @@ class BadInput(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, r"tets\[0\] refers to vertex -1"):
             vdmesh.Mesh(points=pts, tets=np.array([[0, 1, 2, -1]]))
         self.assertEqual(len(vdmesh.Mesh(triangles=bad).triangles), len(bad))  # points to come
+        with self.assertRaisesRegex(ValueError, r"tets\[0\] refers to vertex -1"):
+            vdmesh.Mesh(tets=np.array([[0, 1, 2, -1]]))  # never valid
+        with self.assertRaisesRegex(TypeError, "option cancel: expected a vdmesh.CancelToken, got bool"):
+            vdmesh.tessellate_cad(brep="", cancel=True)
         with self.assertRaisesRegex(TypeError, "expected integers"):
             vdmesh.mesh_surface(pts, tris.astype(float))
         with self.assertRaisesRegex(ValueError, "shape"):

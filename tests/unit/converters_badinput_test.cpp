@@ -40,7 +40,8 @@ std::string input_error(const std::string& path) {
 // all. The file: the header, Dimension 3, one element of `code`, End.
 TEST(ConvertersBadInput, MeshbElementsNotKeptAreRefused) {
   const std::pair<int32_t, const char*> cases[] = {
-      {96, "1 third-order tetrahedra"}, {90, "1 third-order triangles"}, {86, "1 second-order prisms"}, {9, "1 prisms"}};
+      {96, "1 third-order tetrahedra"}, {90, "1 third-order triangles"}, {86, "1 second-order prisms"}, {9, "1 prisms"}, {47, "1 polygons"},
+      {200, "1 9-node prisms"}};
   for (const auto& [code, words] : cases) {
     std::string b;
     auto put32 = [&b](int32_t v) { b.append(reinterpret_cast<const char*>(&v), 4); };

@@ -54,6 +54,17 @@ def boolean_fragments(doc, name, *boxes):
     return bf
 
 
+
+def meshed_box_with_undo(test, doc_name):
+    """A document recording undo with a 20 x 10 x 10 box meshed at size 3: (doc, box, mesh object)."""
+    doc = FreeCAD.newDocument(doc_name)
+    test.addCleanup(close_if_open, doc.Name)
+    doc.UndoMode = 1
+    box = doc.addObject("Part::Box", "Box")
+    box.Length, box.Width, box.Height = 20, 10, 10
+    doc.recompute()
+    return doc, box, meshobject.create_mesh(box, engine.Parameters(size=3.0))[0]
+
 class MeshChecks:
     def check_mesh(self, name, obj, part_shape, info, report):
         fm = obj.FemMesh
@@ -547,13 +558,7 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
             return len([n for n in os.listdir(tmp) if n.startswith("vdmesh-keep-")])
 
         counts = []
-        doc = FreeCAD.newDocument("VDMeshKeep")
-        self.addCleanup(close_if_open, doc.Name)
-        doc.UndoMode = 1
-        box = doc.addObject("Part::Box", "Box")
-        box.Length, box.Width, box.Height = 20, 10, 10
-        doc.recompute()
-        obj, info, report, text = meshobject.create_mesh(box, engine.Parameters(size=3.0))
+        doc, box, obj = meshed_box_with_undo(self, "VDMeshKeep")
         at3 = obj.FemMesh.VolumeCount
         counts.append(("mesh", keep_folders()))
         doc.openTransaction("Size 5")
@@ -713,13 +718,7 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
 
     def test_13_remesh_is_one_undo_step(self):
         # The panel's Remesh opened no transaction: Undo undid the object's creation and deleted it.
-        doc = FreeCAD.newDocument("VDMeshRemeshUndo")
-        self.addCleanup(close_if_open, doc.Name)
-        doc.UndoMode = 1
-        box = doc.addObject("Part::Box", "Box")
-        box.Length, box.Width, box.Height = 20, 10, 10
-        doc.recompute()
-        obj, info, report, text = meshobject.create_mesh(box, engine.Parameters(size=3.0))
+        doc, box, obj = meshed_box_with_undo(self, "VDMeshRemeshUndo")
         at3 = obj.FemMesh.VolumeCount
         meshobject.remesh(obj, engine.Parameters(size=5.0))
         at5 = obj.FemMesh.VolumeCount
@@ -793,6 +792,41 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
             self.assertNotIn("part.brep", message)
             self.assertNotIn("<brep>", message)
             figure("bad part (%s): %s" % (name, message.splitlines()[-1]))
+
+    def test_17_failed_remesh_changes_nothing(self):
+        # A material naming a solid the new mesh lacks raised inside remesh's transaction after the
+        # size and the mesh had changed; without undo they stayed changed (a review, 2026-11-30).
+        import ObjectsFem
+        doc = FreeCAD.newDocument("VDMeshFailedRemesh")
+        self.addCleanup(close_if_open, doc.Name)
+        box = doc.addObject("Part::Box", "Box")
+        doc.recompute()
+        obj = meshobject.create_mesh(box, engine.Parameters(size=5.0))[0]
+        before, output = obj.FemMesh.VolumeCount, obj.OutputFile
+        analysis = ObjectsFem.makeAnalysis(doc, "Analysis")
+        steel = ObjectsFem.makeMaterialSolid(doc, "Steel")
+        steel.References = [(box, "Solid2")]
+        analysis.addObject(steel)
+        analysis.addObject(obj)
+        with self.assertRaises(engine.VDMeshError) as ctx:
+            meshobject.remesh(obj, engine.Parameters(size=3.0))
+        self.assertIn("Solid2", ctx.exception.message)
+        self.assertAlmostEqual(obj.Size.Value, 5.0)
+        self.assertEqual(obj.FemMesh.VolumeCount, before)
+        self.assertEqual(obj.OutputFile, output)
+        self.assertTrue(os.path.isfile(output))
+        figure("remesh refused by a material on Solid2: Size 5, %d tetrahedra and the deck kept" % before)
+
+    def test_18_integer_parameters_mesh_a_current_part(self):
+        # Parameters(size=5) against the property's 5.0: the mesh was said to be of a part changed
+        # while meshing, left touched, and meshed again at the next recompute.
+        doc = FreeCAD.newDocument("VDMeshIntegerSize")
+        self.addCleanup(close_if_open, doc.Name)
+        box = doc.addObject("Part::Box", "Box")
+        doc.recompute()
+        obj, info = meshobject.create_mesh(box, engine.Parameters(size=5, sliver_angle=10, ridge_angle=20))[:2]
+        self.assertFalse(info["stale"])
+        self.assertNotIn("Touched", obj.State)
 
 
 def close_if_open(name):

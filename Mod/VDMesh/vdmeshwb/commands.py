@@ -43,7 +43,8 @@ class MeshCommand:
         from . import taskpanel
         parts = selected_parts()
         # one mesh per part, as FEM's Gmsh and Netgen meshers; the panel says which are left out
-        FreeCADGui.Control.showDialog(taskpanel.MeshTaskPanel(part=parts[0], others=parts[1:]))
+        # nothing selected (a shortcut run past IsActive): the panel asks for a part
+        FreeCADGui.Control.showDialog(taskpanel.MeshTaskPanel(part=parts[0] if parts else None, others=parts[1:]))
 
 
 class ExportCommand:

@@ -62,6 +62,8 @@ class PartGone(engine.VDMeshError):
 def is_alive(obj):
     """Whether obj is still in an open document (a deleted object raises ReferenceError, one kept
     for undo RuntimeError)."""
+    if obj is None:
+        return False
     try:
         doc = obj.Document
         return doc is not None and doc.getObject(obj.Name) is not None
@@ -69,15 +71,18 @@ def is_alive(obj):
         return False
 
 
-def watching(idle, objects, cancel, gone):
-    """idle, then a check that objects are still there: the GUI's event loop runs while meshing,
-    and a user may delete the part or close its document meanwhile (the run went on to its end,
-    then failed with a ReferenceError and left its folder, and the panel stayed)."""
+def watching(idle, gone_label, cancel, gone):
+    """idle, then a check that the watched objects are still there (gone_label: the label of one
+    that is not, else None): the GUI's event loop runs while meshing, and a user may delete the
+    part or close its document meanwhile (the run went on to its end, then failed with a
+    ReferenceError and left its folder, and the panel stayed). gone gets the label."""
     def run():
         idle()
-        if not gone and not all(is_alive(o) for o in objects):
-            gone.append(True)
-            cancel.set()
+        if not gone:
+            label = gone_label()
+            if label is not None:
+                gone.append(label)
+                cancel.set()
     return run
 
 
@@ -86,24 +91,33 @@ def run_mesh(part, params, cancel=None, idle=None, watch=()):
     info["inputs"] is mesh_inputs of the shape meshed, taken before meshing: the part may change
     while idle runs. cancel, idle: see engine.mesh_shape; with idle, a deleted part or watch object
     stops the run (PartGone)."""
+    if part is None:
+        raise engine.VDMeshError("no part linked")
     if not is_alive(part):
         raise PartGone("the part")
     label = part.Label
+    watched = [part] + list(watch)
+    labels = [o.Label for o in watched]
+
+    def gone_label():
+        """The label of the first watched object gone (the part, or the mesh object remeshed)."""
+        return next((l for o, l in zip(watched, labels) if not is_alive(o)), None)
+
     shape = shape_of(part)
     key = inputs_of_shape(shape, params)
     gone = []
     if idle is not None:
         cancel = cancel or engine.CancelRequest()
-        idle = watching(idle, [part] + list(watch), cancel, gone)
+        idle = watching(idle, gone_label, cancel, gone)
     try:
         inp, report, text = engine.mesh_shape(shape, params, cancel=cancel, idle=idle, name=label)
     except engine.VDMeshCancelled:
         if gone:
-            raise PartGone(label)
+            raise PartGone(gone[0])
         raise
     try:
-        if not all(is_alive(o) for o in [part] + list(watch)):
-            raise PartGone(label)
+        if gone_label() is not None:
+            raise PartGone(gone_label())
         deck = inpreader.read_inp(inp)
         if not deck.elements:
             raise engine.VDMeshError("vdmesh wrote no tetrahedra for %s" % label)
@@ -243,7 +257,16 @@ def mesh_inputs(part, params):
 
 def inputs_of_shape(shape, params):
     brep = stable_brep(shape)
-    return hashlib.sha256(brep.encode()).hexdigest() + " " + json.dumps(sorted(vars(params).items()))
+    return hashlib.sha256(brep.encode()).hexdigest() + " " + json.dumps(params_key(params))
+
+
+def params_key(p):
+    """The parameters as the properties give them back (floats where they are quantities): a run
+    given size=5 and the object's Size (5.0) are the same mesh; the raw values differed, and every
+    mesh made from integer parameters was said to be of a part changed while meshing."""
+    return [["flips", bool(p.flips)], ["interior", bool(p.interior)], ["lp_limit", int(p.lp_limit)],
+            ["oracle", str(p.oracle)], ["order", int(p.order)], ["ridge_angle", float(p.ridge_angle)],
+            ["seed", int(p.seed)], ["size", float(p.size)], ["sliver_angle", float(p.sliver_angle)]]
 
 
 def mesh_signature(fm):
@@ -589,6 +612,10 @@ def remesh(obj, params, cancel=None, idle=None):
     run changes nothing. Returns (info, report dict, report text); info["stale"] as create_mesh."""
     fm, info, inp, report, text = run_mesh(obj.Part, params, cancel, idle, watch=[obj])
     try:
+        # A material naming a solid the new mesh lacks raised inside the transaction, after the
+        # size and the mesh had changed (without undo they stayed so; with it the FemMesh did).
+        for analysis in analyses_of(obj):
+            referenced_volumes(obj, fm, femmesh.group_ids(fm), solid_materials(analysis))
         with transaction(obj.Document, "VDMesh remesh"):
             set_params(obj, params)
             adopt_result(obj, fm, inp, report, info["inputs"])
