@@ -43,7 +43,17 @@ void to_unit_frame(Vec3 (&p)[4]) {
   p[0] = Vec3{};
 }
 
+// The sign summarize_quality counts inverted tetrahedra by (the unit frame's
+// floating-point determinant).
+bool positive_in_unit_frame(const Vec3 (&p)[4]) { return dot(cross(p[1] - p[0], p[2] - p[0]), p[3] - p[0]) > 0; }
+
 }  // namespace
+
+bool positive_as_summarized(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  Vec3 p[4] = {a, b, c, d};
+  to_unit_frame(p);
+  return positive_in_unit_frame(p);
+}
 
 std::array<double, 6> dihedral_angles_deg(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   Vec3 p[4] = {a, b, c, d};
@@ -159,7 +169,7 @@ void summarize_into(const Mesh& m, long begin, long end, const BinEdges& edges, 
     Vec3 p[4] = {m.points[t.v[0]], m.points[t.v[1]], m.points[t.v[2]], m.points[t.v[3]]};
     to_unit_frame(p);
     ++q.tets;
-    if (dot(cross(p[1] - p[0], p[2] - p[0]), p[3] - p[0]) <= 0) ++q.inverted;
+    if (!positive_in_unit_frame(p)) ++q.inverted;
     // The same normals as dihedral_angles_deg, so that the extremes agree
     // with it to the last bit.
     Vec3 n[4];

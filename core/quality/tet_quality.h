@@ -29,6 +29,9 @@ double smallest_dihedral_score_above(const Vec3& a, const Vec3& b, const Vec3& c
 double dihedral_degrees_of_score(double score);
 double dihedral_score_of_degrees(double deg);
 double radius_ratio(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+// Whether summarize_quality counts the tetrahedron positive (its floating-
+// point determinant, not the exact orientation: a flat one may differ).
+bool positive_as_summarized(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
 struct QualitySummary {
   long tets = 0;

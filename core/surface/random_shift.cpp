@@ -199,7 +199,11 @@ int restore_surface_positions(Mesh& m, const std::vector<Vec3>& before, const st
     bool kept = true;
     for (int k = start[v]; k < start[v + 1] && kept; ++k) {
       const auto& c = m.tets[around[k]].v;
+      // Positive exactly and in floating point: the sanitized CI's gmsh_Block.stp without
+      // interior vertices or the sliver pass had tetrahedra flat enough for the quality
+      // summary to count inverted (2026-11-30).
       kept = orientation(m.points[c[0]], m.points[c[1]], m.points[c[2]], m.points[c[3]]) > 0 &&
+             positive_as_summarized(m.points[c[0]], m.points[c[1]], m.points[c[2]], m.points[c[3]]) &&
              smallest_angle(around[k]) >= floor[k - start[v]];
     }
     if (kept) ++restored;
