@@ -267,15 +267,13 @@ def mesh_shape(shape, params, workdir=None, cancel=None, idle=None, name=None):
     workdir = workdir or tempfile.mkdtemp(prefix="vdmesh-")
     try:
         return _mesh_in(workdir, shape, params, cancel, idle)
-    except VDMeshError as e:
-        if own:
-            shutil.rmtree(workdir, ignore_errors=True)
-        raise _named(e, workdir, name)
-    except BaseException:
+    except BaseException as e:
         # A failed or stopped run's folder is nobody's: each Stop and each refused part left one
         # in the temporary folder.
         if own:
             shutil.rmtree(workdir, ignore_errors=True)
+        if isinstance(e, VDMeshError):
+            raise _named(e, workdir, name)
         raise
 
 
