@@ -168,8 +168,9 @@ class VtkCellView {
 
 // Region and face names (Solid1, Face3), which VTK has no place for: the
 // bytes of "region <id> <name>" and "face <id> <name>" lines in an unsigned
-// char array of the data set's field data, which VTK, ParaView and meshio
-// read as numbers and vdmesh reads back (both formats: a .vtu or .vtk gave
+// char array of the data set's field data, which VTK and ParaView read as
+// numbers (meshio too in .vtu; it drops it from .vtk) and vdmesh reads back
+// (both formats: a .vtu or .vtk gave
 // Region1 for Solid1, and a deck's *SOLID SECTION, ELSET=Solid1 named
 // nothing).
 inline constexpr const char* kVtkNamesArray = "vdmesh_names";

@@ -116,8 +116,9 @@ def run_mesh(part, params, cancel=None, idle=None, watch=()):
             raise PartGone(gone[0])
         raise
     try:
-        if gone_label() is not None:
-            raise PartGone(gone_label())
+        label_gone = gone_label()
+        if label_gone is not None:
+            raise PartGone(label_gone)
         deck = inpreader.read_inp(inp)
         if not deck.elements:
             raise engine.VDMeshError("vdmesh wrote no tetrahedra for %s" % label)
