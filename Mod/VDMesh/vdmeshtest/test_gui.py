@@ -10,7 +10,8 @@ and saves a screenshot of the window with the panel's report and the mesh in the
 VDMESH_GUI_OUT (default: a temporary folder) as freecad-workbench.png, and the 3D view alone as
 freecad-workbench-3dview.png. Then the panel's other paths: OK in edit mode applies a changed size,
 Remesh is one undo step, two selected parts are said, an unwritable export path shows a dialog, and
-closing the document or deleting the part while meshing stops the run and closes the panel.
+closing the document or deleting the part while meshing stops the run and closes the panel; when
+no run is on, closing the document or deleting the part or the mesh closes the panel.
 """
 import os
 import shutil
@@ -273,3 +274,33 @@ class TestVDMeshGui(unittest.TestCase):
                 self.assertEqual([o.Name for o in doc.Objects], [])
             figure("%s while meshing: run stopped, panel closed %.1f s after Mesh, no folder left" % (mode, seconds),
                    "gui")
+
+    def test_document_closed_or_part_deleted_while_idle(self):
+        # The panel stayed open on a closed document, and Mesh then raised a ReferenceError from the
+        # deleted part (FreeCAD closes no task dialog of a document it closes).
+        for mode in ("close", "delete", "delete the mesh made"):
+            doc = FreeCAD.newDocument("VDMeshGuiIdle")
+            part = self.box_with_hole(doc)
+            Gui.Selection.clearSelection()
+            Gui.Selection.addSelection(part)
+            Gui.runCommand("VDMesh_Mesh")
+            process_events()
+            form = task_panel()
+            self.assertIsNotNone(form)
+            if mode == "close":
+                FreeCAD.closeDocument(doc.Name)
+            elif mode == "delete":
+                doc.removeObject(part.Name)
+                doc.recompute()
+            else:
+                form.findChild(QtGui.QDoubleSpinBox, "size").setValue(3.0)
+                form.findChild(QtGui.QPushButton, "run").click()
+                process_events()
+                meshes = [o for o in doc.Objects if meshobject.is_vdmesh_object(o)]
+                self.assertEqual(len(meshes), 1)
+                self.assertTrue(Gui.Control.activeDialog())
+                doc.removeObject(meshes[0].Name)
+                doc.recompute()
+            process_events()
+            self.assertFalse(Gui.Control.activeDialog(), "the panel stayed (%s)" % mode)
+            figure("%s while the panel is open: panel closed" % mode, "gui")

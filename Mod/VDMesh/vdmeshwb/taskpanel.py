@@ -3,8 +3,8 @@
 With a part: meshing creates the mesh object only when vdmesh succeeded (the document is left as
 it was otherwise, and the error shows in the panel). With a mesh object (double-click): Remesh, or
 OK after a change, writes the parameters to its properties with the new mesh, in one transaction
-(meshobject.remesh). Deleting the part or closing its document while meshing stops the run and
-closes the panel.
+(meshobject.remesh). Deleting the part or the mesh object, or closing their document, closes the
+panel; while meshing it stops the run first.
 """
 import FreeCAD
 import FreeCADGui
@@ -13,11 +13,36 @@ from PySide import QtCore, QtGui
 from . import engine, icon, meshobject
 
 
+class PanelWatcher:
+    """A document observer for an open panel: FreeCAD closes no task dialog when the document it is
+    about closes, and the panel stayed on a closed document, its Mesh button raising a
+    ReferenceError from the deleted part. A run in progress notices by itself (meshobject.PartGone)
+    and stops first."""
+
+    def __init__(self, panel):
+        self.panel = panel
+        doc = (panel.part or panel.obj).Document if (panel.part or panel.obj) else None
+        self.document = doc.Name if doc else None
+        self.objects = {o.Name for o in (panel.part, panel.obj) if o is not None}
+
+    def slotDeletedDocument(self, doc):
+        if doc.Name == self.document:
+            self.panel.close_when_idle("%s was closed" % doc.Label)
+
+    def slotDeletedObject(self, obj):
+        if obj.Document.Name == self.document and obj.Name in self.objects:
+            self.panel.close_when_idle("%s was deleted" % obj.Label)
+
+
 class MeshTaskPanel:
     def __init__(self, part=None, mesh_object=None, others=()):
         """others: further selected parts, which are not meshed (said in the panel)."""
         self.part = part if part is not None else (mesh_object.Part if mesh_object else None)
         self.obj = mesh_object
+        self.watcher = None
+        if self.part is not None or self.obj is not None:
+            self.watcher = PanelWatcher(self)
+            FreeCAD.addDocumentObserver(self.watcher)
         self.form = QtGui.QWidget()
         self.form.setObjectName("VDMeshTaskPanel")  # the GUI test finds the panel and its widgets by name
         self.form.setWindowTitle("vdmesh: tetrahedral mesh")
@@ -173,6 +198,8 @@ class MeshTaskPanel:
             self.close_for_gone(gone)
             return False
         self.applied = vars(p)
+        if self.watcher is not None:
+            self.watcher.objects.add(self.obj.Name)  # the new mesh object goes with the panel too
         summary = meshobject.mesh_summary(info, report)
         self.status.setText("<b>%s</b>: %d tetrahedra" % (self.obj.Label, info["tetrahedra"]))
         self.report.setPlainText(summary)
@@ -191,11 +218,40 @@ class MeshTaskPanel:
         """The part or the mesh object was deleted, or its document closed, while meshing: the run
         was stopped (its folder removed); the panel is for nothing now."""
         FreeCAD.Console.PrintWarning("VDMesh: %s\n" % e.message)
+        self.close_gone()
+
+    def close_when_idle(self, why):
+        """From the PanelWatcher: closed after the observer's call returns (not from inside it).
+        While meshing, the run stops itself and close_for_gone follows."""
+        if self.cancel is not None or self.watcher is None:
+            return
+        if not self.shown():  # closed by FreeCAD's Control.closeDialog, which tells no panel
+            self.stop_watching()
+            return
+        FreeCAD.Console.PrintMessage("VDMesh: %s; its mesh panel is closed\n" % why)
         self.part = self.obj = None
+        QtCore.QTimer.singleShot(0, self.close_gone)
+
+    def shown(self):
+        try:
+            return self.form is not None and self.form.isVisible()
+        except RuntimeError:  # the widget went with its dialog (or FreeCAD set form to None)
+            return False
+
+    def close_gone(self):
+        self.part = self.obj = None
+        self.stop_watching()
+        if not self.shown():
+            return  # another panel may be open by now: not ours to close
         FreeCADGui.Control.closeDialog()
         gui_doc = FreeCADGui.ActiveDocument
         if gui_doc is not None and gui_doc.getInEdit():
             gui_doc.resetEdit()
+
+    def stop_watching(self):
+        if self.watcher is not None:
+            FreeCAD.removeDocumentObserver(self.watcher)
+            self.watcher = None
 
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Close)
@@ -214,6 +270,7 @@ class MeshTaskPanel:
         if self.cancel is not None:  # Close while meshing: stop first, the panel stays until then
             self.request_stop()
             return False
+        self.stop_watching()
         FreeCADGui.Control.closeDialog()
         if self.obj is not None and FreeCADGui.ActiveDocument and FreeCADGui.ActiveDocument.getInEdit():
             FreeCADGui.ActiveDocument.resetEdit()
