@@ -26,6 +26,7 @@
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_MapOfShape.hxx>
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
@@ -199,10 +200,19 @@ TopoDS_Shape read_file(const std::string& path, std::string& units, OccCancel& c
 int free_edges(const TopoDS_Shape& solid) {
   TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
   TopExp::MapShapesAndUniqueAncestors(solid, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+  // An edge lying inside its face (INTERNAL or EXTERNAL in it) bounds no
+  // side: FreeCAD's fuse leaves one in a wall where a boss touches it along
+  // a line, and the closed solid was refused as open (a FreeCAD tester's
+  // BREP, 2026-11-30). Kept in the face, it makes the wall's triangles
+  // meet the boss's along the line (taken out, they crossed there).
+  TopTools_MapOfShape inside;
+  for (TopExp_Explorer e(solid, TopAbs_EDGE); e.More(); e.Next())
+    if (e.Current().Orientation() == TopAbs_INTERNAL || e.Current().Orientation() == TopAbs_EXTERNAL)
+      inside.Add(e.Current());
   int open = 0;
   for (int i = 1; i <= edge_faces.Extent(); ++i) {
     const TopoDS_Edge& e = TopoDS::Edge(edge_faces.FindKey(i));
-    if (BRep_Tool::Degenerated(e)) continue;
+    if (BRep_Tool::Degenerated(e) || inside.Contains(e)) continue;
     const TopTools_ListOfShape& faces = edge_faces(i);
     if (faces.Extent() == 1 && !BRep_Tool::IsClosed(e, TopoDS::Face(faces.First()))) ++open;
   }

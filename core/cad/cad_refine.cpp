@@ -55,6 +55,15 @@ class Geometry {
   gp_Pnt2d uv_on_face(int e, int fi, double t, const gp_Pnt2d& hint) {
     const TopoDS_Edge edge = TopoDS::Edge(cad_.edge_index(e));
     const TopoDS_Face& face = cad_.faces[fi];
+    // A facet on the edge from a face the edge is not on (it has no pcurve
+    // there): an edge INTERNAL to one face whose ends another face shares,
+    // as FreeCAD's fuse leaves where a boss touches a wall along a line
+    // (BRepAdaptor_Curve2d threw, and the part was refused). Projected.
+    double first = 0, last = 0;
+    if (BRep_Tool::CurveOnSurface(edge, face, first, last).IsNull()) {
+      const gp_Pnt p = on_edge(e, t);
+      return project(fi, Vec3{p.X(), p.Y(), p.Z()}, hint);
+    }
     const gp_Pnt2d a = BRepAdaptor_Curve2d(TopoDS::Edge(edge.Oriented(TopAbs_FORWARD)), face).Value(t);
     if (!BRep_Tool::IsClosed(edge, face)) return a;
     const gp_Pnt2d b = BRepAdaptor_Curve2d(TopoDS::Edge(edge.Oriented(TopAbs_REVERSED)), face).Value(t);

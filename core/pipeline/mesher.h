@@ -101,6 +101,7 @@ struct CadInputReport {
   int remeshed_faces = 0;         // faces meshed anew inside their border
   bool smoothing_dropped = false;  // the improved tessellation failed; meshed without smoothing
   bool remeshing_dropped = false;  // and without the remeshing
+  bool planar_splits_fallback = false;  // every recovery on the CAD geometry stopped: split vertices on chords
   std::vector<ReferenceMeasure> volumes, areas;
   std::vector<SolidOverlap> overlaps;
 };

@@ -136,6 +136,7 @@ std::string report_json(const MeshReport& r) {
       << ", \"smoothing_moves\": " << c.smoothing_moves << ", \"remeshed_faces\": " << c.remeshed_faces
       << ", \"smoothing_dropped\": " << (c.smoothing_dropped ? "true" : "false")
       << ", \"remeshing_dropped\": " << (c.remeshing_dropped ? "true" : "false")
+      << ", \"planar_splits_fallback\": " << (c.planar_splits_fallback ? "true" : "false")
       << ", \"surface_facets\": " << c.surface_facets << ",\n    \"volumes\": " << measures(c.volumes)
       << ",\n    \"areas\": " << measures(c.areas) << ",\n    \"overlaps\": [";
     for (size_t i = 0; i < c.overlaps.size(); ++i)
@@ -191,7 +192,10 @@ std::string report_table(const MeshReport& r) {
                                                       (c.recovery_runaways ? " (" + std::to_string(c.recovery_runaways) +
                                                                                  " ran away)"
                                                                            : "")
-                                                : ""));
+                                                : "") +
+                            (c.planar_splits_fallback ? "; split vertices on the chords (every recovery with them on "
+                                                        "the CAD geometry stopped)"
+                                                      : ""));
     // The bound for a solid's mesh volume against its CAD volume.
     constexpr double kVolumeWarning = 0.005;
     double worst = 0;

@@ -192,6 +192,37 @@ if code == 0:
           "rod on a plate: the rod's %s has %.3f of its CAD area %.4g (within 2 %%)"
           % (face["name"], face["mesh"] / face["cad"], face["cad"]))
 
+# A boss tangent to a wall: the solid touches itself along the line where
+# the cylinder meets the wall's plane. Every recovery with split vertices on
+# the CAD geometry ran away there (exit 4; a FreeCAD tester's part,
+# 2026-11-30); the chain's last try puts them on the chords, and it meshes.
+def boss_on_wall(occ):
+    occ.fuse([(3, occ.addBox(0, 0, 0, 60, 60, 5))],
+             [(3, occ.addBox(0, 40, 0, 60, 5, 25)), (3, occ.addCylinder(30, 34, 0, 0, 0, 20, 6))])
+
+
+boss = make_brep("boss_tangent_to_a_wall", boss_on_wall)
+code, rep, target, err = mesh(boss, "--quiet")
+check(code == 0, "boss tangent to a wall meshes (exit %s: %s)" % (code, err.strip()[-200:]))
+if code == 0:
+    check(rep["cad"]["planar_splits_fallback"], "boss tangent to a wall: meshed with split vertices on the chords")
+    check_mesh(target, rep, "boss tangent to a wall")
+
+# A line on a box's top face, fragmented in (Gmsh's OpenCASCADE kernel):
+# the face keeps it as an INTERNAL edge, which bounds nothing. The closed
+# solid was refused as "not closed (1 edges bound only one face)".
+def box_with_a_line_on_top(occ):
+    line = occ.addLine(occ.addPoint(3, 5, 4), occ.addPoint(7, 5, 4))
+    occ.fragment([(3, occ.addBox(0, 0, 0, 10, 10, 4))], [(1, line)])
+
+
+inner = make_brep("box_with_an_inner_edge", box_with_a_line_on_top)
+code, rep, target, err = mesh(inner, "--quiet")
+check(code == 0, "box with an INTERNAL edge in its top face meshes (exit %s: %s)" % (code, err.strip()[-200:]))
+if code == 0:
+    check(rep["cad"]["faces"] == 6, "box with an inner edge: 6 faces (%s)" % rep["cad"]["faces"])
+    check_mesh(target, rep, "box with an inner edge")
+
 # Surface nodes lie on the CAD surface, not where the random shift took
 # them: its tangent plane is the facets', and it left a radius-3
 # cylinder's nodes up to 1.1e-6 off, past the tolerance FreeCAD's
