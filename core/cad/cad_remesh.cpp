@@ -912,16 +912,40 @@ class FaceRemesher {
       const Vec3 a = place(f->vertex(0));
       return cross(place(f->vertex(1)) - a, place(f->vertex(2)) - a);
     };
+    // Around a point where the chart's (u, v) degenerates (a cone's apex),
+    // the triangles are a fan whose neighbours' normals are far apart
+    // without a fold: a pointy cone's (semi-angle 26.6 deg) took three
+    // triangles round in the chart, 120 deg apart around the axis and 103 deg
+    // apart on the face, and the cone kept its refined tessellation, needles
+    // to a split seam and tetrahedra of 0.81 deg beside it (a FreeCAD
+    // tester's cone, 2026-11-30). There each triangle is held against the
+    // fan's mean normal instead.
+    std::unordered_map<const void*, bool> singular;
+    const auto at_a_point = [&](const Cdt::Vertex_handle& v) {
+      const auto [it, added] = singular.try_emplace(&*v, false);
+      if (added) it->second = chart.at_a_point(chart.to_uv(v->point()));
+      return it->second;
+    };
+    std::unordered_map<const void*, Vec3> fan_normal;  // by the singular vertex
+    std::vector<std::pair<Cdt::Face_handle, const void*>> fan;
     for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
       if (!f->is_in_domain()) continue;
       const Vec3 n = normal(f);
+      for (int i = 0; i < 3; ++i)
+        if (at_a_point(f->vertex(i))) {
+          { Vec3& sum = fan_normal[&*f->vertex(i)]; sum = sum + normalized(n); }
+          fan.emplace_back(f, &*f->vertex(i));
+        }
       for (int i = 0; i < 3; ++i) {
         const Cdt::Face_handle g = f->neighbor(i);
         // Each pair once, from the face with the smaller address.
         if (cdt.is_infinite(g) || !g->is_in_domain() || std::less<const void*>()(&*g, &*f)) continue;
+        if (at_a_point(f->vertex(cdt.cw(i))) || at_a_point(f->vertex(cdt.ccw(i)))) continue;  // a fan's pair
         if (!(dot(n, normal(g)) > 0)) return true;
       }
     }
+    for (const auto& [f, apex] : fan)
+      if (!(dot(normal(f), fan_normal[apex]) > 0)) return true;
     return false;
   }
 

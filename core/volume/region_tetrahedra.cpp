@@ -84,16 +84,20 @@ RegionStats build_region_tetrahedra(Mesh& m, DelaunayTetrahedralization& dt) {
   };
   for (const auto& [t, i] : dt.hull_faces())
     if (!(walls[static_cast<size_t>(t)] & (1u << i))) comp[static_cast<size_t>(representative(t))] = -(outside + 1);
-  // Other components in the order of their lowest bounding facet, so that the
-  // numbering depends on the input, not on CGAL's cell order. For every
-  // facet, the component on each side.
-  std::vector<std::pair<int, int>> seeds;  // (lowest facet, tet)
+  // Other components in the order of their lowest bounding facet, the one
+  // in front of it first, so that the numbering depends on the input, not
+  // on CGAL's cell order. The side broke the tie by cell order until
+  // 2026-11-30: a sphere in a box whose first facet is on the sphere was
+  // region 1 or 2 by the seed (a surface tester). For every facet, the
+  // component on each side.
+  std::vector<std::array<int, 3>> seeds;  // (lowest facet, 0 in front of it / 1 behind, tet)
   for (const auto& [t, i, f] : faces_on_surface) {
-    if (seeds.empty() || seeds.back().second != t) seeds.emplace_back(f, t);
-    seeds.back().first = std::min(seeds.back().first, f);
+    const std::array<int, 3> key{f, on_front_side(m.points, m.triangles[f], dt.cell(t)[i]) ? 0 : 1, t};
+    if (seeds.empty() || seeds.back()[2] != t) seeds.push_back(key);
+    seeds.back() = std::min(seeds.back(), key);
   }
   std::sort(seeds.begin(), seeds.end());
-  for (const auto& [f, t] : seeds) number(t);
+  for (const auto& seed : seeds) number(seed[2]);
   for (int t = 0; t < n; ++t) number(t);  // enclosed without touching a facet: impossible, but safe
   for (int t = 0; t < n; ++t)
     if (comp[t] >= 0) comp[t] = comp[static_cast<size_t>(comp[t])];  // a representative's code

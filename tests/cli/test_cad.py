@@ -288,6 +288,20 @@ for size in ("5", "60"):
     if code == 0:
         check_mesh(target, rep, "cone of radius 1 at size %s" % size)
 
+# A pointy cone (radius 10, height 20, semi-angle 26.6 deg) at its default
+# size: the new mesh's three triangles round the apex, 103 deg apart on the
+# face, were taken for a fold, so the cone kept its refined tessellation
+# (needles to a seam split towards the apex) and its smallest dihedral
+# angle was 0.81 deg (Gmsh 12.5 deg; a FreeCAD tester's cone, 2026-11-30).
+tip = make_brep("pointy_cone", lambda occ: occ.addCone(0, 0, 0, 0, 0, 20, 10, 0))
+code, rep, target, err = mesh(tip, "--quiet")
+check(code == 0, "pointy cone meshes (exit %s: %s)" % (code, err.strip()[-200:]))
+if code == 0:
+    check(rep["cad"]["remeshed_faces"] == 2 and rep["quality"]["min_dihedral_deg"] > 10,
+          "pointy cone: %d of 2 faces remeshed, smallest dihedral angle %.2f deg (over 10)"
+          % (rep["cad"]["remeshed_faces"], rep["quality"]["min_dihedral_deg"]))
+    check_mesh(target, rep, "pointy cone")
+
 code, _, _, err = mesh(disc, "--volume-tolerance", "-1")
 check(code == 2 and "--volume-tolerance" in err, "--volume-tolerance -1 is a usage error (exit %s)" % code)
 # A chord height far under the part: 1e-6 on a 100 mm part filled 21.9 of

@@ -273,6 +273,44 @@ bad("open.off", tet_off.replace("4 4 0", "4 3 0").rsplit("3 0 3 2\n", 1)[0], "op
 bad("open_where.off", tet_off.replace("4 4 0", "4 3 0").rsplit("3 0 3 2\n", 1)[0],
     "the input has 3 edges on one facet only (a gap in the surface, unless a crack inside a region), e.g. near (0, ")
 bad("flipped.off", tet_off.replace("3 0 3 2", "3 0 2 3"), "orientation")
+# A crack: a cube of 4 x 4 squares a side whose vertex (1, 0.25, 0), on an
+# edge, is doubled 1e-9 away, the even-numbered facets around it taking the
+# copy (a surface tester's STL, 2026-11-30). Its recovery stops there; it
+# ended in exit 4 naming 1,010 missing facets and not the gap.
+def cube_with_a_crack(n=4, eps=1e-9):
+    index, points, facets = {}, [], []
+    def vertex(p):
+        key = tuple(round(x, 12) for x in p)
+        if key not in index:
+            index[key] = len(points)
+            points.append(tuple(p))
+        return index[key]
+    for axis in range(3):
+        for side in (0, 1):
+            u, v = [a for a in range(3) if a != axis]
+            for i in range(n):
+                for j in range(n):
+                    q = []
+                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                        p = [0.0, 0.0, 0.0]
+                        p[axis], p[u], p[v] = float(side), (i + di) / n, (j + dj) / n
+                        q.append(vertex(p))
+                    for t in ((q[0], q[1], q[2]), (q[0], q[2], q[3])):
+                        a, b, c = (points[k] for k in t)
+                        normal = [(b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
+                                  (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
+                                  (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])]
+                        facets.append([t[0], t[2], t[1]] if (normal[axis] > 0) != (side == 1) else list(t))
+    doubled = index[(1.0, 0.25, 0.0)]
+    points.append(tuple(x + eps for x in points[doubled]))
+    for k, f in enumerate(facets):
+        if k % 2 == 0 and doubled in f:
+            f[f.index(doubled)] = len(points) - 1
+    return "OFF\n%d %d 0\n" % (len(points), len(facets)) + "".join("%.17g %.17g %.17g\n" % p for p in points) + \
+        "".join("3 %d %d %d\n" % tuple(f) for f in facets)
+
+
+bad("crack.off", cube_with_a_crack(), "the surface is open and its recovery stopped")
 bad("duplicate.off", tet_off.replace("4 4 0", "4 5 0") + "3 1 2 3\n", "duplicate")
 # Each repeat after the first facet of its triple, in the repeats' order.
 bad("duplicates.off", tet_off.replace("4 4 0", "4 6 0") + "3 3 1 0\n3 2 1 0\n",

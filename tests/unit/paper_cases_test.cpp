@@ -225,6 +225,32 @@ TEST(PaperCases, RegionsFoundWithoutTags) {
   }
 }
 
+// Regions found from the surface are numbered by their lowest facet, the
+// one in front of it first. Here facet 0 is on the inner box, between the
+// two regions: the tie went by CGAL's cell order, and the inner box was
+// region 1 or 2 by the seed (a surface tester's nested cubes, 2026-11-30).
+TEST(PaperCases, RegionNumbersDoNotDependOnTheSeed) {
+  const Mesh tagged = test::box_in_box();
+  const Mesh stripped = strip_regions(tagged);
+  Mesh inner_first = stripped;
+  inner_first.triangles.clear();
+  for (const bool inner : {true, false})
+    for (size_t f = 0; f < tagged.triangles.size(); ++f)
+      if ((tagged.triangles[f].front != 0 && tagged.triangles[f].back != 0) == inner)
+        inner_first.triangles.push_back(stripped.triangles[f]);
+  for (unsigned seed = 1; seed <= 8; ++seed) {
+    MeshOptions o = options();
+    o.seed = seed;
+    const MeshResult r = mesh_surface(inner_first, o);
+    ASSERT_TRUE(r.report.complete);
+    const ConformityReport c = check_conformity(r.mesh);
+    ASSERT_EQ(c.region_volume.size(), 3u);
+    // The inner box's facets point out of it, into the shell: the shell is in front of facet 0.
+    EXPECT_NEAR(c.region_volume[1], 26.0, 1e-9) << "seed " << seed;
+    EXPECT_NEAR(c.region_volume[2], 1.0, 1e-9) << "seed " << seed;
+  }
+}
+
 TEST(PaperCases, SameSeedSameMesh) {
   const Mesh in = almost_touching_pyramids();
   MeshOptions o = options();
