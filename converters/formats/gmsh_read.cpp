@@ -14,6 +14,8 @@
 
 #include "gmsh.h"
 #include "io_util.h"
+#include "mesh/disjoint_sets.h"
+#include "surface/edge_map.h"
 #include "surface/orient_surface.h"
 
 namespace vd::io::detail {
@@ -79,6 +81,53 @@ int most_specific_group(const std::vector<int>& groups, Size size) {
 int parent_or_self(const std::map<int, int>& parent, int entity) {
   const auto it = parent.find(entity);
   return it == parent.end() ? entity : it->second;
+}
+
+// For the triangles `own` of m that bound one volume: whether each one's
+// normal points out of it. They are turned to agree across their edges and
+// each connected piece to enclose a positive volume (orient_consistently);
+// a volume is one solid, so the piece enclosing the most is its outer
+// boundary and the others are its cavities, whose normals point into them.
+std::vector<char> turned_out_of_the_volume(const Mesh& m, const std::vector<size_t>& own) {
+  Mesh piece;
+  std::unordered_map<int, int> local;
+  for (size_t i : own) {
+    Triangle t = m.triangles[i];
+    for (int& v : t.v) {
+      const auto [it, added] = local.emplace(v, static_cast<int>(piece.points.size()));
+      if (added) piece.points.push_back(m.points[static_cast<size_t>(v)]);
+      v = it->second;
+    }
+    t.front = t.back = kUnknownRegion;
+    piece.triangles.push_back(t);
+  }
+  const std::vector<Triangle> before = piece.triangles;
+  orient_consistently(piece);
+  // The connected pieces (across shared edges) and the volume each encloses.
+  DisjointSets sets(piece.triangles.size());
+  std::unordered_map<std::uint64_t, int> first_on;
+  for (size_t k = 0; k < piece.triangles.size(); ++k)
+    for (int e = 0; e < 3; ++e) {
+      const int a = piece.triangles[k].v[e], b = piece.triangles[k].v[(e + 1) % 3];
+      const auto [it, added] = first_on.emplace(edge_key(a, b), static_cast<int>(k));
+      if (!added) sets.join(it->second, static_cast<int>(k));
+    }
+  std::map<int, double> enclosed;
+  for (size_t k = 0; k < piece.triangles.size(); ++k) {
+    const auto& v = piece.triangles[k].v;
+    const Vec3 &a = piece.points[static_cast<size_t>(v[0])], &b = piece.points[static_cast<size_t>(v[1])],
+               &c = piece.points[static_cast<size_t>(v[2])];
+    enclosed[sets.find(static_cast<int>(k))] += dot(a, cross(b, c)) / 6.0;
+  }
+  int outer = -1;
+  for (const auto& [root, volume] : enclosed)
+    if (outer < 0 || volume > enclosed[outer]) outer = root;
+  std::vector<char> out(own.size());
+  for (size_t k = 0; k < own.size(); ++k) {
+    const bool kept = has_directed_edge(before[k], piece.triangles[k].v[0], piece.triangles[k].v[1]);
+    out[k] = kept == (sets.find(static_cast<int>(k)) == outer);
+  }
+  return out;
 }
 
 struct Element {
@@ -770,38 +819,56 @@ void MshReader::finish() {
     orient_consistently(m_);
     return;
   }
-  // The volumes that list a surface as their boundary give its sides; +s
-  // means the surface's normal points out of the volume.
+  // The volumes that list a surface as their boundary give its sides. Not
+  // by the list's signs (+s: the surface's normal points out of the volume),
+  // which are not to be trusted: Gmsh's OpenCASCADE kernel writes every one
+  // as +, a wall between two boxes or a sphere in a box in both, and its own
+  // kernel's disagree with the triangles' turn on some surfaces. By the
+  // triangles themselves: each volume's are turned to point out of it
+  // (volume_sides). Until 2026-11-30 the signs were read, their sides did
+  // not close, and the regions were found from the surface: physical
+  // volumes 11 "Left" and 22 "Right" came out as regions 1 and 2, beside
+  // names for 11 and 22 (a surface tester's two boxes).
   int largest = 0;
   for (const auto& [vtag, v] : volumes_)
     largest = std::max(largest, volume_group(v));
-  std::map<int, std::pair<int, int>> sides;  // surface -> (front, back)
-  bool contradicted = false;                  // two volumes on one side of a surface
+  bool contradicted = false;  // two volumes on one side of a triangle
+  std::vector<char> listed(m_.triangles.size(), 0);
+  std::map<int, std::vector<size_t>> on_surface;  // entity -> its triangles
+  for (size_t i = 0; i < m_.triangles.size(); ++i) on_surface[tri_info_[i].entity].push_back(i);
+  // A triangle bounds two volumes at most: past that the file contradicts
+  // itself, and its volumes could make this quadratic in its size.
+  size_t looked_at = 0;
   for (const auto& [vtag, v] : volumes_) {
+    if (contradicted) break;
     const int region = numbered(group_number(volume_group(v), vtag, largest));
-    for (int s : v.bounding) {
-      auto& fb = sides.emplace(std::abs(s), std::make_pair(0, 0)).first->second;
-      int& side = s > 0 ? fb.second : fb.first;
+    std::set<int> bounding;
+    for (int s : v.bounding) bounding.insert(std::abs(s));
+    std::vector<size_t> own;
+    for (int b : bounding) {
+      const auto it = on_surface.find(b);
+      if (it != on_surface.end()) own.insert(own.end(), it->second.begin(), it->second.end());
+    }
+    looked_at += own.size();
+    if (looked_at > 2 * m_.triangles.size()) {
+      contradicted = true;
+      break;
+    }
+    std::sort(own.begin(), own.end());
+    const std::vector<char> out_of_it = turned_out_of_the_volume(m_, own);
+    for (size_t k = 0; k < own.size(); ++k) {
+      Triangle& t = m_.triangles[own[k]];
+      if (!listed[own[k]]) t.front = t.back = 0, listed[own[k]] = 1;
+      int& side = out_of_it[k] ? t.back : t.front;
       contradicted |= side != 0 && side != region;
       side = region;
     }
   }
-  for (size_t i = 0; i < m_.triangles.size(); ++i) {
-    auto it = sides.find(tri_info_[i].entity);
-    if (it == sides.end()) continue;
-    m_.triangles[i].front = it->second.first;
-    m_.triangles[i].back = it->second.second;
-  }
-  // Gmsh's signs are not to be trusted: its OpenCASCADE kernel writes every
-  // one as +, a wall between two boxes or a sphere in a box in both, and
-  // its own kernel's disagree with the triangles' turn on some surfaces. Sides that do not
-  // close each region are dropped, and the regions are found from the
-  // surface as for 2.2 ("region tags contradict the surface" before).
-  // A triangle no volume lists (a surface-only model: Gmsh writes
+  // Sides that do not close each region are dropped, and the regions are
+  // found from the surface as for 2.2 ("region tags contradict the surface"
+  // before). A triangle no volume lists (a surface-only model: Gmsh writes
   // $Entities in 4.1 all the same) leaves the sides unknown too.
-  const bool all_known = std::all_of(m_.triangles.begin(), m_.triangles.end(), [](const Triangle& t) {
-    return t.front != kUnknownRegion && t.back != kUnknownRegion;
-  });
+  const bool all_known = std::all_of(listed.begin(), listed.end(), [](char c) { return c != 0; });
   if (contradicted || !all_known || !sides_close_regions(m_)) {
     for (Triangle& t : m_.triangles) t.front = t.back = kUnknownRegion;
     orient_consistently(m_);

@@ -553,8 +553,53 @@ def check_reads_gmsh_and_meshio_files(binary, tmp):
         for version in (4.1, 2.2):
             gmsh.option.setNumber("Mesh.MshFileVersion", version)
             gmsh.write(os.path.join(tmp, "builtin_box_%s.msh" % version))
+        # With physical volumes, surface only (4.1): the volumes' numbers and
+        # names, from the triangles each volume lists, turned out of it (the
+        # sphere's are a cavity of the box's volume). They came out as
+        # regions 1 and 2, beside names for 11 and 22 (a surface tester,
+        # 2026-11-30).
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.model.add("named")
+        a = gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
+        b = gmsh.model.occ.addBox(1, 0, 0, 1, 1, 1)
+        gmsh.model.occ.fragment([(3, a)], [(3, b)])
+        gmsh.model.occ.synchronize()
+        gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, [a], 11), "Left")
+        gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, [b], 22), "Right")
+        gmsh.model.addPhysicalGroup(2, [t for _, t in gmsh.model.getEntities(2)], 101)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.25)
+        gmsh.model.mesh.generate(2)
+        gmsh.write(os.path.join(tmp, "named_boxes.msh"))
+        gmsh.model.add("named_sphere")
+        gmsh.model.occ.addBox(-1, -1, -1, 2, 2, 2)
+        gmsh.model.occ.addSphere(0, 0, 0, 0.5)
+        gmsh.model.occ.fragment([(3, 1)], [(3, 2)])
+        gmsh.model.occ.synchronize()
+        vols = sorted(t for _, t in gmsh.model.getEntities(3))
+        ball = min(vols, key=lambda t: gmsh.model.occ.getMass(3, t))
+        gmsh.model.addPhysicalGroup(3, [ball], 503)
+        gmsh.model.addPhysicalGroup(3, [t for t in vols if t != ball], 502)
+        gmsh.model.addPhysicalGroup(2, [t for _, t in gmsh.model.getEntities(2)], 101)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.3)
+        gmsh.model.mesh.generate(2)
+        gmsh.write(os.path.join(tmp, "named_sphere.msh"))
     finally:
         gmsh.finalize()
+    for name, regions in (("named_boxes", {11: "Left", 22: "Right"}), ("named_sphere", {502: None, 503: None})):
+        path = os.path.join(tmp, name + ".msh")
+        deck = os.path.join(tmp, name + ".inp")
+        run = subprocess.run([binary, "mesh", path, "-o", deck, "--quiet"], capture_output=True, text=True)
+        code, tets, volumes, err = vdmesh_info(binary, deck) if run.returncode == 0 else (
+            run.returncode, None, {}, run.stderr.strip()[:200])
+        names = [l.split("ELSET=")[1].strip() for l in open(deck) if "TYPE=C3D4" in l] if run.returncode == 0 else []
+        if name == "named_boxes":
+            ok = set(volumes) == {11, 22} and all(abs(v - 1) < 1e-9 for v in volumes.values()) and \
+                sorted(names) == ["Left", "Right"]
+        else:  # the sphere's chords cut into it
+            ok = set(volumes) == {502, 503} and volumes[503] < 4 / 3 * 3.14159266 * 0.125 and \
+                abs(volumes[502] + volumes[503] - 8) < 1e-7
+        check(code == 0 and ok, "vdmesh mesh %s (Gmsh surface mesh, physical volumes): regions %s, element sets %s %s"
+              % (os.path.basename(path), volumes, names, err))
     for name, expected in surfaces:
         for version in (4.1, 2.2):
             path = os.path.join(tmp, "%s_%s.msh" % (name, version))
