@@ -4,6 +4,7 @@
 // Elements come out in the order of their tags, so files written by vdmesh
 // (grouped by entity, tagged in the original order) read back in order.
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <cstring>
@@ -103,25 +104,44 @@ std::vector<char> turned_out_of_the_volume(const Mesh& m, const std::vector<size
   }
   const std::vector<Triangle> before = piece.triangles;
   orient_consistently(piece);
-  // The connected pieces (across shared edges) and the volume each encloses.
+  // The connected pieces (across edges of two triangles, as
+  // orient_consistently joins them) and the volume each encloses, taken
+  // about a vertex of its own (far from the origin, a sum about the origin
+  // cancels badly).
   DisjointSets sets(piece.triangles.size());
-  std::unordered_map<std::uint64_t, int> first_on;
+  std::unordered_map<std::uint64_t, std::vector<int>> on_edge;
   for (size_t k = 0; k < piece.triangles.size(); ++k)
-    for (int e = 0; e < 3; ++e) {
-      const int a = piece.triangles[k].v[e], b = piece.triangles[k].v[(e + 1) % 3];
-      const auto [it, added] = first_on.emplace(edge_key(a, b), static_cast<int>(k));
-      if (!added) sets.join(it->second, static_cast<int>(k));
-    }
+    for (int e = 0; e < 3; ++e)
+      on_edge[edge_key(piece.triangles[k].v[e], piece.triangles[k].v[(e + 1) % 3])].push_back(static_cast<int>(k));
+  for (const auto& [key, list] : on_edge)
+    if (list.size() == 2) sets.join(list[0], list[1]);
   std::map<int, double> enclosed;
+  std::map<int, std::array<Vec3, 2>> box;  // lowest and highest corner
   for (size_t k = 0; k < piece.triangles.size(); ++k) {
+    const int root = sets.find(static_cast<int>(k));
+    const Vec3& o = piece.points[static_cast<size_t>(piece.triangles[static_cast<size_t>(root)].v[0])];
     const auto& v = piece.triangles[k].v;
-    const Vec3 &a = piece.points[static_cast<size_t>(v[0])], &b = piece.points[static_cast<size_t>(v[1])],
-               &c = piece.points[static_cast<size_t>(v[2])];
-    enclosed[sets.find(static_cast<int>(k))] += dot(a, cross(b, c)) / 6.0;
+    const Vec3 a = piece.points[static_cast<size_t>(v[0])] - o, b = piece.points[static_cast<size_t>(v[1])] - o,
+               c = piece.points[static_cast<size_t>(v[2])] - o;
+    enclosed[root] += dot(a, cross(b, c)) / 6.0;
+    auto [it, added] = box.try_emplace(root, std::array<Vec3, 2>{a + o, a + o});
+    for (const Vec3& p : {a + o, b + o, c + o})
+      for (int d = 0; d < 3; ++d) {
+        it->second[0][d] = std::min(it->second[0][d], p[d]);
+        it->second[1][d] = std::max(it->second[1][d], p[d]);
+      }
   }
   int outer = -1;
   for (const auto& [root, volume] : enclosed)
     if (outer < 0 || volume > enclosed[outer]) outer = root;
+  // The others are cavities only inside it: a volume of two lumps, or an
+  // island in a cavity, is not one solid's boundary, and its sides are left
+  // to the surface (empty: unknown).
+  for (const auto& [root, corners] : box) {
+    if (root == outer) continue;
+    for (int d = 0; d < 3; ++d)
+      if (!(corners[0][d] > box[outer][0][d] && corners[1][d] < box[outer][1][d])) return {};
+  }
   std::vector<char> out(own.size());
   for (size_t k = 0; k < own.size(); ++k) {
     const bool kept = has_directed_edge(before[k], piece.triangles[k].v[0], piece.triangles[k].v[1]);
@@ -843,7 +863,8 @@ void MshReader::finish() {
     if (contradicted) break;
     const int region = numbered(group_number(volume_group(v), vtag, largest));
     std::set<int> bounding;
-    for (int s : v.bounding) bounding.insert(std::abs(s));
+    for (int s : v.bounding)
+      if (s != INT_MIN) bounding.insert(std::abs(s));  // (INT_MIN has no absolute value)
     std::vector<size_t> own;
     for (int b : bounding) {
       const auto it = on_surface.find(b);
@@ -856,6 +877,10 @@ void MshReader::finish() {
     }
     std::sort(own.begin(), own.end());
     const std::vector<char> out_of_it = turned_out_of_the_volume(m_, own);
+    if (out_of_it.size() != own.size()) {
+      contradicted = true;
+      break;
+    }
     for (size_t k = 0; k < own.size(); ++k) {
       Triangle& t = m_.triangles[own[k]];
       if (!listed[own[k]]) t.front = t.back = 0, listed[own[k]] = 1;

@@ -110,6 +110,7 @@ int compare_worker(const std::vector<std::string>& raw) {
   if (pos.size() != 2) throw UsageError("compare --worker INPUT BASE [options]");
   const std::string base = pos[1];
   const Mesh input = load_compare_input(pos[0], sharp, tessellation);
+  opt.tessellated = cad::is_cad_file_name(pos[0]);
   MeshResult partial;
   try {
     const MeshResult result = mesh_surface(input, opt, &partial);

@@ -48,6 +48,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   const Mesh surface = model.tessellate(topt, &stats);
 
   MeshOptions mopt = options.mesh;
+  mopt.tessellated = true;
   mopt.size.uniform = stats.size;
   // The tessellation was refined and graded on the CAD geometry
   // (cad_refine.cpp); the graded splits of faceted input would put points
@@ -219,7 +220,8 @@ MeshResult mesh_chain(const CadModel& model, const CadMeshOptions& options, Mesh
 // part, 2026-11-30) ran away on every link, its splits put on the cylinder
 // beside the line where it touches the plane, and meshed on the chords
 // (31,176 tetrahedra, 1.85 deg, 0.04 % off its volume). Last: the chords
-// cost the curved faces their accuracy, and only one tessellation is tried.
+// cost the curved faces their accuracy, and only the first tessellation is
+// tried (and it unsmoothed, as the chain does).
 MeshResult mesh_chain_or_shells(const CadModel& model, const CadMeshOptions& options, MeshResult* partial) {
   if (options.mesh.delaunayzation.shell_splits) return mesh_chain(model, options, partial);
   const auto start = std::chrono::steady_clock::now();
@@ -247,12 +249,14 @@ MeshResult mesh_chain_or_shells(const CadModel& model, const CadMeshOptions& opt
     const double stopped_all = since_start();
     CadMeshOptions planar = options;
     planar.splits_on_geometry = false;
-    planar.retry_angles_deg.clear();  // the first tessellation alone
+    planar.retry_angles_deg.clear();  // the first tessellation (and it unsmoothed) alone
     MeshResult scratch;  // a failure here leaves the chain's partial result and error
     MeshResult result;
     try {
       result = mesh_chain(model, planar, partial ? &scratch : nullptr);
-    } catch (const RecoveryError&) {
+    } catch (const CancelledError&) {
+      throw;
+    } catch (...) {  // whatever stopped it (GlueRefused too), the chains' failure is the one to say
       std::rethrow_exception(shells_failure);
     }
     result.report.cad.planar_splits_fallback = true;

@@ -369,13 +369,6 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
                                 std::to_string(report.delaunayzation.passes) + " passes, " +
                                 std::to_string(report.delaunayzation.added_vertices) + " added vertices); " +
                                 where_facets_are_missing(m, pass.missing);
-    // A faceted surface with a gap whose recovery stopped is bad input, and
-    // the gap is what to say: a cube with a vertex doubled 1e-9 away (a crack
-    // of 8 edges) ended in exit 4 naming 1,010 missing facets only (a
-    // surface tester, 2026-11-30). On CAD input the chain tries another
-    // tessellation, so the recovery's failure stands.
-    if (!open_edges.empty() && !options.delaunayzation.geometry)
-      throw InputError("the surface is open and its recovery stopped: " + stopped + open_edges_text(open_edges, m));
     throw RecoveryError(stopped, missing_faces, pass.ran_away);
   };
 
@@ -383,7 +376,19 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   // alone gives the regions, so that candidates are located exactly (point
   // location in the tetrahedralization) instead of by ray casting; the second
   // recovery is the paper's, against all vertices.
-  recover("delaunayzation");
+  try {
+    recover("delaunayzation");
+  } catch (const RecoveryError& e) {
+    // A faceted surface with a gap whose first recovery stopped is bad
+    // input, and the gap is what to say: a cube with a vertex doubled 1e-9
+    // away (a crack of 8 edges) ended in exit 4 naming 1,010 missing facets
+    // only (a surface tester, 2026-11-30). The later recoveries have their
+    // own ways out (an undone fold round, the cautious run), and a CAD
+    // tessellation its chain.
+    if (open_edges.empty() || options.tessellated) throw;
+    throw InputError(std::string("the surface is open and its recovery stopped: ") + e.what() +
+                     open_edges_text(open_edges, m));
+  }
   // Only the first recovery is stopped for running away alone: the later
   // ones have their own ways out (give_up_early, an undone fold round).
   dopt.stop_running_away = false;

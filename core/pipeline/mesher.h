@@ -40,6 +40,10 @@ struct MeshOptions {
   int threads = 0;
   double sharp_angle_deg = 40.0;     // face patches for input without face ids
   bool validate = true;
+  // The surface is a CAD tessellation: a recovery that stops is for the
+  // tessellation chain to try again (RecoveryError), even beside edges on one
+  // facet only; on a faceted surface with such a gap it is bad input.
+  bool tessellated = false;
   bool interior = true;              // interior vertices (paper §2); --no-interior turns them off
   SizeFieldOptions size;             // --size H, gradation
   // --surface-grading R: with interior vertices and flips, surface edges

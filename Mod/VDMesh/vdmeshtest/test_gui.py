@@ -287,6 +287,14 @@ class TestVDMeshGui(unittest.TestCase):
             process_events()
             form = task_panel()
             self.assertIsNotNone(form)
+            self.addCleanup(lambda name=doc.Name: name in FreeCAD.listDocuments() and FreeCAD.closeDocument(name))
+            # The Model tab shown, as when the part is deleted in the tree: the panel is then hidden.
+            combo = [w for w in QtGui.QApplication.allWidgets() if isinstance(w, QtGui.QTabWidget)
+                     and w.objectName() == "combiTab"]
+            self.assertEqual(len(combo), 1)
+            combo[0].setCurrentIndex(0)
+            process_events()
+            self.assertFalse(form.isVisible())  # what the panel's first watcher took for closed
             if mode == "close":
                 FreeCAD.closeDocument(doc.Name)
             elif mode == "delete":

@@ -233,9 +233,13 @@ class MeshTaskPanel:
         QtCore.QTimer.singleShot(0, self.close_gone)
 
     def shown(self):
+        """Whether this panel's dialog is still open: its widget lives until the dialog closes
+        (visible it is not while another tab of the combo view is shown, where a user deletes the
+        part in the tree; a review of 2026-11-30)."""
         try:
-            return self.form is not None and self.form.isVisible()
-        except RuntimeError:  # the widget went with its dialog (or FreeCAD set form to None)
+            self.form.objectName()
+            return bool(FreeCADGui.Control.activeDialog())
+        except (RuntimeError, AttributeError):  # the widget went with its dialog, or form is None
             return False
 
     def close_gone(self):
