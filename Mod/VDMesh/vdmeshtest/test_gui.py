@@ -95,6 +95,15 @@ class TestVDMeshGui(unittest.TestCase):
         doc.recompute()
         return part
 
+    def mesh_panel_on_a_box(self, doc):
+        """A box with a hole in doc, selected, and the Mesh command's panel open on it: (part, form)."""
+        part = self.box_with_hole(doc)
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(part)
+        Gui.runCommand("VDMesh_Mesh")
+        process_events()
+        return part, task_panel()
+
     def test_mesh_command_task_panel_screenshot(self):
         Gui.activateWorkbench("VDMeshWorkbench")
         self.assertEqual(Gui.activeWorkbench().name(), "VDMeshWorkbench")
@@ -246,12 +255,7 @@ class TestVDMeshGui(unittest.TestCase):
         tempfile.tempdir = tmp
         for mode in ("close", "delete"):
             doc = FreeCAD.newDocument("VDMeshGuiGone")
-            part = self.box_with_hole(doc)
-            Gui.Selection.clearSelection()
-            Gui.Selection.addSelection(part)
-            Gui.runCommand("VDMesh_Mesh")
-            process_events()
-            form = task_panel()
+            part, form = self.mesh_panel_on_a_box(doc)
             form.findChild(QtGui.QDoubleSpinBox, "size").setValue(0.15)  # 16 s to the end
             name = doc.Name
 
@@ -280,12 +284,7 @@ class TestVDMeshGui(unittest.TestCase):
         # deleted part (FreeCAD closes no task dialog of a document it closes).
         for mode in ("close", "delete", "delete the mesh made"):
             doc = FreeCAD.newDocument("VDMeshGuiIdle")
-            part = self.box_with_hole(doc)
-            Gui.Selection.clearSelection()
-            Gui.Selection.addSelection(part)
-            Gui.runCommand("VDMesh_Mesh")
-            process_events()
-            form = task_panel()
+            part, form = self.mesh_panel_on_a_box(doc)
             self.assertIsNotNone(form)
             self.addCleanup(lambda name=doc.Name: name in FreeCAD.listDocuments() and FreeCAD.closeDocument(name))
             # The Model tab shown, as when the part is deleted in the tree: the panel is then hidden.
