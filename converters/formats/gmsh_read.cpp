@@ -121,11 +121,11 @@ std::vector<char> turned_out_of_the_volume(const Mesh& m, const std::vector<size
     const int root = sets.find(static_cast<int>(k));
     const Vec3& o = piece.points[static_cast<size_t>(piece.triangles[static_cast<size_t>(root)].v[0])];
     const auto& v = piece.triangles[k].v;
-    const Vec3 a = piece.points[static_cast<size_t>(v[0])] - o, b = piece.points[static_cast<size_t>(v[1])] - o,
-               c = piece.points[static_cast<size_t>(v[2])] - o;
-    enclosed[root] += dot(a, cross(b, c)) / 6.0;
-    auto [it, added] = box.try_emplace(root, std::array<Vec3, 2>{a + o, a + o});
-    for (const Vec3& p : {a + o, b + o, c + o})
+    const Vec3 &a = piece.points[static_cast<size_t>(v[0])], &b = piece.points[static_cast<size_t>(v[1])],
+               &c = piece.points[static_cast<size_t>(v[2])];
+    enclosed[root] += dot(a - o, cross(b - o, c - o)) / 6.0;
+    auto [it, added] = box.try_emplace(root, std::array<Vec3, 2>{a, a});
+    for (const Vec3& p : {a, b, c})
       for (int d = 0; d < 3; ++d) {
         it->second[0][d] = std::min(it->second[0][d], p[d]);
         it->second[1][d] = std::max(it->second[1][d], p[d]);
@@ -845,7 +845,7 @@ void MshReader::finish() {
   // as +, a wall between two boxes or a sphere in a box in both, and its own
   // kernel's disagree with the triangles' turn on some surfaces. By the
   // triangles themselves: each volume's are turned to point out of it
-  // (volume_sides). Until 2026-11-30 the signs were read, their sides did
+  // (turned_out_of_the_volume). Until 2026-11-30 the signs were read, their sides did
   // not close, and the regions were found from the surface: physical
   // volumes 11 "Left" and 22 "Right" came out as regions 1 and 2, beside
   // names for 11 and 22 (a surface tester's two boxes).

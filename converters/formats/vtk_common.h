@@ -170,9 +170,8 @@ class VtkCellView {
 // bytes of "region <id> <name>" and "face <id> <name>" lines in an unsigned
 // char array of the data set's field data, which VTK and ParaView read as
 // numbers (meshio too in .vtu; it drops it from .vtk) and vdmesh reads back
-// (both formats: a .vtu or .vtk gave
-// Region1 for Solid1, and a deck's *SOLID SECTION, ELSET=Solid1 named
-// nothing).
+// (both formats: a .vtu or .vtk gave Region1 for Solid1, and a deck's
+// *SOLID SECTION, ELSET=Solid1 named nothing).
 inline constexpr const char* kVtkNamesArray = "vdmesh_names";
 
 // One line per name (a name with a line break in it is left out).

@@ -364,12 +364,12 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     for (const auto& [face, count] : missing_by_face)
       if (!pass.ran_away || count > kHandfulOnAFace) missing_faces.push_back(face);
     if (partial) *partial = result;
-    const std::string stopped = std::to_string(report.missing_facets.size()) + " facets could not be made Delaunay " +
-                                (pass.ran_away ? "(the recovery ran away: " : "within the guards (") +
-                                std::to_string(report.delaunayzation.passes) + " passes, " +
-                                std::to_string(report.delaunayzation.added_vertices) + " added vertices); " +
-                                where_facets_are_missing(m, pass.missing);
-    throw RecoveryError(stopped, missing_faces, pass.ran_away);
+    throw RecoveryError(std::to_string(report.missing_facets.size()) + " facets could not be made Delaunay " +
+                            (pass.ran_away ? "(the recovery ran away: " : "within the guards (") +
+                            std::to_string(report.delaunayzation.passes) + " passes, " +
+                            std::to_string(report.delaunayzation.added_vertices) + " added vertices); " +
+                            where_facets_are_missing(m, pass.missing),
+                        missing_faces, pass.ran_away);
   };
 
   // With interior vertices, a first recovery against the surface vertices
