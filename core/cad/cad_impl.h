@@ -208,9 +208,11 @@ int remove_flat_inner_vertices(CadSurface& s, const std::vector<double>& face_de
 int compact_surface(CadSurface& s, const std::vector<char>& dead_facets = {});
 // cad_refine.cpp: edge splits to the size on the CAD geometry, then flips.
 // With options.remesh, then the inside of the faces meshed anew
-// (remesh_faces). `face_deflection`: the chord height per face.
-void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options, double size,
-                    const std::vector<double>& face_deflection, TessellationStats& stats);
+// (remesh_faces). `face_size`, `face_deflection`: the size and the chord
+// height per face (by face index).
+void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options,
+                    const std::vector<double>& face_size, const std::vector<double>& face_deflection,
+                    TessellationStats& stats);
 // cad_remesh.cpp: the faces meshed anew inside their border nodes by
 // Delaunay refinement in a chart of their (u, v) that keeps angles (exactly
 // on planes, cylinders, cones, spheres and tori; elsewhere kept only when
@@ -219,8 +221,8 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
 // not among its `past_limit`), are left. Returns
 // the faces remeshed, and marks them (by face index) in `remeshed` if given.
 struct RemeshPlan;
-int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
-                 const RemeshPlan& plan, std::vector<char>* remeshed = nullptr);
+int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
+                 const std::vector<double>& face_size, const RemeshPlan& plan, std::vector<char>* remeshed = nullptr);
 // Before it: how many times its facets a face may get, from what the whole
 // surface would get; and where each border piece (edge_key of its ends)
 // must be cut for the faces' meshes to be round (Ruppert's segment splits):
@@ -248,6 +250,6 @@ struct RemeshPlan {
   std::vector<SharpCorner> sharp_corners;
 };
 RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
-                          double size);
+                          const std::vector<double>& face_size);
 
 }  // namespace vd::cad

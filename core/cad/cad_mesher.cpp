@@ -79,6 +79,8 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.overlaps = model.overlaps();  // in the partial report of exit 4 too
   cad.size = stats.size;
   cad.size_chosen = stats.size_chosen;
+  cad.thin_faces = stats.thin_faces;
+  cad.thin_size = stats.thin_size;
   cad.deflection = stats.deflection;
   cad.angle_deg = stats.angle_deg;
   cad.tessellation_rounds = stats.rounds;

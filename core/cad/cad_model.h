@@ -61,6 +61,11 @@ struct TessellationOptions {
   // tessellations, kMaxFacetGrowth times the facets; stops when the error
   // does not shrink with the chords). 0: tessellate once.
   double volume_tolerance = 0.004;
+  // With the size chosen (size 0) on a part of one solid whose mean
+  // thickness 2V/A is under the size over this: its faces get this times
+  // that thickness as their size, within a facet budget
+  // (cad_surface.cpp, thin_solid_face_sizes). 0: off.
+  double thin_size_factor = 4.0;
   bool refine = true;           // split edges longer than `size`, new vertices on the CAD geometry
   bool flips = true;            // improve triangle shape by flips inside each face
   // > 0: also split edges longer than this times the mean graded size of
@@ -77,6 +82,8 @@ struct TessellationOptions {
 struct TessellationStats {
   double size = 0;              // the size used (given or chosen)
   bool size_chosen = false;
+  int thin_faces = 0;           // faces of thin solids given a size under `size` (thin_size_factor)
+  double thin_size = 0;         // the smallest of their sizes
   double deflection = 0;        // the smallest chord height used (of the last round)
   double angle_deg = 0;         // the smallest angular deflection used (of the last round)
   std::vector<double> face_deflection;  // by face number (Face<n>): each face's chord height

@@ -159,6 +159,10 @@ class Refiner {
   // 1.04M-facet surface (gmsh_simple_plane.brep at its nose's chord height).
   void index_edges() { edges_ = EdgeMap(s_.mesh.triangles); }
 
+  // The sizes of faces finer than the size (by face index; empty: none):
+  // an edge is split past the smallest of its facets' faces.
+  void bound_by_faces(std::vector<double> face_size) { face_size_ = std::move(face_size); }
+
   void split_long_edges(double size, bool flips, const std::atomic<bool>* cancel) {
     index_edges();
     if (grading_ > 0) {
@@ -173,7 +177,10 @@ class Refiner {
       std::vector<std::pair<double, std::uint64_t>> long_edges;
       for (const auto& [k, around] : edges_.all()) {
         const double l = norm(s_.mesh.points[k >> 32] - s_.mesh.points[k & 0xffffffffu]);
-        if (l > limit(size, static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu)) && !refused_.count(k))
+        double edge_size = size;
+        if (!face_size_.empty())
+          for (const int f : around) edge_size = std::min(edge_size, face_size_[s_.facet_face[f]]);
+        if (l > limit(edge_size, static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu)) && !refused_.count(k))
           long_edges.emplace_back(l, k);
       }
       if (long_edges.empty()) return;
@@ -737,6 +744,7 @@ class Refiner {
   std::vector<char> knife_;                     // per vertex: on a knife edge
   double grading_ = 0, gradation_ = 0.3;
   std::vector<double> graded_;       // per vertex: graded size (with grading)
+  std::vector<double> face_size_;    // bound_by_faces
   std::vector<char> sharp_corner_;   // per vertex: a face's corner under 20 deg
   TessellationStats& stats_;
 };
@@ -773,12 +781,15 @@ int snap_border_caps(const CadModel::Impl& cad, CadSurface& s, TessellationStats
 
 }  // namespace
 
-void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options, double size,
-                    const std::vector<double>& face_deflection, TessellationStats& stats) {
+void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const TessellationOptions& options,
+                    const std::vector<double>& face_size, const std::vector<double>& face_deflection,
+                    TessellationStats& stats) {
+  const double size = *std::max_element(face_size.begin(), face_size.end());
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<char> remeshed(cad.faces.size(), 0);
   std::optional<Refiner> r(std::in_place, cad, s, stats, options.grading, options.gradation);
   r->find_knife_edges();
+  if (*std::min_element(face_size.begin(), face_size.end()) < size) r->bound_by_faces(face_size);
   stats.border_splits = r->split_border_slivers();
   r->split_long_edges(size, options.flips, options.cancel);
   if (options.flips && options.remesh) {
@@ -789,10 +800,10 @@ void refine_to_size(const CadModel::Impl& cad, CadSurface& s, const Tessellation
     // head 0.68 -> 3.69, gmsh_dlr_f6.brep 0.79 -> 5.47, no surface crossing
     // itself on the corpus (the knife edges' own facets were split on the
     // face before, and flips still keep off them).
-    const RemeshPlan plan = plan_remeshing(cad, s, face_deflection, size);
+    const RemeshPlan plan = plan_remeshing(cad, s, face_deflection, face_size);
     for (const auto& [key, fractions] : plan.border_nodes)
       r->split_at(static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu), fractions);
-    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, size, plan, &remeshed);
+    stats.remeshed_faces = remesh_faces(cad, s, face_deflection, face_size, plan, &remeshed);
   }
   // Caps on the borders of the faces kept as they were (the remeshed ones
   // have none): each pass moves the row next to a border onto it, the next

@@ -1011,14 +1011,15 @@ std::array<std::vector<int>, 2> hemispheres(const TopoDS_Face& face, const CadSu
 }
 
 std::vector<ChartedFace> charted_faces(const CadModel::Impl& cad, const std::vector<std::vector<int>>& by_face,
-                                       const CadSurface& s, const std::vector<double>& face_deflection, double size) {
+                                       const CadSurface& s, const std::vector<double>& face_deflection,
+                                       const std::vector<double>& face_size) {
   std::vector<ChartedFace> out;
   auto chart_of = [&](size_t fi, const std::vector<int>& facets, bool piece) {
     ChartedFace c{static_cast<int>(fi), {}, facets, piece};
     std::vector<gp_Pnt2d> corners;
     for (int f : facets) corners.insert(corners.end(), s.uv[f].begin(), s.uv[f].end());
     try {
-      if (!c.chart.make(cad.faces[fi], size, face_deflection[fi], corners)) return false;
+      if (!c.chart.make(cad.faces[fi], face_size[fi], face_deflection[fi], corners)) return false;
     } catch (const Standard_Failure&) {
       return false;
     }
@@ -1106,9 +1107,9 @@ void equal_first_nodes_at_sharp_corners(RemeshPlan& plan) {
 }  // namespace
 
 RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
-                          double size) {
+                          const std::vector<double>& face_size) {
   const auto by_face = facets_by_face(cad, s);
-  const std::vector<ChartedFace> charted = charted_faces(cad, by_face, s, face_deflection, size);
+  const std::vector<ChartedFace> charted = charted_faces(cad, by_face, s, face_deflection, face_size);
   RemeshPlan plan;
   double total = static_cast<double>(s.mesh.triangles.size());
   std::map<int, std::pair<double, double>> past;  // face -> (facets, grown), faces past kMaxFaceGrowth
@@ -1169,8 +1170,8 @@ RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::v
   return plan;
 }
 
-int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection, double size,
-                 const RemeshPlan& plan, std::vector<char>* remeshed_out) {
+int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
+                 const std::vector<double>& face_size, const RemeshPlan& plan, std::vector<char>* remeshed_out) {
   const auto by_face = facets_by_face(cad, s);
   std::vector<char> dead(s.mesh.triangles.size(), 0);
   std::set<int> remeshed;  // faces with any piece remeshed
@@ -1183,7 +1184,7 @@ int remesh_faces(const CadModel::Impl& cad, CadSurface& s, const std::vector<dou
     // threads. What a face's meshing threw is thrown when its turn comes,
     // after the faces before it went in, as when they were meshed in turn.
     FaceRemesher remesher(cad, s, plan.growth_limit, plan.past_limit);
-    const std::vector<ChartedFace> charted = charted_faces(cad, by_face, s, face_deflection, size);
+    const std::vector<ChartedFace> charted = charted_faces(cad, by_face, s, face_deflection, face_size);
     std::vector<std::unique_ptr<FaceBorder>> meshes(charted.size());
     std::vector<std::exception_ptr> failures(charted.size());
     for_each_chunk(static_cast<long>(charted.size()), 1, [&](long, long i, long) {

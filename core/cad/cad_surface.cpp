@@ -26,6 +26,7 @@
 #include "mesh/number_text.h"
 #include "mesh/second_order.h"
 #include "mesh/size_budget.h"
+#include "surface/face_patches.h"
 #include "volume/region_tetrahedra.h"
 
 namespace vd::cad {
@@ -111,6 +112,64 @@ std::vector<double> chord_heights(const std::vector<int>& front, const std::vect
   return height;
 }
 
+// Each face's size, by face index: `size`, or on a part of one solid whose
+// mean thickness 2V/A (`thickness`, by solid number) is under size /
+// factor, factor times that thickness, and at least kThinSizeFloor times
+// the size. At the size chosen from the part's diagonal, a plate 0.2 thick
+// and 50 wide got one layer of tetrahedra with edges 14 times its
+// thickness, and 0.011 deg (a disk 0.3 thick: 0.010 deg; Gmsh's default
+// 2.95 deg); at 4 times the thickness 10.7 and 14.4 deg (with faces that
+// slide, facet_witnesses.cpp).
+//
+// Assemblies keep the size: on gmsh_simple_plane.brep (27 solids, its nose
+// pieces 2V/A 0.0006 and its wings thin at size 0.19) the chain of
+// tessellations ended elsewhere, 0.70 -> 1.85 % off a wing's volume (at
+// least a quarter of the size; at a tenth 1.45 % and 898k tetrahedra with
+// 21k under 10 deg, against 489k and 7k).
+//
+// The facets this adds are bounded, counted on the face tessellation `s`
+// as the splits to the sizes would make them (a facet's area over the
+// size's equilateral triangle, or its longest edge over the size if more:
+// OpenCASCADE's strips on a thin cylinder are split along their length
+// only): past kThinFacetGrowth times those at the size, or kThinFacetBudget
+// more if that is more, the bounded sizes grow alike until it holds. Counted
+// by area alone and allowed 16 times, pythonocc_11752.stp (552 mm wide, 2V/A
+// 3.8 mm, size 51.9 mm) got size 15 on its pins (radius 1.6, 1140 long) as
+// on its plates, 61,054 facets on each pin, 10.9M in all, and ran 4 minutes
+// and 3.4 GB before its refusal (34 s without; 40 s now).
+constexpr double kThinFacetGrowth = 1.5;
+constexpr double kThinFacetBudget = 50000.0;
+constexpr double kThinSizeFloor = 0.25;
+
+std::vector<double> thin_solid_face_sizes(const CadSurface& s, const std::vector<int>& front,
+                                          const std::vector<int>& back, const std::map<int, double>& thickness,
+                                          double size, double factor) {
+  std::vector<double> h = smallest_of_solids(front, back, thickness);
+  if (thickness.size() != 1) factor = 0;
+  for (double& x : h) x = factor > 0 && factor * x < size ? std::max(factor * x, kThinSizeFloor * size) : size;
+  auto facets = [&](const std::vector<double>& face_size) {
+    const double triangle = std::sqrt(3.0) / 4.0;
+    double n = 0;
+    for (size_t f = 0; f < s.mesh.triangles.size(); ++f) {
+      const Triangle& t = s.mesh.triangles[f];
+      const double hf = face_size[s.facet_face[f]];
+      double longest = 0;
+      for (int k = 0; k < 3; ++k)
+        longest = std::max(longest, norm(s.mesh.points[t.v[k]] - s.mesh.points[t.v[(k + 1) % 3]]));
+      n += std::max({1.0, facet_area(s.mesh.points, t) / (triangle * hf * hf), longest / hf});
+    }
+    return n;
+  };
+  if (std::all_of(h.begin(), h.end(), [size](double x) { return x == size; })) return h;
+  const double uniform = facets(std::vector<double>(h.size(), size)), bounded = facets(h);
+  const double allowed = std::max(kThinFacetGrowth * uniform, uniform + kThinFacetBudget);
+  if (bounded > allowed) {
+    const double grow = std::sqrt(bounded / allowed);
+    for (double& x : h) x = std::min(size, grow * x);
+  }
+  return h;
+}
+
 // Each face's angular deflection in radians: the smallest of its solids'.
 std::vector<double> face_angles(const std::vector<int>& front, const std::vector<int>& back,
                                 const std::map<int, double>& solid_angle_deg) {
@@ -136,10 +195,14 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
   // chord height. What is still off is measured, and the tessellation made
   // again finer, on the solids that are off only.
   const bool automatic = !(options.deflection > 0);
-  std::map<int, double> solid_deflection, solid_angle_deg;  // by solid number
+  std::map<int, double> solid_deflection, solid_angle_deg, solid_thickness;  // by solid number
   for (size_t i = 0; i < impl_->solids.size(); ++i) {
     const auto& [signed_volume, area] = solid_integrals(*impl_, i);
     const double volume = std::abs(signed_volume);
+    if (area > 0 && volume > 0) {
+      const auto [it, first] = solid_thickness.emplace(impl_->solid_number[i], 2.0 * volume / area);
+      if (!first) it->second = std::min(it->second, 2.0 * volume / area);
+    }
     const double deflection = options.start_deflection > 0 ? options.start_deflection
                               : area > 0 && volume > 0     ? std::min(stats.size / 10.0, 2.0 * volume / area / 50.0)
                                                            : stats.size / 10.0;
@@ -231,7 +294,16 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
       // Far below the chord height: the move is lost in the tessellation's own error.
       pass.collapsed_edges = collapse_short_edges(s, std::min(0.1 * deflection, 0.01 * pass.size));
       throw_if_cancelled(options.cancel);
-      if (options.refine) refine_to_size(*impl_, s, options, pass.size, face_deflection, pass);
+      if (options.refine) {
+        const std::vector<double> face_size = thin_solid_face_sizes(
+            s, front, back, solid_thickness, pass.size, pass.size_chosen ? options.thin_size_factor : 0.0);
+        for (const double h : face_size)
+          if (h < pass.size) {
+            ++pass.thin_faces;
+            pass.thin_size = pass.thin_faces == 1 ? h : std::min(pass.thin_size, h);
+          }
+        refine_to_size(*impl_, s, options, face_size, face_deflection, pass);
+      }
       seconds_tessellate += pass.seconds_tessellate;
       seconds_refine += pass.seconds_refine;
       pass.seconds_tessellate = seconds_tessellate;

@@ -122,7 +122,8 @@ std::string report_json(const MeshReport& r) {
     s << "  \"cad\": {\"units\": \"" << c.units << "\", \"solids\": " << c.solids << ", \"faces\": " << c.faces
       << ", \"interface_faces\": " << c.interface_faces << ", \"fuse\": \"" << c.fuse << "\""
       << ", \"size\": " << exact(c.size)
-      << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"deflection\": " << exact(c.deflection)
+      << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"thin_faces\": " << c.thin_faces
+      << ", \"thin_size\": " << exact(c.thin_size) << ", \"deflection\": " << exact(c.deflection)
       << ", \"angular_deflection_deg\": " << exact(c.angle_deg) << ", \"tessellation_rounds\": " << c.tessellation_rounds
       << ", \"recovery_retries\": " << c.recovery_retries << ", \"recovery_runaways\": " << c.recovery_runaways
       << ", \"held_solids\": " << json_array(c.held_solids)
@@ -168,6 +169,9 @@ std::string report_table(const MeshReport& r) {
                    std::to_string(c.interface_faces) + " interfaces; units " + c.units +
                    (c.fuse == "none" ? "" : "; fused " + c.fuse));
     row("size", num(c.size) + (c.size_chosen ? " (chosen: bounding box diagonal / 25)" : " (given)") +
+                    (c.thin_faces > 0 ? "; " + std::to_string(c.thin_faces) + " faces of thin solids down to " +
+                                            num(c.thin_size) + " (from their mean thickness 2V/A)"
+                                      : "") +
                     ", chord height " + num(c.deflection) + ", angle " + num(c.angle_deg) + " deg");
     row("tessellation", std::to_string(c.occ_triangles) + " OpenCASCADE triangles, " +
                             std::to_string(c.collapsed_edges) + " short edges collapsed, " +

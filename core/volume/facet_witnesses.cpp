@@ -112,24 +112,66 @@ bool FacetWitnesses::reshape_allows(int v, const Vec3& p) {
     grid_.build(points_);
     grid_built_ = true;
   }
+  // Off the plane of a facet, its side on the convex hull need not stay
+  // there: only the equatorial sphere is known.
+  std::vector<char> in_plane(facets_of_[v].size());
+  for (size_t k = 0; k < in_plane.size(); ++k) {
+    const auto& t = facets_[facets_of_[v][k]].v;
+    in_plane[k] = orientation(points_[t[0]], points_[t[1]], points_[t[2]], p) == 0;
+  }
   const Vec3 from = grid_.position(v);
   grid_.update(v, p);
   bool ok = true;
   std::vector<int> occupants;
-  for (int id : facets_of_[v]) {
-    const auto& t = facets_[id].v;
-    ok = equatorial_sphere_occupants(grid_, t[0], t[1], t[2], occupants) && occupants.empty();
-    if (!ok) break;
+  for (size_t k = 0; k < in_plane.size() && ok; ++k) {
+    const int id = facets_of_[v][k];
+    Bound above, below;
+    ok = reshaped_bounds(id, occupants, above, below) &&
+         (in_plane[k] || (above.kind == Bound::equatorial && below.kind == Bound::equatorial));
   }
   grid_.update(v, from);
   return ok;
 }
 
+// A facet on the convex hull (one side's bound none) whose vertex slid in
+// its plane stays on the hull, and its pencil's spheres towards that side
+// are empty once past the vertices inside its equatorial sphere, all of
+// which must then be on the other side: that side's bound is the one of
+// them that allows the least. Only the equatorial sphere itself, as before
+// 2026-11-30, kept the faces of a plate 0.3 thick still: their facets, 1.2
+// wide, had vertices of the other face in theirs, and a disk's flat
+// tetrahedra between the two faces' vertices (the same nodes on both)
+// stayed at 0.013 deg, where slides of a vertex would have opened them to
+// 12 to 16 deg.
+bool FacetWitnesses::reshaped_bounds(int id, std::vector<int>& occupants, Bound& above, Bound& below) const {
+  const Facet& f = facets_[id];
+  if (!equatorial_sphere_occupants(grid_, f.v[0], f.v[1], f.v[2], occupants)) return false;
+  above = below = {Bound::equatorial, Vec3{}};
+  if (occupants.empty()) return true;
+  const bool open_above = f.above.kind == Bound::none;
+  if (open_above == (f.below.kind == Bound::none)) return false;
+  const Vec3 &a = grid_.position(f.v[0]), &b = grid_.position(f.v[1]), &c = grid_.position(f.v[2]);
+  (open_above ? above : below) = {Bound::none, Vec3{}};
+  Bound& held = open_above ? below : above;
+  for (const int q : occupants) {
+    const Vec3& x = grid_.position(q);
+    const int side = orientation(a, b, c, x);
+    if (side == 0 || (side > 0) == open_above) return false;
+    if (tightens(a, b, c, x, held)) held = {Bound::point, x};
+  }
+  return true;
+}
+
 void FacetWitnesses::moved(int v, const Vec3& p) {
   if (grid_built_) grid_.update(v, p);  // else built from the moved points when first needed
   tighten(p, v);
+  std::vector<int> occupants;
   for (int id : facets_of_[v]) {
-    facets_[id].above = facets_[id].below = {Bound::equatorial, Vec3{}};
+    Facet& f = facets_[id];
+    Bound above, below;
+    // reshape_allows took the move: on the hull only when it stayed in the plane.
+    if (grid_built_ && reshaped_bounds(id, occupants, above, below)) f.above = above, f.below = below;
+    else f.above = f.below = {Bound::equatorial, Vec3{}};
     spread(id);
   }
 }

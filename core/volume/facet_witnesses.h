@@ -43,8 +43,10 @@ class FacetWitnesses {
   // The facets of a moving surface vertex change shape:
   // reshape_allows decides for them.
   bool allows(const Vec3& p, int moving) const;
-  // With surface vertex v at p, is each of its facets Delaunay with an empty
-  // equatorial sphere (the one bound a changed facet gets)?
+  // With surface vertex v at p, is each of its facets Delaunay: with an
+  // empty equatorial sphere, or, for a facet on the convex hull that p
+  // leaves in its plane, with every vertex in that sphere on its inner side
+  // (reshaped_bounds)?
   bool reshape_allows(int v, const Vec3& p);
   // Vertex v moved to p (allowed; `points` already says so): the bounds p
   // tightens take it, and the facets of a surface vertex get their new
@@ -114,6 +116,10 @@ class FacetWitnesses {
   void for_each_near(const Vec3& p, Lookup lookup, Visit visit);
   void tighten(const Vec3& p, int moving);
   void spread(int id);
+  // The bounds of facet `id` at the positions in grid_ (its vertex moved
+  // there in its plane), or false when no sphere of its pencil is known
+  // empty. `occupants`: scratch.
+  bool reshaped_bounds(int id, std::vector<int>& occupants, Bound& above, Bound& below) const;
 
   const std::vector<Vec3>& points_;
   PointGrid grid_;  // the current positions, for the reshaped facets' spheres

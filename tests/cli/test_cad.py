@@ -208,6 +208,24 @@ if code == 0:
     check(rep["cad"]["planar_splits_fallback"], "boss tangent to a wall: meshed with split vertices on the chords")
     check_mesh(target, rep, "boss tangent to a wall")
 
+# A thin part at the size chosen from its diagonal: a disk of radius 25,
+# 0.3 thick, got edges 9.4 times its thickness and a smallest dihedral
+# angle of 0.010 deg (Gmsh's default 2.95 deg). Its faces now get 4 times
+# its mean thickness 2V/A, and its flat faces' vertices slide in their
+# planes (the sliver pass); a given --size is kept as it is.
+thin = make_brep("thin_disk", lambda occ: occ.addCylinder(0, 0, 0, 0, 0, 0.3, 25))
+rep, angles = meshed_angles(thin, "thin disk")
+if rep is not None:
+    c = rep["cad"]
+    thickness = 2 * np.pi * 25 ** 2 * 0.3 / (2 * np.pi * 25 ** 2 + 2 * np.pi * 25 * 0.3)
+    check(c["size_chosen"] and c["thin_faces"] == 3 and abs(c["thin_size"] - 4 * thickness) < 1e-6 * thickness,
+          "thin disk: %d faces at %.4g (4 x 2V/A = %.4g; size %.4g)" % (c["thin_faces"], c["thin_size"], 4 * thickness, c["size"]))
+    check(angles.min() > 10 and (angles < 10).sum() == 0,
+          "thin disk: smallest dihedral angle %.2f deg (meshio), %d tetrahedra under 10 deg" % (angles.min(), (angles < 10).sum()))
+code, rep, _, err = mesh(thin, "--size", "2.8", "--keep-slivers", "--quiet")
+check(code == 0 and rep["cad"]["thin_faces"] == 0 and rep["cad"]["size"] == 2.8,
+      "thin disk at --size 2.8: the size is kept (exit %s, %s faces bounded)" % (code, rep and rep["cad"]["thin_faces"]))
+
 # A line on a box's top face, fragmented in (Gmsh's OpenCASCADE kernel):
 # the face keeps it as an INTERNAL edge, which bounds nothing. The closed
 # solid was refused as "not closed (1 edges bound only one face)".
@@ -970,7 +988,11 @@ def curved_part(name, build, exact_chart=True):
     path = make_brep(name, build)
     runs = {}
     for flag in ("--no-face-remesh", None):
-        code, rep, target, err = mesh(path, "--quiet", *([flag] if flag else []))
+        # The tessellations compared, without the sliver pass: since
+        # 2026-11-30 it slides the vertices of flat faces on the convex hull
+        # too, which reshapes their triangles (the loft's flat ends: 21 -> 19
+        # under 20 deg unremeshed, none of them on the face remeshed).
+        code, rep, target, err = mesh(path, "--quiet", "--keep-slivers", *([flag] if flag else []))
         check(code == 0, "%s %s meshed (exit %d: %s)" % (name, flag or "remeshed", code, err.strip()[:200]))
         if code != 0:
             return
