@@ -32,6 +32,10 @@ constexpr double kMinGainDeg = 1e-6;
 constexpr double kNotHeld = 10.0;
 // Largest number of tetrahedra around an edge that edge removal considers.
 constexpr int kMaxRing = 7;
+// At the raised angle, at most this many changes per change made at the
+// first, and at least kRaisedChangesAtLeast (improve_slivers).
+constexpr long kRaisedChangesPerFirst = 4;
+constexpr long kRaisedChangesAtLeast = 20000;
 
 // True when (a, b, c, d) lists the vertices of v as an even permutation of v,
 // i.e. with the orientation of v.
@@ -826,6 +830,8 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
     return out;
   };
   double angle = o.sliver_angle_deg;
+  // Changes made at the first angle, and the raised angle's allowance.
+  long first_changes = 0, allowance = -1;
   for (;;) {
     // hold 0: each move judged by the worst tetrahedron around the vertex.
     // hold 1, on what that left: the tetrahedra worse than the one mended
@@ -839,13 +845,14 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
     // 2.9 -> 4.0 s), gmsh_U_Joint_2.stp 242 -> 196, gmsh_ellipses.brep 750
     // -> 664; no smallest angle lower on the surface inputs or CAD corpus.
     for (int hold = 0; hold < (o.hold_worse && can_move ? 2 : 1); ++hold) {
-      for (int pass = 0; pass < o.max_passes; ++pass) {
+      for (int pass = 0; pass < o.max_passes && allowance != 0; ++pass) {
         const std::vector<std::pair<double, int>> slivers = slivers_under(angle);
         long changes = 0;
         size_t tried = 0;
         for (const auto& [quality, t] : slivers) {
           // Progress: the share of this pass's slivers looked at.
           if ((++tried & 255) == 0) set_phase_fraction(static_cast<double>(tried) / static_cast<double>(slivers.size()));
+          if (allowance == 0) break;
           if (!c.alive(t) || c.quality(t) >= angle) continue;
           // What failed and has not changed since fails again, but for a
           // move that holds a worse tetrahedron: only that is new (and
@@ -853,12 +860,11 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
           const bool changed = c.worth_retrying(t);
           if (!changed && !hold) continue;
           Replacement r;
-          if (changed && o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) {
+          if ((changed && o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) ||
+              (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, !changed, stats))) {
             ++changes;
-            continue;
-          }
-          if (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, !changed, stats)) {
-            ++changes;
+            if (allowance > 0) --allowance;
+            else ++first_changes;
             continue;
           }
           c.mark_failed(t);
@@ -869,6 +875,11 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
     if (angle >= o.raised_angle_deg || !slivers_under(angle).empty()) break;
     angle = o.raised_angle_deg;
     stats.raised_to_deg = angle;
+    // Every change keeps the tetrahedra it makes above the ones it replaces,
+    // so the pass may stop anywhere at the raised angle: past this many
+    // changes it does. A plate 50 x 50 x 0.2 (115k tetrahedra) made 2,673
+    // at 10 deg in 1.1 s, then 89k at 20 deg in 10 s for 10.0 -> 10.7 deg.
+    allowance = std::max(kRaisedChangesPerFirst * first_changes, kRaisedChangesAtLeast);
   }
   c.write_back();
 }
