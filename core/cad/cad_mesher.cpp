@@ -81,6 +81,7 @@ MeshResult mesh_tessellation(const CadModel& model, const CadMeshOptions& option
   cad.size_chosen = stats.size_chosen;
   cad.thin_faces = stats.thin_faces;
   cad.thin_size = stats.thin_size;
+  cad.thinnest = stats.thinnest;
   cad.deflection = stats.deflection;
   cad.angle_deg = stats.angle_deg;
   cad.tessellation_rounds = stats.rounds;

@@ -84,6 +84,7 @@ struct TessellationStats {
   bool size_chosen = false;
   int thin_faces = 0;           // faces of thin solids given a size under `size` (thin_size_factor)
   double thin_size = 0;         // the smallest of their sizes
+  double thinnest = 0;          // the smallest mean thickness 2V/A of a solid (0: none measured)
   double deflection = 0;        // the smallest chord height used (of the last round)
   double angle_deg = 0;         // the smallest angular deflection used (of the last round)
   std::vector<double> face_deflection;  // by face number (Face<n>): each face's chord height

@@ -218,6 +218,8 @@ Mesh CadModel::tessellate(const TessellationOptions& options, TessellationStats*
     for (size_t f = 0; f < impl_->faces.size(); ++f) area += face_area(*impl_, f);
     check_size_budget(area, 0.0, options.size, /*interior=*/false, "size " + number_text(options.size, "%g"));
   }
+  for (const auto& [number, thickness] : solid_thickness)
+    stats.thinnest = stats.thinnest > 0 ? std::min(stats.thinnest, thickness) : thickness;
   std::vector<int> front, back;
   face_sides(*impl_, front, back);
   // A chord height over the size bounds nothing the splits to the size do

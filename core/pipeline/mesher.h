@@ -92,6 +92,7 @@ struct CadInputReport {
   bool size_chosen = false;        // from the part's dimensions (no --size)
   int thin_faces = 0;              // faces of thin solids meshed finer than `size` (chosen size only)
   double thin_size = 0;            // the smallest size of those faces
+  double thinnest = 0;             // the smallest mean thickness 2V/A of a solid
   double deflection = 0;           // chord height of the face tessellation (its last round)
   double angle_deg = 0;            // angular deflection of the face tessellation (its last round)
   int tessellation_rounds = 1;     // tessellations made to meet the volume tolerance

@@ -123,7 +123,8 @@ std::string report_json(const MeshReport& r) {
       << ", \"interface_faces\": " << c.interface_faces << ", \"fuse\": \"" << c.fuse << "\""
       << ", \"size\": " << exact(c.size)
       << ", \"size_chosen\": " << (c.size_chosen ? "true" : "false") << ", \"thin_faces\": " << c.thin_faces
-      << ", \"thin_size\": " << exact(c.thin_size) << ", \"deflection\": " << exact(c.deflection)
+      << ", \"thin_size\": " << exact(c.thin_size) << ", \"thinnest_solid\": " << exact(c.thinnest)
+      << ", \"deflection\": " << exact(c.deflection)
       << ", \"angular_deflection_deg\": " << exact(c.angle_deg) << ", \"tessellation_rounds\": " << c.tessellation_rounds
       << ", \"recovery_retries\": " << c.recovery_retries << ", \"recovery_runaways\": " << c.recovery_runaways
       << ", \"held_solids\": " << json_array(c.held_solids)
@@ -172,6 +173,11 @@ std::string report_table(const MeshReport& r) {
                     (c.thin_faces > 0 ? "; " + std::to_string(c.thin_faces) + " faces of thin solids down to " +
                                             num(c.thin_size) + " (from their mean thickness 2V/A)"
                                       : "") +
+                    // The size kept over a thin solid (given, or an assembly's): say what that makes.
+                    (c.thin_faces == 0 && c.thinnest > 0 && 4 * c.thinnest < c.size
+                         ? "; a solid is " + num(c.thinnest) +
+                               " thick (2V/A): tetrahedra across it are flat, give a smaller --size"
+                         : "") +
                     ", chord height " + num(c.deflection) + ", angle " + num(c.angle_deg) + " deg");
     row("tessellation", std::to_string(c.occ_triangles) + " OpenCASCADE triangles, " +
                             std::to_string(c.collapsed_edges) + " short edges collapsed, " +

@@ -214,17 +214,20 @@ if code == 0:
 # its mean thickness 2V/A, and its flat faces' vertices slide in their
 # planes (the sliver pass); a given --size is kept as it is.
 thin = make_brep("thin_disk", lambda occ: occ.addCylinder(0, 0, 0, 0, 0, 0.3, 25))
+thickness = 2 * np.pi * 25 ** 2 * 0.3 / (2 * np.pi * 25 ** 2 + 2 * np.pi * 25 * 0.3)  # 2V/A
 rep, angles = meshed_angles(thin, "thin disk")
 if rep is not None:
     c = rep["cad"]
-    thickness = 2 * np.pi * 25 ** 2 * 0.3 / (2 * np.pi * 25 ** 2 + 2 * np.pi * 25 * 0.3)
     check(c["size_chosen"] and c["thin_faces"] == 3 and abs(c["thin_size"] - 4 * thickness) < 1e-6 * thickness,
           "thin disk: %d faces at %.4g (4 x 2V/A = %.4g; size %.4g)" % (c["thin_faces"], c["thin_size"], 4 * thickness, c["size"]))
     check(angles.min() > 10 and (angles < 10).sum() == 0,
           "thin disk: smallest dihedral angle %.2f deg (meshio), %d tetrahedra under 10 deg" % (angles.min(), (angles < 10).sum()))
-code, rep, _, err = mesh(thin, "--size", "2.8", "--keep-slivers", "--quiet")
-check(code == 0 and rep["cad"]["thin_faces"] == 0 and rep["cad"]["size"] == 2.8,
-      "thin disk at --size 2.8: the size is kept (exit %s, %s faces bounded)" % (code, rep and rep["cad"]["thin_faces"]))
+code, rep, target, err = mesh(thin, "--size", "2.8", "--keep-slivers", "--quiet")
+_, table, _ = run("mesh", thin, "-o", target, "--size", "2.8", "--keep-slivers")
+check(code == 0 and rep["cad"]["thin_faces"] == 0 and rep["cad"]["size"] == 2.8
+      and abs(rep["cad"]["thinnest_solid"] - thickness) < 1e-6 * thickness and "tetrahedra across it are flat" in table,
+      "thin disk at --size 2.8: the size is kept, the report says the solid is %.4g thick (exit %s, %s faces bounded)"
+      % (rep["cad"]["thinnest_solid"] if rep else 0, code, rep and rep["cad"]["thin_faces"]))
 
 # A line on a box's top face, fragmented in (Gmsh's OpenCASCADE kernel):
 # the face keeps it as an INTERNAL edge, which bounds nothing. The closed
