@@ -855,6 +855,24 @@ class TestVDMeshWorkbench(unittest.TestCase, MeshChecks):
         figure("boss tangent to a wall (INTERNAL edge in the wall): %d tetrahedra, %.3f %% off its volume"
                % (fm.VolumeCount, 100 * (volume["mesh"] / shape.Volume - 1)))
 
+    def test_20_thin_disk_at_the_chosen_size(self):
+        # A disk 0.3 thick of radius 25 at Size 0 (vdmesh chooses): its faces get 4 times its mean
+        # thickness 2V/A instead of the diagonal / 25 (0.010 deg before), and the panel's summary
+        # says so.
+        doc = FreeCAD.newDocument("VDMeshThinDisk")
+        self.addCleanup(close_if_open, doc.Name)
+        part = doc.addObject("Part::Feature", "ThinDisk")
+        part.Shape = Part.makeCylinder(25, 0.3)
+        doc.recompute()
+        obj, info, report = meshobject.create_mesh(part, engine.Parameters())[:3]
+        thickness = 2 * part.Shape.Volume / part.Shape.Area
+        self.assertEqual(report["cad"]["thin_faces"], 3)
+        self.assertAlmostEqual(report["cad"]["thin_size"], 4 * thickness, delta=1e-6 * thickness)
+        self.assertGreater(report["quality"]["min_dihedral_deg"], 10)
+        self.assertIn("3 faces of a thin part", meshobject.mesh_summary(info, report))
+        figure("thin disk (radius 25, 0.3 thick) at the chosen size: %d tetrahedra, smallest dihedral %.2f deg"
+               % (obj.FemMesh.VolumeCount, report["quality"]["min_dihedral_deg"]))
+
 
 def close_if_open(name):
     if name in FreeCAD.listDocuments():

@@ -659,6 +659,13 @@ def mesh_summary(info, report):
         if cad:
             lines.append("size %s%s, chord height %.4g" % (cad.get("size"), " (chosen)" if cad.get("size_chosen") else "",
                                                              cad.get("deflection", 0)))
+            thinnest = cad.get("thinnest_solid", 0)
+            if cad.get("thin_faces"):
+                lines.append("%d faces of a thin part at sizes down to %.4g (4 x its mean thickness %.4g)"
+                             % (cad["thin_faces"], cad.get("thin_size", 0), thinnest))
+            elif thinnest and 4 * thinnest < cad.get("size", 0):
+                lines.append("a solid is %.4g thick (2V/A): its tetrahedra are flat across it; give a smaller Size"
+                             % thinnest)
             for v in cad.get("volumes", []):
                 err = abs(v["mesh"] - v["cad"]) / v["cad"] * 100 if v.get("cad") else 0
                 lines.append("volume %s: CAD %.6g, mesh %.6g (%.3f %%)" % (v["name"], v["cad"], v["mesh"], err))
