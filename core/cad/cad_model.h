@@ -61,9 +61,9 @@ struct TessellationOptions {
   // tessellations, kMaxFacetGrowth times the facets; stops when the error
   // does not shrink with the chords). 0: tessellate once.
   double volume_tolerance = 0.004;
-  // With the size chosen (size 0) on a part of one solid whose mean
-  // thickness 2V/A is under the size over this: its faces get this times
-  // that thickness as their size, within a facet budget
+  // With the size chosen (size 0), on a part whose solids touch nowhere: a
+  // solid whose mean thickness 2V/A is under the size over this gets this
+  // times that thickness as the size of its faces, within a facet budget
   // (cad_surface.cpp, thin_solid_face_sizes). 0: off.
   double thin_size_factor = 4.0;
   bool refine = true;           // split edges longer than `size`, new vertices on the CAD geometry

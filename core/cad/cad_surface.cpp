@@ -112,16 +112,16 @@ std::vector<double> chord_heights(const std::vector<int>& front, const std::vect
   return height;
 }
 
-// Each face's size, by face index: `size`, or on a part of one solid whose
-// mean thickness 2V/A (`thickness`, by solid number) is under size /
-// factor, factor times that thickness, and at least kThinSizeFloor times
-// the size. At the size chosen from the part's diagonal, a plate 0.2 thick
+// Each face's size, by face index: `size`, or on a part whose solids touch
+// nowhere (no face between two), for a face of a solid whose mean thickness
+// 2V/A (`thickness`, by solid number) is under size / factor, factor times
+// that thickness, and at least kThinSizeFloor times the size. At the size chosen from the part's diagonal, a plate 0.2 thick
 // and 50 wide got one layer of tetrahedra with edges 14 times its
 // thickness, and 0.011 deg (a disk 0.3 thick: 0.010 deg; Gmsh's default
 // 2.95 deg); at 4 times the thickness 10.7 and 14.4 deg (with faces that
 // slide, facet_witnesses.cpp).
 //
-// Assemblies keep the size: on gmsh_simple_plane.brep (27 solids, its nose
+// Solids that touch keep the size: on gmsh_simple_plane.brep (27 solids, its nose
 // pieces 2V/A 0.0006 and its wings thin at size 0.19) the chain of
 // tessellations ended elsewhere, 0.70 -> 1.85 % off a wing's volume (at
 // least a quarter of the size; at a tenth 1.45 % and 898k tetrahedra with
@@ -145,7 +145,8 @@ std::vector<double> thin_solid_face_sizes(const CadSurface& s, const std::vector
                                           const std::vector<int>& back, const std::map<int, double>& thickness,
                                           double size, double factor) {
   std::vector<double> h = smallest_of_solids(front, back, thickness);
-  if (thickness.size() != 1) factor = 0;
+  for (size_t f = 0; f < h.size(); ++f)
+    if (front[f] > 0 && back[f] > 0 && front[f] != back[f]) factor = 0;  // solids that touch keep the size
   for (double& x : h) x = factor > 0 && factor * x < size ? std::max(factor * x, kThinSizeFloor * size) : size;
   auto facets = [&](const std::vector<double>& face_size) {
     const double triangle = std::sqrt(3.0) / 4.0;
@@ -161,11 +162,14 @@ std::vector<double> thin_solid_face_sizes(const CadSurface& s, const std::vector
     return n;
   };
   if (std::all_of(h.begin(), h.end(), [size](double x) { return x == size; })) return h;
-  const double uniform = facets(std::vector<double>(h.size(), size)), bounded = facets(h);
+  const double uniform = facets(std::vector<double>(h.size(), size));
+  double bounded = facets(h);
   const double allowed = std::max(kThinFacetGrowth * uniform, uniform + kThinFacetBudget);
-  if (bounded > allowed) {
+  // The strips' share shrinks with the size, not its square: a few rounds.
+  for (int round = 0; round < 8 && bounded > allowed; ++round) {
     const double grow = std::sqrt(bounded / allowed);
     for (double& x : h) x = std::min(size, grow * x);
+    bounded = facets(h);
   }
   return h;
 }

@@ -65,7 +65,9 @@ void check(bool ok, const std::string& message) {
 
 const char* const kOptionsDoc = R"(Options (keyword arguments; the command line's options of the same name):
     size (float, 0): target edge length; 0: surface input: from its own edges,
-        graded; CAD input: bounding-box diagonal / 25 (reported)
+        graded; CAD input: bounding-box diagonal / 25 (reported), and on solids that
+        touch no other and are thinner than a quarter of it, 4 x their mean
+        thickness 2V/A on their faces
     gradation (float, 0.3): largest growth of the size per unit distance
     interior (bool, True): interior vertices; False is --no-interior
     surface_grading (float, 2; mesh_cad 0): with interior vertices, surface edges longer

@@ -112,44 +112,53 @@ bool FacetWitnesses::reshape_allows(int v, const Vec3& p) {
     grid_.build(points_);
     grid_built_ = true;
   }
-  // Off the plane of a facet, its side on the convex hull need not stay
-  // there: only the equatorial sphere is known.
-  std::vector<char> in_plane(facets_of_[v].size());
-  for (size_t k = 0; k < in_plane.size(); ++k) {
-    const auto& t = facets_[facets_of_[v][k]].v;
-    in_plane[k] = orientation(points_[t[0]], points_[t[1]], points_[t[2]], p) == 0;
-  }
+  const std::vector<char> on_hull = on_hull_planes(v, points_[v], p);
   const Vec3 from = grid_.position(v);
   grid_.update(v, p);
   bool ok = true;
   std::vector<int> occupants;
-  for (size_t k = 0; k < in_plane.size() && ok; ++k) {
-    const int id = facets_of_[v][k];
+  for (size_t k = 0; k < on_hull.size() && ok; ++k) {
     Bound above, below;
-    ok = reshaped_bounds(id, occupants, above, below) &&
-         (in_plane[k] || (above.kind == Bound::equatorial && below.kind == Bound::equatorial));
+    ok = reshaped_bounds(facets_of_[v][k], on_hull[k] != 0, occupants, above, below);
   }
   grid_.update(v, from);
   return ok;
 }
 
+// A hull facet of v stays on the hull where v's move from `from` to p keeps
+// it in its plane exactly: an axis plane, whose coordinate the slide keeps
+// (SlidePlane::onto). In another plane the slide rounds: on a plate along
+// x - y = 0.25, 413 unmoved hull facets had a vertex 1 ulp beyond their
+// plane after the pass (a reviewer, 2026-11-30). By v's facets.
+std::vector<char> FacetWitnesses::on_hull_planes(int v, const Vec3& from, const Vec3& p) const {
+  std::vector<char> on_hull(facets_of_[v].size(), 0);
+  for (size_t k = 0; k < on_hull.size(); ++k) {
+    const Facet& f = facets_[facets_of_[v][k]];
+    if ((f.above.kind == Bound::none) == (f.below.kind == Bound::none)) continue;
+    std::array<Vec3, 3> x;
+    for (int j = 0; j < 3; ++j) x[j] = f.v[j] == v ? from : points_[f.v[j]];
+    for (int i = 0; i < 3; ++i) on_hull[k] |= x[0][i] == x[1][i] && x[1][i] == x[2][i] && x[2][i] == p[i];
+  }
+  return on_hull;
+}
+
 // A facet on the convex hull (one side's bound none) whose vertex slid in
-// its plane stays on the hull, and its pencil's spheres towards that side
-// are empty once past the vertices inside its equatorial sphere, all of
-// which must then be on the other side: that side's bound is the one of
-// them that allows the least. Only the equatorial sphere itself, as before
-// 2026-11-30, kept the faces of a plate 0.3 thick still: their facets, 1.2
-// wide, had vertices of the other face in theirs, and a disk's flat
-// tetrahedra between the two faces' vertices (the same nodes on both)
-// stayed at 0.013 deg, where slides of a vertex would have opened them to
-// 12 to 16 deg.
-bool FacetWitnesses::reshaped_bounds(int id, std::vector<int>& occupants, Bound& above, Bound& below) const {
+// its axis plane stays on the hull (`on_hull`), and its pencil's spheres
+// towards that side are empty once past the vertices inside its equatorial
+// sphere, all of which must then be on the other side: that side's bound is
+// the one of them that allows the least (the equatorial sphere when none is
+// inside it). Only an empty equatorial sphere, as before 2026-11-30, kept
+// the faces of a plate 0.3 thick still: their facets, 1.2 wide, had
+// vertices of the other face in theirs, and a disk's flat tetrahedra
+// between the two faces' vertices (the same nodes on both) stayed at 0.013
+// deg, where slides of a vertex open them to 11 to 14 deg.
+bool FacetWitnesses::reshaped_bounds(int id, bool on_hull, std::vector<int>& occupants, Bound& above,
+                                     Bound& below) const {
   const Facet& f = facets_[id];
   if (!equatorial_sphere_occupants(grid_, f.v[0], f.v[1], f.v[2], occupants)) return false;
   above = below = {Bound::equatorial, Vec3{}};
-  if (occupants.empty()) return true;
+  if (!on_hull) return occupants.empty();
   const bool open_above = f.above.kind == Bound::none;
-  if (open_above == (f.below.kind == Bound::none)) return false;
   const Vec3 &a = grid_.position(f.v[0]), &b = grid_.position(f.v[1]), &c = grid_.position(f.v[2]);
   (open_above ? above : below) = {Bound::none, Vec3{}};
   Bound& held = open_above ? below : above;
@@ -163,15 +172,23 @@ bool FacetWitnesses::reshaped_bounds(int id, std::vector<int>& occupants, Bound&
 }
 
 void FacetWitnesses::moved(int v, const Vec3& p) {
-  if (grid_built_) grid_.update(v, p);  // else built from the moved points when first needed
+  if (facets_of_[v].empty()) {
+    if (grid_built_) grid_.update(v, p);  // else built from the moved points when first needed
+    tighten(p, v);
+    return;
+  }
+  // A surface vertex: reshape_allows built the grid, which still has v where it was.
+  if (!grid_built_) throw std::logic_error("FacetWitnesses::moved: a surface vertex moved without reshape_allows");
+  const std::vector<char> on_hull = on_hull_planes(v, grid_.position(v), p);
+  grid_.update(v, p);
   tighten(p, v);
   std::vector<int> occupants;
-  for (int id : facets_of_[v]) {
-    Facet& f = facets_[id];
+  for (size_t k = 0; k < on_hull.size(); ++k) {
+    const int id = facets_of_[v][k];
     Bound above, below;
-    // reshape_allows took the move: on the hull only when it stayed in the plane.
-    if (grid_built_ && reshaped_bounds(id, occupants, above, below)) f.above = above, f.below = below;
-    else f.above = f.below = {Bound::equatorial, Vec3{}};
+    if (!reshaped_bounds(id, on_hull[k] != 0, occupants, above, below))
+      throw std::logic_error("FacetWitnesses::moved: a reshaped facet has no bounds (reshape_allows refused it)");
+    facets_[id].above = above, facets_[id].below = below;
     spread(id);
   }
 }

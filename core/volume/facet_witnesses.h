@@ -45,18 +45,21 @@ class FacetWitnesses {
   bool allows(const Vec3& p, int moving) const;
   // With surface vertex v at p, is each of its facets Delaunay: with an
   // empty equatorial sphere, or, for a facet on the convex hull that p
-  // leaves in its plane, with every vertex in that sphere on its inner side
-  // (reshaped_bounds)?
+  // leaves in its axis plane, with every vertex in that sphere on its inner
+  // side (reshaped_bounds)?
   bool reshape_allows(int v, const Vec3& p);
-  // Vertex v moved to p (allowed; `points` already says so): the bounds p
-  // tightens take it, and the facets of a surface vertex get their new
-  // equatorial spheres as bounds.
+  // Vertex v moved to p (allowed, a surface vertex by reshape_allows, else
+  // std::logic_error; `points` already says so): the bounds p tightens take
+  // it, and the facets of a surface vertex get the bounds reshape_allows
+  // found.
   void moved(int v, const Vec3& p);
 
  private:
-  // A bound of a facet's interval: none (a convex-hull side), a vertex
-  // position, or the equatorial sphere itself (s = 0, for facets that
-  // changed shape: their interval is only known to hold 0).
+  // A bound of a facet's interval: none (a convex-hull side: no vertex
+  // beyond the facet's plane, which every move keeps, since none leaves
+  // the tetrahedra), a vertex position, or the equatorial sphere itself
+  // (s = 0, for facets that changed shape: the interval reaches 0, held or
+  // not).
   struct Bound {
     enum Kind { none, point, equatorial } kind = none;
     Vec3 at;
@@ -117,9 +120,12 @@ class FacetWitnesses {
   void tighten(const Vec3& p, int moving);
   void spread(int id);
   // The bounds of facet `id` at the positions in grid_ (its vertex moved
-  // there in its plane), or false when no sphere of its pencil is known
-  // empty. `occupants`: scratch.
-  bool reshaped_bounds(int id, std::vector<int>& occupants, Bound& above, Bound& below) const;
+  // there; `on_hull`: in the axis plane of a hull facet), or false when no
+  // sphere of its pencil is known empty. `occupants`: scratch.
+  bool reshaped_bounds(int id, bool on_hull, std::vector<int>& occupants, Bound& above, Bound& below) const;
+  // By v's facets (facets_of_ order): which stay on the hull when v moves
+  // from `from` to p.
+  std::vector<char> on_hull_planes(int v, const Vec3& from, const Vec3& p) const;
 
   const std::vector<Vec3>& points_;
   PointGrid grid_;  // the current positions, for the reshaped facets' spheres
