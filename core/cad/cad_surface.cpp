@@ -115,7 +115,10 @@ std::vector<double> chord_heights(const std::vector<int>& front, const std::vect
 // Each face's size, by face index: `size`, or on a part whose solids touch
 // nowhere (no face between two), for a face of a solid whose mean thickness
 // 2V/A (`thickness`, by solid number) is under size / factor, factor times
-// that thickness, and at least kThinSizeFloor times the size. At the size chosen from the part's diagonal, a plate 0.2 thick
+// that thickness, unless that is under kThinSizeFloor times the size: a
+// foil 0.03 thick and 100 wide, held at a quarter of the size (47 times its
+// thickness), was all slivers, and the sliver pass ran past 15 minutes (34
+// s at the size; a tester, 2026-11-30). At the size chosen from the part's diagonal, a plate 0.2 thick
 // and 50 wide got one layer of tetrahedra with edges 14 times its
 // thickness, and 0.011 deg (a disk 0.3 thick: 0.010 deg; Gmsh's default
 // 2.95 deg); at 4 times the thickness 10.7 and 14.4 deg (with faces that
@@ -147,7 +150,7 @@ std::vector<double> thin_solid_face_sizes(const CadSurface& s, const std::vector
   std::vector<double> h = smallest_of_solids(front, back, thickness);
   for (size_t f = 0; f < h.size(); ++f)
     if (front[f] > 0 && back[f] > 0 && front[f] != back[f]) factor = 0;  // solids that touch keep the size
-  for (double& x : h) x = factor > 0 && factor * x < size ? std::max(factor * x, kThinSizeFloor * size) : size;
+  for (double& x : h) x = factor > 0 && factor * x < size && factor * x >= kThinSizeFloor * size ? factor * x : size;
   auto facets = [&](const std::vector<double>& face_size) {
     const double triangle = std::sqrt(3.0) / 4.0;
     double n = 0;
