@@ -118,14 +118,14 @@ std::vector<double> chord_heights(const std::vector<int>& front, const std::vect
 // that thickness, unless that is under kThinSizeFloor times the size: a
 // foil 0.03 thick and 100 wide, held at a quarter of the size (47 times its
 // thickness), was all slivers, and the sliver pass ran past 15 minutes (34
-// s at the size; a tester, 2026-11-30). At the size chosen from the part's diagonal, a plate 0.2 thick
-// and 50 wide got one layer of tetrahedra with edges 14 times its
-// thickness, and 0.011 deg (a disk 0.3 thick: 0.010 deg; Gmsh's default
-// 2.95 deg); at 4 times the thickness 10.7 and 14.4 deg (with faces that
-// slide, facet_witnesses.cpp).
+// s at the size; a tester, 2026-11-30). At the size chosen from the part's
+// diagonal, a plate 0.2 thick and 50 wide got one layer of tetrahedra with
+// edges 14 times its thickness, and 0.011 deg (a disk 0.3 thick: 0.010
+// deg; Gmsh's default 2.95 deg); at 4 times the thickness 11.6 and 16.3
+// deg (with faces that slide, facet_witnesses.cpp).
 //
-// Solids that touch keep the size: on gmsh_simple_plane.brep (27 solids, its nose
-// pieces 2V/A 0.0006 and its wings thin at size 0.19) the chain of
+// Solids that touch keep the size: on gmsh_simple_plane.brep (27 solids,
+// its nose pieces 2V/A 0.0006 and its wings thin at size 0.19) the chain of
 // tessellations ended elsewhere, 0.70 -> 1.85 % off a wing's volume (at
 // least a quarter of the size; at a tenth 1.45 % and 898k tetrahedra with
 // 21k under 10 deg, against 489k and 7k).
