@@ -206,6 +206,9 @@ int remove_flat_inner_vertices(CadSurface& s, const std::vector<double>& face_de
 // no facet uses (drop_unused_points), renumbering the rest with their
 // parameters. Returns the number of vertices dropped.
 int compact_surface(CadSurface& s, const std::vector<char>& dead_facets = {});
+// cad_remesh.cpp: the facets a face of this area gets with edges of length
+// `longest` (equilateral triangles).
+double new_facets(double area, double longest);
 // cad_refine.cpp: edge splits to the size on the CAD geometry, then flips.
 // With options.remesh, then the inside of the faces meshed anew
 // (remesh_faces). `face_size`, `face_deflection`: the size and the chord

@@ -83,8 +83,6 @@ constexpr double kMaxSurfaceGrowth = 4;
 // default size, exit 0 (2026-11-30).
 constexpr double kSmallestSurfaceBudget = 200000;
 
-// The facets a face of this area gets with edges of length `longest`.
-double new_facets(double area, double longest) { return area / (std::sqrt(3.0) / 4 * longest * longest); }
 
 // The longest chord across a radius of curvature rho for a chord height h:
 // sqrt(8 rho h), and at most the chord of a kMaxArcDeg arc. A chord height
@@ -1105,6 +1103,8 @@ void equal_first_nodes_at_sharp_corners(RemeshPlan& plan) {
 }
 
 }  // namespace
+
+double new_facets(double area, double longest) { return area / (std::sqrt(3.0) / 4 * longest * longest); }
 
 RemeshPlan plan_remeshing(const CadModel::Impl& cad, CadSurface& s, const std::vector<double>& face_deflection,
                           const std::vector<double>& face_size) {

@@ -152,7 +152,6 @@ std::vector<double> thin_solid_face_sizes(const CadSurface& s, const std::vector
     if (front[f] > 0 && back[f] > 0 && front[f] != back[f]) factor = 0;  // solids that touch keep the size
   for (double& x : h) x = factor > 0 && factor * x < size && factor * x >= kThinSizeFloor * size ? factor * x : size;
   auto facets = [&](const std::vector<double>& face_size) {
-    const double triangle = std::sqrt(3.0) / 4.0;
     double n = 0;
     for (size_t f = 0; f < s.mesh.triangles.size(); ++f) {
       const Triangle& t = s.mesh.triangles[f];
@@ -160,7 +159,7 @@ std::vector<double> thin_solid_face_sizes(const CadSurface& s, const std::vector
       double longest = 0;
       for (int k = 0; k < 3; ++k)
         longest = std::max(longest, norm(s.mesh.points[t.v[k]] - s.mesh.points[t.v[(k + 1) % 3]]));
-      n += std::max({1.0, facet_area(s.mesh.points, t) / (triangle * hf * hf), longest / hf});
+      n += std::max({1.0, new_facets(facet_area(s.mesh.points, t), hf), longest / hf});
     }
     return n;
   };
