@@ -554,6 +554,26 @@ class CadGeometry : public SurfaceGeometry {
     return chord;
   }
 
+  // Newton's method from near's (u, v): the global search for each of the
+  // sliver pass's moves (Extrema_GenExtPS's grid) was most of its time on
+  // gmsh_wing_fuselage.step's B-splines.
+  std::optional<Vec3> project_onto_face(int number, const Vec3& p, const Vec3& near) const override {
+    const int fi = cad_.index_of_face_number(number);
+    if (fi < 0) return std::nullopt;
+    try {
+      const FaceProjector& face = projector(fi);
+      if (!face.valid()) return std::nullopt;
+      const double tolerance = 1e-9 * cad_.diagonal, reach = norm(p - near);
+      const gp_Pnt2d start = vertex_uv(fi, face, near, std::max(reach, tolerance));
+      const gp_Pnt2d uv = face.uv_from(start, p, tolerance, std::max(reach, tolerance));
+      const Vec3 on = face.point(uv);
+      vertex_uv_.emplace(VertexKey{fi, on.x, on.y, on.z}, uv);
+      return on;
+    } catch (const Standard_Failure&) {
+    }
+    return std::nullopt;
+  }
+
   std::vector<double> region_volumes() const override {
     std::vector<double> volume;
     for (size_t i = 0; i < cad_.solids.size(); ++i) {
@@ -649,7 +669,7 @@ class CadGeometry : public SurfaceGeometry {
     double x, y, z;
     bool operator<(const VertexKey& o) const { return std::tie(face, x, y, z) < std::tie(o.face, o.x, o.y, o.z); }
   };
-  mutable std::map<VertexKey, gp_Pnt2d> vertex_uv_;  // second-order nodes' edge ends
+  mutable std::map<VertexKey, gp_Pnt2d> vertex_uv_;  // second-order nodes' edge ends, slid vertices
   mutable std::map<int, gp_Pnt2d> last_uv_;          // by face index, the last vertex's
 };
 

@@ -432,6 +432,8 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   sliver_options.face_chord_height = options.delaunayzation.face_flip_offset;
   sliver_options.chord_height = options.delaunayzation.max_flip_offset;
   sliver_options.flip_ridge_deg = options.delaunayzation.flip_angle_deg;
+  // Moves on curved CAD faces change the surface's chords: not with --no-flips.
+  if (options.delaunayzation.flips) sliver_options.geometry = options.delaunayzation.geometry;
   if (options.interior) {
     // The size field and the region lookup are a phase of their own: they
     // do not look at the cancel flag, and a Cancel during "interior

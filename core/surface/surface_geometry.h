@@ -5,6 +5,7 @@
 // interface; without one, splits stay planar (the paper's behaviour).
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "mesh/mesh.h"
@@ -25,6 +26,12 @@ class SurfaceGeometry {
   // only its mid-point, so that the geometry can start its search from them.
   virtual Vec3 place_node(const std::vector<int>& faces, const Vec3& a, const Vec3& b) const {
     return place_on_surface(faces, 0.5 * (a + b));
+  }
+  // The point of topological face `face` nearest to p, when the face is
+  // known and the projection found; `near`, a point of the face near p,
+  // where the search starts.
+  virtual std::optional<Vec3> project_onto_face(int /*face*/, const Vec3& /*p*/, const Vec3& /*near*/) const {
+    return std::nullopt;
   }
   // Each region's true volume by region id, where known (0: unknown).
   virtual std::vector<double> region_volumes() const { return {}; }

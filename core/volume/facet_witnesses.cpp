@@ -12,6 +12,10 @@ bool has(const std::array<int, 3>& f, int v) { return f[0] == v || f[1] == v || 
 // A reshaped hull facet's bound (reshaped_bounds) at most this many times
 // the facet's circumradius.
 constexpr double kLargestHeldBall = 8.0;
+// How far from a bound's sphere's centre point_past goes, in its radii. At
+// 1.05 the narrowed bounds held a cylindrical shell's pass at 11.35 deg and
+// a cone shell's at 14.41 (19.19 and 20.0 at 2).
+constexpr double kPastReach = 2.0;
 
 }  // namespace
 
@@ -93,6 +97,34 @@ void FacetWitnesses::narrow_to_equatorial(Facet& f) const {
   const bool narrow_below = large(f.below) && below != SphereSide::inside && above == SphereSide::outside;
   if (narrow_above) f.above = {Bound::equatorial, Vec3{}};
   if (narrow_below) f.below = {Bound::equatorial, Vec3{}};
+  // Else a point just past the other bound's sphere, when it lies between
+  // the two: on a spherical shell 0.5 thick, the facets inside it had the
+  // hollow's far side as their apex there, and the other apex, across the
+  // wall, in their equatorial sphere; each of these balls, as large as the
+  // hollow, was looked at for every move in it (234 million tests, 5 s).
+  for (Bound* big : {&f.above, &f.below}) {
+    const Bound& other = big == &f.above ? f.below : f.above;
+    if (!large(*big) || other.kind == Bound::none) continue;
+    Bound past;
+    if (point_past(a, b, c, other, orientation(a, b, c, big->at), past) && tightens(a, b, c, past.at, *big))
+      *big = past;
+  }
+}
+
+// A point on the given side of facet (a, b, c), a little past the sphere of
+// bound `held` (on the other side): a bound for that side between held's
+// and the spheres that lean farther. False when rounding puts it elsewhere.
+bool FacetWitnesses::point_past(const Vec3& a, const Vec3& b, const Vec3& c, const Bound& held, int side,
+                                Bound& past) {
+  const Ball ball = held.kind == Bound::point ? circumsphere(a, b, c, held.at) : equatorial_sphere(a, b, c);
+  const Vec3 n = cross(b - a, c - a);
+  if (!std::isfinite(ball.radius) || !(norm(n) > 0) || side == 0) return false;
+  const Vec3 step = (kPastReach * ball.radius / norm(n)) * n;
+  Vec3 far = ball.centre + step;
+  if (orientation(a, b, c, far) != side) far = ball.centre - step;
+  if (orientation(a, b, c, far) != side) return false;
+  past = {Bound::point, far};
+  return outside_bound(a, b, c, far, held);
 }
 
 bool FacetWitnesses::allows(const Vec3& p, int moving) const {
@@ -146,39 +178,80 @@ std::vector<char> FacetWitnesses::on_hull_planes(int v, const Vec3& from, const 
   return on_hull;
 }
 
-// A facet on the convex hull (one side's bound none) whose vertex slid in
-// its axis plane stays on the hull (`on_hull`), and its pencil's spheres
-// towards that side are empty once past the vertices inside its equatorial
-// sphere, all of which must then be on the other side: that side's bound is
-// the one of them that allows the least (the equatorial sphere when none is
-// inside it). Only an empty equatorial sphere, as before 2026-11-30, kept
-// the faces of a plate 0.3 thick still: their facets, 1.2 wide, had
-// vertices of the other face in theirs, and a disk's flat tetrahedra
-// between the two faces' vertices (the same nodes on both) stayed at 0.013
-// deg, where slides of a vertex open them to 11 to 14 deg.
+// A reshaped facet is Delaunay when some sphere of its pencil is empty. With
+// an empty equatorial sphere, that one. Else its occupants must all lie on
+// one side, the occupied side: the spheres that leave all of them out lean
+// towards the other side, the open one, and the one of them that allows the
+// least is the occupied side's bound. On the convex hull (`on_hull`: v slid
+// in its axis plane) the open side has no vertex, and its bound is none.
+// Elsewhere (open_side_bound) the spheres just past that bound must leave
+// out the open side's vertices too. Only an empty equatorial sphere, as
+// before 2026-11-30, kept the faces of a plate 0.3 thick still: their
+// facets, 1.2 wide, had vertices of the other face in theirs, and a disk's
+// flat tetrahedra between the two faces' vertices (the same nodes on both)
+// stayed at 0.013 deg, where slides of a vertex open them to 11 to 14 deg.
+// The same held the walls of a tube 1 thick, which are not on the hull,
+// until 2026-12-01.
 bool FacetWitnesses::reshaped_bounds(int id, bool on_hull, std::vector<int>& occupants, Bound& above,
                                      Bound& below) const {
   const Facet& f = facets_[id];
   if (!equatorial_sphere_occupants(grid_, f.v[0], f.v[1], f.v[2], occupants)) return false;
   above = below = {Bound::equatorial, Vec3{}};
-  if (!on_hull) return occupants.empty();
-  const bool open_above = f.above.kind == Bound::none;
+  if (!on_hull && occupants.empty()) return true;
   const Vec3 &a = grid_.position(f.v[0]), &b = grid_.position(f.v[1]), &c = grid_.position(f.v[2]);
-  (open_above ? above : below) = {Bound::none, Vec3{}};
-  Bound& held = open_above ? below : above;
+  int occupied = 0;  // the occupants' side (orientation)
+  for (const int q : occupants) {
+    const int side = orientation(a, b, c, grid_.position(q));
+    if (side == 0 || (occupied != 0 && side != occupied)) return false;
+    occupied = side;
+  }
+  if (on_hull) {
+    const bool open_above = f.above.kind == Bound::none;
+    if (occupied != 0 && (occupied > 0) == open_above) return false;
+    occupied = open_above ? -1 : 1;
+  }
+  Bound& held = occupied > 0 ? above : below;
+  Bound& open = occupied > 0 ? below : above;
   for (const int q : occupants) {
     const Vec3& x = grid_.position(q);
-    const int side = orientation(a, b, c, x);
-    if (side == 0 || (side > 0) == open_above) return false;
     if (tightens(a, b, c, x, held)) held = {Bound::point, x};
   }
+  if (on_hull) open = {Bound::none, Vec3{}};
+  else if (!open_side_bound(a, b, c, f.v, held, -occupied, occupants, open)) return false;
   // A bound far off the facet's size is listed in coarse cells that many
   // later lookups walk: on a foil 0.03 thick with facets 6 wide (balls of
   // radius about 180), the pass went from 34 s to past 5 minutes, 63 % of it
   // in allows() (a tester, 2026-11-30). Such a facet keeps the old rule.
-  if (held.kind == Bound::point &&
-      !(circumsphere(a, b, c, held.at).radius <= kLargestHeldBall * equatorial_sphere(a, b, c).radius))
-    return false;
+  const double largest = kLargestHeldBall * equatorial_sphere(a, b, c).radius;
+  for (const Bound* x : {&held, &open})
+    if (x->kind == Bound::point && !(circumsphere(a, b, c, x->at).radius <= largest)) return false;
+  return true;
+}
+
+// The open side's bound of a reshaped facet (a, b, c) whose occupied side
+// has bound `held`: the vertex on the open side (orientation `open_side`)
+// that allows the least among those in the sphere a little past held's
+// (point_past), or that sphere's point when none is in it. False when no
+// sphere between the two is empty. `scratch`: for the look-up.
+bool FacetWitnesses::open_side_bound(const Vec3& a, const Vec3& b, const Vec3& c, const std::array<int, 3>& v,
+                                     const Bound& held, int open_side, std::vector<int>& scratch, Bound& open) const {
+  if (!point_past(a, b, c, held, open_side, open)) return false;
+  const Ball reach = circumsphere(a, b, c, open.at);
+  if (!std::isfinite(reach.radius)) return false;
+  grid_.in_ball(reach.centre, safe_radius(reach), scratch);
+  for (const int q : scratch) {
+    if (q == v[0] || q == v[1] || q == v[2]) continue;
+    const Vec3& x = grid_.position(q);
+    const int side = orientation(a, b, c, x);
+    if (side == 0) {
+      // In the plane: inside every sphere of the pencil or outside all.
+      if (side_of_equatorial_sphere(a, b, c, x) != SphereSide::outside) return false;
+      continue;
+    }
+    if (side != open_side || !tightens(a, b, c, x, open)) continue;
+    if (!outside_bound(a, b, c, x, held)) return false;
+    open = {Bound::point, x};
+  }
   return true;
 }
 

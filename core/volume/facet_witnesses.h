@@ -44,9 +44,9 @@ class FacetWitnesses {
   // reshape_allows decides for them.
   bool allows(const Vec3& p, int moving) const;
   // With surface vertex v at p, is each of its facets Delaunay: with an
-  // empty equatorial sphere, or, for a facet on the convex hull that p
-  // leaves in its axis plane, with every vertex in that sphere on its inner
-  // side (reshaped_bounds)?
+  // empty equatorial sphere, or with every vertex in that sphere on one side
+  // and a sphere of its pencil leaning to the other side empty
+  // (reshaped_bounds)?
   bool reshape_allows(int v, const Vec3& p);
   // Vertex v moved to p (allowed, a surface vertex by reshape_allows, else
   // std::logic_error; `points` already says so): the bounds p tightens take
@@ -123,6 +123,9 @@ class FacetWitnesses {
   // there; `on_hull`: in the axis plane of a hull facet), or false when no
   // sphere of its pencil is known empty. `occupants`: scratch.
   bool reshaped_bounds(int id, bool on_hull, std::vector<int>& occupants, Bound& above, Bound& below) const;
+  static bool point_past(const Vec3& a, const Vec3& b, const Vec3& c, const Bound& held, int side, Bound& past);
+  bool open_side_bound(const Vec3& a, const Vec3& b, const Vec3& c, const std::array<int, 3>& v, const Bound& held,
+                       int open_side, std::vector<int>& scratch, Bound& open) const;
   // By v's facets (facets_of_ order): which stay on the hull when v moves
   // from `from` to p.
   std::vector<char> on_hull_planes(int v, const Vec3& from, const Vec3& p) const;

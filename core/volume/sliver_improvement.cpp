@@ -17,6 +17,7 @@
 #include "mesh/progress.h"
 #include "mesh/tet_faces.h"
 #include "quality/tet_quality.h"
+#include "surface/surface_geometry.h"
 #include "volume/facet_witnesses.h"
 
 namespace vd {
@@ -35,7 +36,9 @@ constexpr int kMaxRing = 7;
 // At the raised angle, at most this many changes per change made at the
 // first, and at least kRaisedChangesAtLeast (improve_slivers).
 constexpr long kRaisedChangesPerFirst = 4;
-constexpr long kRaisedChangesAtLeast = 20000;
+constexpr long kRaisedChangesAtLeast = 10000;
+// Moves of vertices on curved faces in a pass (move_a_vertex).
+constexpr long kCurvedMovesAtMost = 2000;
 
 // True when (a, b, c, d) lists the vertices of v as an even permutation of v,
 // i.e. with the orientation of v.
@@ -472,11 +475,27 @@ bool apply_if_valid(TetComplex& c, const Replacement& r, SliverStats& stats) {
 // the same face id and regions and the same normal (to 1e-6 degrees) and they
 // close a disc around it; along a line when the facets lie in two such planes
 // that meet along a straight crease through it. Sliding there leaves the
-// surface's shape and the regions' volumes as they are (to rounding).
+// surface's shape and the regions' volumes as they are (to rounding). On
+// CAD input, a vertex inside a curved face (every facet around it of that
+// face and regions, closing a disc) slides on the face: the search goes in
+// its tangent plane, and the position taken is projected onto the face
+// (`surface`). It changes the chords' shape, not the face they follow: a
+// tube 1 thick kept a tetrahedron of 6.8 deg across its wall, whose four
+// vertices, two on each cylinder, had nowhere to go.
 struct SlidePlane {
   Vec3 origin, normal, u, w;
   bool line = false;  // along u only
   int axis = -1;      // plane: x, y or z = origin's; line: along that axis. Kept exactly.
+  const SurfaceGeometry* surface = nullptr;  // on a curved face: onto it
+  int face = 0;
+  // Where a vertex going to p in the plane (or line) comes to rest: on the
+  // curved face, when no farther from p than p from `from`.
+  std::optional<Vec3> settle(const Vec3& from, const Vec3& p) const {
+    if (!surface) return onto(p);
+    const std::optional<Vec3> q = surface->project_onto_face(face, p, from);
+    if (!q || !(norm(*q - p) <= norm(p - from))) return std::nullopt;
+    return q;
+  }
   Vec3 onto(Vec3 p) const {
     if (line) {
       if (axis < 0) return origin + dot(p - origin, u) * u;
@@ -496,7 +515,7 @@ struct SlidePlane {
 // all vertices was a tenth of the sliver pass's peak memory.
 using SlidePlanes = std::unordered_map<int, SlidePlane>;
 
-SlidePlanes slide_planes(const Mesh& m) {
+SlidePlanes slide_planes(const Mesh& m, const SurfaceGeometry* geometry) {
   std::vector<std::vector<int>> around(m.points.size());
   for (size_t f = 0; f < m.triangles.size(); ++f)
     for (int v : m.triangles[f].v) around[v].push_back(static_cast<int>(f));
@@ -526,6 +545,27 @@ SlidePlanes slide_planes(const Mesh& m) {
     bool disc = true;
     for (const auto& [x, uses] : link) disc = disc && uses == 2;
     if (!disc) continue;
+    // On a curved face (below), when no plane takes it.
+    auto on_curved_face = [&] {
+      if (!geometry) return;
+      const Triangle& first = m.triangles[fs[0]];
+      Vec3 sum{0, 0, 0};
+      for (int f : fs) {
+        const Triangle& t = m.triangles[f];
+        if (t.face != first.face || t.front != first.front || t.back != first.back) return;
+        sum = sum + area_vector(t);
+      }
+      if (!(norm(sum) > 0)) return;
+      SlidePlane plane;
+      plane.origin = m.points[v];
+      plane.normal = normalized(sum);
+      const Vec3 helper = std::abs(plane.normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+      plane.u = normalized(cross(plane.normal, helper));
+      plane.w = cross(plane.normal, plane.u);
+      plane.surface = geometry;
+      plane.face = first.face;
+      planes.emplace(v, plane);
+    };
     // The facets by plane: at most two planes, each of one face id and regions.
     std::vector<int> group(fs.size(), -1);
     int leader[2] = {-1, -1};
@@ -546,7 +586,10 @@ SlidePlanes slide_planes(const Mesh& m) {
       }
       ok = group[i] >= 0;
     }
-    if (!ok) continue;
+    if (!ok) {
+      on_curved_face();
+      continue;
+    }
     SlidePlane plane;
     plane.origin = m.points[v];
     if (leader[1] < 0) {
@@ -568,7 +611,10 @@ SlidePlanes slide_planes(const Mesh& m) {
       std::vector<int> ends;
       for (const auto& [x, bits] : seen)
         if (bits == 3) ends.push_back(x);
-      if (ends.size() != 2) continue;
+      if (ends.size() != 2) {
+        on_curved_face();
+        continue;
+      }
       std::sort(ends.begin(), ends.end());
       const Vec3 chord = m.points[ends[1]] - m.points[ends[0]];
       const Vec3 d = normalized(chord);
@@ -576,8 +622,10 @@ SlidePlanes slide_planes(const Mesh& m) {
       const Vec3 n1 = normalized(area_vector(m.triangles[fs[leader[1]]]));
       const Vec3 off = m.points[v] - m.points[ends[0]];
       if (!(norm(cross(off, d)) <= 1e-12 * norm(chord)) || !(std::abs(dot(d, n0)) <= 1e-12) ||
-          !(std::abs(dot(d, n1)) <= 1e-12))
+          !(std::abs(dot(d, n1)) <= 1e-12)) {
+        on_curved_face();
         continue;
+      }
       plane.line = true;
       plane.u = d;
       plane.w = Vec3{0, 0, 0};
@@ -715,53 +763,70 @@ bool worse_around(const TetComplex& c, int v, double quality) {
 // `unchanged`: nothing around t changed since its moves last failed, so
 // only a vertex with a worse tetrahedron around it (one held now) is tried.
 bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, int t, bool hold_worse,
-                   bool unchanged, SliverStats& stats) {
+                   bool unchanged, long& curved_moves_left, SliverStats& stats) {
   int best_v = -1;
   Vec3 best_to;
   double best_gain = kMinGainDeg;
   bool blocked = false;
-  for (int v : c.tet(t).v) {
-    const SlidePlane* plane = nullptr;
-    if (c.on_surface(v)) {
-      const auto it = planes.find(v);
-      if (it != planes.end()) plane = &it->second;
-    }
-    if (c.on_surface(v) && !plane) continue;
-    if (unchanged && !worse_around(c, v, c.quality(t))) continue;
-    const double old_q = hold_worse ? c.quality(t) : min_quality(c, c.star(v));
-    Vec3 to;
-    const double new_q = best_position(c, v, old_q, plane, hold_worse, to);
-    if (new_q - old_q <= best_gain) continue;
-    // Shorter moves along the same way when the full one would make a
-    // surface facet non-Delaunay.
-    const Vec3 from = c.point(v);
-    for (int halving = 0; halving < 5; ++halving) {
-      Vec3 p = from + std::ldexp(1.0, -halving) * (to - from);
-      if (plane) p = plane->onto(p);
-      bool positive = true;
-      double q = 180;
-      for (int s : c.star(v)) {
-        std::array<Vec3, 4> x;
-        for (int i = 0; i < 4; ++i) x[i] = c.tet(s).v[i] == v ? p : c.point(c.tet(s).v[i]);
-        positive = positive && orientation(x[0], x[1], x[2], x[3]) > 0;
-        const double qs = smallest_dihedral_if_positive(x[0], x[1], x[2], x[3]);
-        if (hold_worse && c.quality(s) < old_q) positive = positive && qs >= c.quality(s);  // held
-        else q = std::min(q, qs);
-        if (!positive || q - old_q <= best_gain) break;  // refused whatever the rest give
+  // Vertices on curved faces only when no other vertex of t may move: such
+  // a move reshapes the surface's chords and costs a projection, and tried
+  // with the others it took the CAD corpus's 21 meshes from 76 to 204 s
+  // (gmsh_simple_plane.brep's pass 3.3 -> 96 s, 32,274 surface moves).
+  // At most kCurvedMovesAtMost of them in a pass: on gmsh_simple_plane.brep
+  // each cost 2 ms, and 32,374 took its pass from 3.3 to 76 s (7,068 -> 2,025
+  // tetrahedra under 10 deg); the thin-walled parts of a CAD tester made at
+  // most 1,300.
+  for (int round = 0; round < (curved_moves_left > 0 ? 2 : 1) && best_v < 0; ++round) {
+    for (int v : c.tet(t).v) {
+      const SlidePlane* plane = nullptr;
+      if (c.on_surface(v)) {
+        const auto it = planes.find(v);
+        if (it != planes.end()) plane = &it->second;
       }
-      if (!positive || q - old_q <= best_gain) continue;
-      if (!w.allows(p, v) || (plane && !w.reshape_allows(v, p))) {
-        blocked = true;
-        continue;
+      if (c.on_surface(v) && !plane) continue;
+      if ((plane && plane->surface) != (round == 1)) continue;
+      if (unchanged && !worse_around(c, v, c.quality(t))) continue;
+      const double old_q = hold_worse ? c.quality(t) : min_quality(c, c.star(v));
+      Vec3 to;
+      const double new_q = best_position(c, v, old_q, plane, hold_worse, to);
+      if (new_q - old_q <= best_gain) continue;
+      // Shorter moves along the same way when the full one would make a
+      // surface facet non-Delaunay.
+      const Vec3 from = c.point(v);
+      for (int halving = 0; halving < 5; ++halving) {
+        Vec3 p = from + std::ldexp(1.0, -halving) * (to - from);
+        if (plane) {
+          const std::optional<Vec3> rest = plane->settle(from, p);
+          if (!rest) continue;
+          p = *rest;
+        }
+        bool positive = true;
+        double q = 180;
+        for (int s : c.star(v)) {
+          std::array<Vec3, 4> x;
+          for (int i = 0; i < 4; ++i) x[i] = c.tet(s).v[i] == v ? p : c.point(c.tet(s).v[i]);
+          positive = positive && orientation(x[0], x[1], x[2], x[3]) > 0;
+          const double qs = smallest_dihedral_if_positive(x[0], x[1], x[2], x[3]);
+          if (hold_worse && c.quality(s) < old_q) positive = positive && qs >= c.quality(s);  // held
+          else q = std::min(q, qs);
+          if (!positive || q - old_q <= best_gain) break;  // refused whatever the rest give
+        }
+        if (!positive || q - old_q <= best_gain) continue;
+        if (!w.allows(p, v) || (plane && !w.reshape_allows(v, p))) {
+          blocked = true;
+          continue;
+        }
+        best_v = v, best_to = p, best_gain = q - old_q;
+        break;
       }
-      best_v = v, best_to = p, best_gain = q - old_q;
-      break;
     }
   }
   if (best_v < 0) {
     stats.moves_blocked += blocked;
     return false;
   }
+  const auto slid = planes.find(best_v);
+  if (slid != planes.end() && slid->second.surface) --curved_moves_left;
   c.move_point(best_v, best_to);
   w.moved(best_v, best_to);
   ++stats.moves;
@@ -776,7 +841,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
                      const std::function<void()>& apexes_done) {
   std::unique_ptr<FacetWitnesses> witnesses;
   SlidePlanes planes;
-  if (o.moves) planes = slide_planes(m);
+  if (o.moves) planes = slide_planes(m, o.geometry);
   // Case C moves interior vertices, and surface vertices with a slide
   // plane. Without either (a surface-only run on a curved surface) nothing
   // can move, and the witnesses, 1.4 s of the elephant's 6.7 s pass with
@@ -832,6 +897,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
   double angle = o.sliver_angle_deg;
   // Changes made at the first angle, and the raised angle's allowance.
   long first_changes = 0, allowance = -1;
+  long curved_moves_left = kCurvedMovesAtMost;
   for (;;) {
     // hold 0: each move judged by the worst tetrahedron around the vertex.
     // hold 1, on what that left: the tetrahedra worse than the one mended
@@ -861,7 +927,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
           if (!changed && !hold) continue;
           Replacement r;
           if ((changed && o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) ||
-              (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, !changed, stats))) {
+              (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, !changed, curved_moves_left, stats))) {
             ++changes;
             if (allowance > 0) --allowance;
             else ++first_changes;

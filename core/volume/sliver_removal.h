@@ -15,9 +15,10 @@
 // Case C (same file): the sliver is opened by moving one of its vertices to
 // where the smallest dihedral angle around that vertex is largest: an
 // interior vertex anywhere, a surface vertex within the plane of its flat
-// patch or along its straight crease. B and C never flip a surface facet or
-// change the surface's shape, so the surface and its tags stay as case A left
-// them.
+// patch or along its straight crease, and on CAD input one inside a curved
+// face on that face. B and C never flip a surface facet, and change the
+// surface's shape only there, so the surface and its tags stay as case A
+// left them.
 #pragma once
 
 #include <array>
@@ -28,6 +29,8 @@
 #include "quality/tet_quality.h"
 
 namespace vd {
+
+class SurfaceGeometry;
 
 // The largest sliver angle an option may ask: every tetrahedron has a
 // dihedral angle of at most 70.53 deg (the regular one's, all six), so above
@@ -54,6 +57,9 @@ struct SliverOptions {
   double flip_ridge_deg = 20.0;
   bool flips = true;               // case B
   bool moves = true;               // case C
+  // CAD input: case C also moves a vertex inside a curved face on that face
+  // (SurfaceGeometry::project_onto_face). Null: surface vertices slide only in planes.
+  const SurfaceGeometry* geometry = nullptr;
   // Case C, once the passes stop: more passes in which the tetrahedra
   // around a moved vertex that are worse than the sliver mended are held
   // (may not get worse) instead of scoring the move (sliver_improvement.cpp).

@@ -16,6 +16,7 @@
 #include "pipeline/mesher.h"
 #include "quality/conformity.h"
 #include "quality/tet_quality.h"
+#include "surface/surface_geometry.h"
 #include "test_support.h"
 #include "volume/sliver_improvement.h"
 #include "volume/sliver_removal.h"
@@ -218,6 +219,79 @@ TEST(Slivers, ThinPlateFacesSlide) {
   const double c = std::cos(0.5), sn = std::sin(0.5);
   for (Vec3& p : tilted.points) p = Vec3{p.x, c * p.y - sn * p.z, sn * p.y + c * p.z};
   check_pass_helps("plate 0.3 thick, tilted", mesh_before_flips_and_moves(tilted, 1.2));
+}
+
+// Two concentric spheres as CAD faces: face 1 of radius 1, face 2 of radius
+// `inner`; splits stay on their chords.
+struct TwoSpheres : SurfaceGeometry {
+  double inner;
+  explicit TwoSpheres(double r) : inner(r) {}
+  Vec3 place_on_surface(const std::vector<int>&, const Vec3& chord) const override { return chord; }
+  std::optional<Vec3> project_onto_face(int face, const Vec3& p, const Vec3&) const override {
+    const double r = face == 1 ? 1.0 : face == 2 ? inner : 0.0;
+    if (r == 0 || !(norm(p) > 0)) return std::nullopt;
+    return (r / norm(p)) * p;
+  }
+};
+
+// A spherical shell 0.08 thick whose facets are 0.13 wide: no surface vertex
+// has a plane to slide in, and tetrahedra across the wall, with two vertices
+// on each sphere, stayed flat (a tube 1 thick at 6.8 deg, a spherical shell
+// at 9.7). With the geometry, case C moves a vertex inside a curved face on
+// that face: the pass goes further, each moved vertex lies on its sphere,
+// and every facet is still a face of a fresh Delaunay tetrahedralization.
+TEST(Slivers, CurvedFaceVerticesSlideOnTheirFaces) {
+  const double inner = 0.92;
+  Mesh shell = shapes::icosphere({0, 0, 0}, 1.0, 3, 1, 1);
+  Mesh hollow = shapes::icosphere({0, 0, 0}, inner, 3, 1, 2);
+  for (Triangle& t : hollow.triangles) std::swap(t.v[1], t.v[2]);  // its normals into the hollow, region 0
+  shapes::append(shell, hollow);
+  const Mesh before = mesh_before_flips_and_moves(shell);
+  const DelaunayApexes delaunay(before);
+  const TwoSpheres spheres(inner);
+  SliverOptions planes_only, on_spheres;
+  on_spheres.geometry = &spheres;
+  Mesh fixed = before, slid = before;
+  SliverStats fixed_stats, slid_stats;
+  improve_slivers(fixed, planes_only, delaunay.apexes(), fixed_stats);
+  improve_slivers(slid, on_spheres, delaunay.apexes(), slid_stats);
+  const QualitySummary q0 = summarize_quality(before), q_fixed = summarize_quality(fixed),
+                       q_slid = summarize_quality(slid);
+  std::cout << "[spherical shell] min dihedral " << q0.min_dihedral_deg << " -> " << q_fixed.min_dihedral_deg
+            << " (planes only), " << q_slid.min_dihedral_deg << " (on the spheres); under 10 deg " << q0.below_10_deg
+            << " -> " << q_fixed.below_10_deg << ", " << q_slid.below_10_deg << "; surface moves "
+            << slid_stats.surface_moves << " (" << slid_stats.moves_blocked << " blocked)\n";
+  EXPECT_EQ(fixed_stats.surface_moves, 0);
+  EXPECT_GT(slid_stats.surface_moves, 0);
+  EXPECT_GT(q_slid.min_dihedral_deg, q_fixed.min_dihedral_deg + 1.0);
+  EXPECT_LE(q_slid.below_10_deg, q_fixed.below_10_deg);
+  EXPECT_EQ(q_slid.inverted, 0);
+  EXPECT_TRUE(same_triangles(before, slid));
+  std::vector<int> face_of(before.points.size(), 0);
+  for (const Triangle& t : before.triangles)
+    for (int v : t.v) face_of[v] = t.face;
+  int moved = 0;
+  for (size_t v = 0; v < before.points.size(); ++v) {
+    if (face_of[v] == 0 || (slid.points[v].x == before.points[v].x && slid.points[v].y == before.points[v].y &&
+                            slid.points[v].z == before.points[v].z))
+      continue;
+    ++moved;
+    EXPECT_NEAR(norm(slid.points[v]), face_of[v] == 1 ? 1.0 : inner, 1e-12) << "vertex " << v;
+  }
+  EXPECT_GT(moved, 0);
+  const ConformityReport c = check_conformity(slid);
+  EXPECT_TRUE(c.ok(1e-9)) << c.summary();
+  EXPECT_EQ(test::facets_missing_from_fresh_dt(slid), 0);
+  Mesh again = before;
+  SliverStats again_stats;
+  improve_slivers(again, on_spheres, delaunay.apexes(), again_stats);
+  bool same_points = again.points.size() == slid.points.size();
+  for (size_t i = 0; same_points && i < slid.points.size(); ++i)
+    same_points = again.points[i].x == slid.points[i].x && again.points[i].y == slid.points[i].y &&
+                  again.points[i].z == slid.points[i].z;
+  EXPECT_TRUE(same_points);
+  ASSERT_EQ(again.tets.size(), slid.tets.size());
+  for (size_t i = 0; i < slid.tets.size(); ++i) ASSERT_EQ(again.tets[i].v, slid.tets[i].v);
 }
 
 // Case C's second round, which holds the tetrahedra worse than the sliver
