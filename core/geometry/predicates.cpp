@@ -81,10 +81,17 @@ SphereSide side_of_equatorial_sphere(const Vec3& a, const Vec3& b, const Vec3& c
       K().side_of_bounded_sphere_3_object()(to_cgal(a), to_cgal(b), to_cgal(c), to_cgal(p)));
 }
 
+namespace {
+bool finite(const Vec3& x) { return std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z); }
+}  // namespace
+
 Ball circumsphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   if (orientation(a, b, c, d) == 0) return {a, kInfinity};
   const Point o = CGAL::circumcenter(to_cgal(a), to_cgal(b), to_cgal(c), to_cgal(d));
   const Vec3 centre{o.x(), o.y(), o.z()};
+  // Nearly flat, the centre overflows in doubles; the distances below were
+  // then NaN and the radius came out 0 (std::max drops a NaN).
+  if (!finite(centre)) return {a, kInfinity};
   // The largest of the four distances bounds the construction error from above.
   double r = 0;
   for (const Vec3& v : {a, b, c, d}) r = std::max(r, norm(v - centre));
@@ -95,6 +102,7 @@ Ball equatorial_sphere(const Vec3& a, const Vec3& b, const Vec3& c) {
   if (collinear(a, b, c)) return {a, kInfinity};
   const Point o = CGAL::circumcenter(to_cgal(a), to_cgal(b), to_cgal(c));
   const Vec3 centre{o.x(), o.y(), o.z()};
+  if (!finite(centre)) return {a, kInfinity};
   double r = 0;
   for (const Vec3& v : {a, b, c}) r = std::max(r, norm(v - centre));
   return {centre, r};

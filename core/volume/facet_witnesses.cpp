@@ -13,9 +13,10 @@ bool has(const std::array<int, 3>& f, int v) { return f[0] == v || f[1] == v || 
 // the facet's circumradius.
 constexpr double kLargestHeldBall = 8.0;
 // How far from a bound's sphere's centre point_past goes, in its radii. At
-// 1.05 the narrowed bounds held a cylindrical shell's pass at 11.35 deg and
-// a cone shell's at 14.41 (19.19 and 20.0 at 2).
-constexpr double kPastReach = 2.0;
+// 1.05 the narrowed bounds held a cylindrical shell's pass at 9.77 deg and a
+// cone shell's at 14.41 (19.19 and 20.0 from 1.5 up); gmsh_t20_component8.step
+// came out at 9.16, 5.62, 7.97 and 13.07 deg at 1.05, 1.5, 2 and 3 (and 4).
+constexpr double kPastReach = 3.0;
 
 }  // namespace
 
@@ -120,7 +121,12 @@ bool FacetWitnesses::point_past(const Vec3& a, const Vec3& b, const Vec3& c, con
   const Vec3 n = cross(b - a, c - a);
   if (!std::isfinite(ball.radius) || !(norm(n) > 0) || side == 0) return false;
   const Vec3 step = (kPastReach * ball.radius / norm(n)) * n;
+  // A bound nearly in the facet's plane has a ball whose centre overflows
+  // (a vertex of cgal_anchor_dense.off: the point came out (inf, nan, -inf),
+  // and the exact predicates on it said what they liked).
+  const auto finite = [](const Vec3& x) { return std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z); };
   Vec3 far = ball.centre + step;
+  if (!finite(far) || !finite(ball.centre - step)) return false;
   if (orientation(a, b, c, far) != side) far = ball.centre - step;
   if (orientation(a, b, c, far) != side) return false;
   past = {Bound::point, far};
@@ -237,7 +243,9 @@ bool FacetWitnesses::open_side_bound(const Vec3& a, const Vec3& b, const Vec3& c
                                      const Bound& held, int open_side, std::vector<int>& scratch, Bound& open) const {
   if (!point_past(a, b, c, held, open_side, open)) return false;
   const Ball reach = circumsphere(a, b, c, open.at);
-  if (!std::isfinite(reach.radius)) return false;
+  if (!std::isfinite(reach.radius) || !std::isfinite(reach.centre.x) || !std::isfinite(reach.centre.y) ||
+      !std::isfinite(reach.centre.z))
+    return false;
   grid_.in_ball(reach.centre, safe_radius(reach), scratch);
   for (const int q : scratch) {
     if (q == v[0] || q == v[1] || q == v[2]) continue;

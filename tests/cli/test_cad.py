@@ -899,6 +899,10 @@ if ring:
 # angles were 3.06 / 3.02 / 2.47 / 3.09 unsmoothed and 2.31 / 3.00 / 3.09 /
 # 3.39 smoothed: either may be lower on one seed, so the test counts over
 # three seeds (149 + 162 + 164 against 92 + 87 + 88) and compares no angle.
+# 2026-12-01, with vertices of curved faces sliding in the sliver pass,
+# which mends most of what smoothing did: 30 + 48 + 21 against 21 + 18 + 21
+# (39 % fewer; before the pass, 624 + 608 + 633 against 495 + 482 + 489).
+# Smoothing must still take away 30 % of them.
 part = data("cad-part/gmsh_part.step")
 if part:
     runs = {}
@@ -916,7 +920,7 @@ if part:
                 runs[flag] = (under + int((smallest < 10).sum()), moves + rep["cad"]["smoothing_moves"])
     if len(runs) == 2:
         off, on = runs["--no-smoothing"], runs[None]
-        check(off[1] == 0 and on[1] > 0 and on[0] < 0.6 * off[0],
+        check(off[1] == 0 and on[1] > 0 and on[0] < 0.7 * off[0],
               "gmsh_part.step smoothed, seeds 1 to 3: %d moves, %d -> %d tetrahedra under 10 deg" % (on[1], off[0], on[0]))
 
 # --surface-grading on CAD input: the graded splits are made on the CAD
