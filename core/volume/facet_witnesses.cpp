@@ -308,6 +308,7 @@ FacetWitnesses::Cell FacetWitnesses::cell_of(const Vec3& p, int level) const {
 template <class Visit>
 void FacetWitnesses::for_each_near(const Vec3& p, Lookup lookup, Visit visit) {
   auto near = [&](const Facet& f) {
+    ++tests_made_;
     for (int i = 0; i < 2; ++i) {
       const Ball& b = f.reach[i];
       if (f.half[i] >= 0) {

@@ -53,6 +53,9 @@ class FacetWitnesses {
   // it, and the facets of a surface vertex get the bounds reshape_allows
   // found.
   void moved(int v, const Vec3& p);
+  // Facets looked at so far by allows and the bounds' updates (a measure of
+  // the work, for budgets that must not depend on the clock).
+  long tests_made() const { return tests_made_; }
 
  private:
   // A bound of a facet's interval: none (a convex-hull side: no vertex
@@ -162,6 +165,7 @@ class FacetWitnesses {
   // `circle`: the facet's equatorial sphere.
   bool fill_half_space(Facet& f, int i, const Bound& bound, const Ball& circle);
   void join_group(int id, int i);
+  long tests_made_ = 0;
   std::vector<char> in_large_;  // per facet
   std::vector<char> grouped_;   // per facet and side: in its group's members
   std::array<std::unordered_map<Cell, std::vector<int>, CellHash>, kLevels> cells_;

@@ -37,8 +37,9 @@ constexpr int kMaxRing = 7;
 // first, and at least kRaisedChangesAtLeast (improve_slivers).
 constexpr long kRaisedChangesPerFirst = 4;
 constexpr long kRaisedChangesAtLeast = 10000;
-// Moves of vertices on curved faces in a pass (move_a_vertex).
-constexpr long kCurvedMovesAtMost = 2000;
+// The facet look-ups that moves of vertices on curved faces may make in a
+// pass, per surface facet (move_a_vertex).
+constexpr long kCurvedTestsPerFacet = 100;
 
 // True when (a, b, c, d) lists the vertices of v as an even permutation of v,
 // i.e. with the orientation of v.
@@ -763,7 +764,7 @@ bool worse_around(const TetComplex& c, int v, double quality) {
 // `unchanged`: nothing around t changed since its moves last failed, so
 // only a vertex with a worse tetrahedron around it (one held now) is tried.
 bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, int t, bool hold_worse,
-                   bool unchanged, long& curved_moves_left, SliverStats& stats) {
+                   bool unchanged, long& curved_tests_left, SliverStats& stats) {
   int best_v = -1;
   Vec3 best_to;
   double best_gain = kMinGainDeg;
@@ -772,11 +773,12 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, 
   // a move reshapes the surface's chords and costs a projection, and tried
   // with the others it took the CAD corpus's 21 meshes from 76 to 204 s
   // (gmsh_simple_plane.brep's pass 3.3 -> 96 s, 32,274 surface moves).
-  // At most kCurvedMovesAtMost of them in a pass: on gmsh_simple_plane.brep
-  // each cost 2 ms, and 32,374 took its pass from 3.3 to 76 s (7,068 -> 2,025
-  // tetrahedra under 10 deg); the thin-walled parts of a CAD tester made at
-  // most 1,300.
-  for (int round = 0; round < (curved_moves_left > 0 ? 2 : 1) && best_v < 0; ++round) {
+  // Their look-ups of facets are held to kCurvedTestsPerFacet a facet: on
+  // gmsh_simple_plane.brep, whose wing skins are far thinner than their
+  // facets, each of their allows() looked at 22,500 facets (57 on a
+  // spherical shell 0.5 thick, 194 on the ellipses), and 32,374 such moves
+  // took its pass from 3.3 to 76 s (7,068 -> 2,025 tetrahedra under 10 deg).
+  for (int round = 0; round < (curved_tests_left > 0 ? 2 : 1) && best_v < 0; ++round) {
     for (int v : c.tet(t).v) {
       const SlidePlane* plane = nullptr;
       if (c.on_surface(v)) {
@@ -812,7 +814,10 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, 
           if (!positive || q - old_q <= best_gain) break;  // refused whatever the rest give
         }
         if (!positive || q - old_q <= best_gain) continue;
-        if (!w.allows(p, v) || (plane && !w.reshape_allows(v, p))) {
+        const long tests_before = w.tests_made();
+        const bool allowed = w.allows(p, v);
+        if (round == 1) curved_tests_left -= w.tests_made() - tests_before;
+        if (!allowed || (plane && !w.reshape_allows(v, p))) {
           blocked = true;
           continue;
         }
@@ -825,8 +830,6 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, 
     stats.moves_blocked += blocked;
     return false;
   }
-  const auto slid = planes.find(best_v);
-  if (slid != planes.end() && slid->second.surface) --curved_moves_left;
   c.move_point(best_v, best_to);
   w.moved(best_v, best_to);
   ++stats.moves;
@@ -897,7 +900,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
   double angle = o.sliver_angle_deg;
   // Changes made at the first angle, and the raised angle's allowance.
   long first_changes = 0, allowance = -1;
-  long curved_moves_left = kCurvedMovesAtMost;
+  long curved_tests_left = kCurvedTestsPerFacet * static_cast<long>(m.triangles.size());
   for (;;) {
     // hold 0: each move judged by the worst tetrahedron around the vertex.
     // hold 1, on what that left: the tetrahedra worse than the one mended
@@ -927,7 +930,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
           if (!changed && !hold) continue;
           Replacement r;
           if ((changed && o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) ||
-              (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, !changed, curved_moves_left, stats))) {
+              (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, !changed, curved_tests_left, stats))) {
             ++changes;
             if (allowance > 0) --allowance;
             else ++first_changes;
