@@ -9,8 +9,8 @@ namespace {
 
 bool has(const std::array<int, 3>& f, int v) { return f[0] == v || f[1] == v || f[2] == v; }
 
-// A reshaped hull facet's bound (reshaped_bounds) at most this many times
-// the facet's circumradius.
+// A reshaped facet's bounds (reshaped_bounds) at most this many times the
+// facet's circumradius.
 constexpr double kLargestHeldBall = 8.0;
 // How far from a bound's sphere's centre point_past goes, in its radii. At
 // 1.05 the narrowed bounds held a cylindrical shell's pass at 9.77 deg and a
@@ -98,8 +98,8 @@ void FacetWitnesses::narrow_to_equatorial(Facet& f) const {
   const bool narrow_below = large(f.below) && below != SphereSide::inside && above == SphereSide::outside;
   if (narrow_above) f.above = {Bound::equatorial, Vec3{}};
   if (narrow_below) f.below = {Bound::equatorial, Vec3{}};
-  // Else a point just past the other bound's sphere, when it lies between
-  // the two: on a spherical shell 0.5 thick, the facets inside it had the
+  // Else a point past the other bound's sphere (point_past), when it lies
+  // between the two: on a spherical shell 0.5 thick, the facets inside it had the
   // hollow's far side as their apex there, and the other apex, across the
   // wall, in their equatorial sphere; each of these balls, as large as the
   // hollow, was looked at for every move in it (234 million tests, 5 s).
@@ -112,18 +112,20 @@ void FacetWitnesses::narrow_to_equatorial(Facet& f) const {
   }
 }
 
-// A point on the given side of facet (a, b, c), a little past the sphere of
-// bound `held` (on the other side): a bound for that side between held's
-// and the spheres that lean farther. False when rounding puts it elsewhere.
+// A point on the given side of facet (a, b, c), kPastReach radii from the
+// centre of the sphere of bound `held` (on the other side): a bound for that
+// side between held's and the spheres that lean farther. False when
+// rounding puts it elsewhere or it overflows.
 bool FacetWitnesses::point_past(const Vec3& a, const Vec3& b, const Vec3& c, const Bound& held, int side,
                                 Bound& past) {
   const Ball ball = held.kind == Bound::point ? circumsphere(a, b, c, held.at) : equatorial_sphere(a, b, c);
   const Vec3 n = cross(b - a, c - a);
   if (!std::isfinite(ball.radius) || !(norm(n) > 0) || side == 0) return false;
   const Vec3 step = (kPastReach * ball.radius / norm(n)) * n;
-  // A bound nearly in the facet's plane has a ball whose centre overflows
-  // (a vertex of cgal_anchor_dense.off: the point came out (inf, nan, -inf),
-  // and the exact predicates on it said what they liked).
+  // Exact predicates on a point that overflowed say what they like (on
+  // cgal_anchor_dense.off one came out (inf, nan, -inf), from a ball whose
+  // centre had overflowed, before circumsphere gave those an infinite
+  // radius, and two facets stopped being Delaunay).
   const auto finite = [](const Vec3& x) { return std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z); };
   Vec3 far = ball.centre + step;
   if (!finite(far) || !finite(ball.centre - step)) return false;
@@ -236,16 +238,14 @@ bool FacetWitnesses::reshaped_bounds(int id, bool on_hull, std::vector<int>& occ
 
 // The open side's bound of a reshaped facet (a, b, c) whose occupied side
 // has bound `held`: the vertex on the open side (orientation `open_side`)
-// that allows the least among those in the sphere a little past held's
-// (point_past), or that sphere's point when none is in it. False when no
+// that allows the least among those in the sphere past held's (point_past),
+// or that sphere's point when none is in it. False when no
 // sphere between the two is empty. `scratch`: for the look-up.
 bool FacetWitnesses::open_side_bound(const Vec3& a, const Vec3& b, const Vec3& c, const std::array<int, 3>& v,
                                      const Bound& held, int open_side, std::vector<int>& scratch, Bound& open) const {
   if (!point_past(a, b, c, held, open_side, open)) return false;
   const Ball reach = circumsphere(a, b, c, open.at);
-  if (!std::isfinite(reach.radius) || !std::isfinite(reach.centre.x) || !std::isfinite(reach.centre.y) ||
-      !std::isfinite(reach.centre.z))
-    return false;
+  if (!std::isfinite(reach.radius)) return false;
   grid_.in_ball(reach.centre, safe_radius(reach), scratch);
   for (const int q : scratch) {
     if (q == v[0] || q == v[1] || q == v[2]) continue;
