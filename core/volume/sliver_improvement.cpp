@@ -497,6 +497,16 @@ struct SlidePlane {
     if (!q || !(norm(*q - p) <= norm(p - from))) return std::nullopt;
     return q;
   }
+  // The plane through `at` with unit normal n, and a basis of it.
+  static SlidePlane through(const Vec3& at, const Vec3& n) {
+    SlidePlane plane;
+    plane.origin = at;
+    plane.normal = n;
+    const Vec3 helper = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    plane.u = normalized(cross(n, helper));
+    plane.w = cross(n, plane.u);
+    return plane;
+  }
   Vec3 onto(Vec3 p) const {
     if (line) {
       if (axis < 0) return origin + dot(p - origin, u) * u;
@@ -557,12 +567,7 @@ SlidePlanes slide_planes(const Mesh& m, const SurfaceGeometry* geometry) {
         sum = sum + area_vector(t);
       }
       if (!(norm(sum) > 0)) return;
-      SlidePlane plane;
-      plane.origin = m.points[v];
-      plane.normal = normalized(sum);
-      const Vec3 helper = std::abs(plane.normal.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-      plane.u = normalized(cross(plane.normal, helper));
-      plane.w = cross(plane.normal, plane.u);
+      SlidePlane plane = SlidePlane::through(m.points[v], normalized(sum));
       plane.surface = geometry;
       plane.face = first.face;
       planes.emplace(v, plane);
@@ -597,12 +602,8 @@ SlidePlanes slide_planes(const Mesh& m, const SurfaceGeometry* geometry) {
       Vec3 sum{0, 0, 0};
       for (int f : fs) sum = sum + area_vector(m.triangles[f]);
       if (!(norm(sum) > 0)) continue;
-      const Vec3 n = normalized(sum);
+      plane = SlidePlane::through(m.points[v], normalized(sum));
       plane.axis = exact_axis(area_vector(m.triangles[fs[0]]));
-      plane.normal = n;
-      const Vec3 helper = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-      plane.u = normalized(cross(n, helper));
-      plane.w = cross(n, plane.u);
     } else {
       // The crease: the two link vertices whose edges to v have a facet of each plane.
       std::unordered_map<int, int> seen;  // link vertex -> groups it touches (bits)
@@ -771,13 +772,13 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, 
   bool blocked = false;
   // Vertices on curved faces only when no other vertex of t may move: such
   // a move reshapes the surface's chords and costs a projection, and tried
-  // with the others it took the CAD corpus's 21 meshes from 76 to 204 s
-  // (gmsh_simple_plane.brep's pass 3.3 -> 96 s, 32,274 surface moves).
+  // with the others it took the CAD corpus's 21 meshes from 76 to 204 s.
   // Their look-ups of facets are held to kCurvedTestsPerFacet a facet: on
   // gmsh_simple_plane.brep, whose wing skins are far thinner than their
   // facets, each of their allows() looked at 22,500 facets (57 on a
-  // spherical shell 0.5 thick, 194 on the ellipses), and 32,374 such moves
-  // took its pass from 3.3 to 76 s (7,068 -> 2,025 tetrahedra under 10 deg).
+  // spherical shell 0.5 thick, 194 on the ellipses), and even tried last,
+  // 32,374 such moves took its pass from 3.3 to 76 s (7,068 -> 2,025
+  // tetrahedra under 10 deg).
   for (int round = 0; round < (curved_tests_left > 0 ? 2 : 1) && best_v < 0; ++round) {
     for (int v : c.tet(t).v) {
       const SlidePlane* plane = nullptr;
