@@ -1,12 +1,16 @@
-// Legacy VTK (.vtk), ASCII and binary (big-endian), DATASET UNSTRUCTURED_GRID.
+// Legacy VTK (.vtk), ASCII and binary (big-endian): DATASET UNSTRUCTURED_GRID,
+// and DATASET POLYDATA read as a surface (its polygons triangulated, its
+// triangle strips cut into triangles, its vertices and lines skipped).
 // Writes the classic CELLS layout (version 3.0, which Gmsh and VTK 9 read);
 // reads it and the 5.1 OFFSETS/CONNECTIVITY layout. Cell data: "region",
 // "face", "front", "back" (int).
+#include <cctype>
 #include <cmath>
 #include <map>
 
 #include "formats.h"
 #include "io_util.h"
+#include "polygon_triangulation.h"
 #include "vtk_common.h"
 
 namespace vd::io {
@@ -53,7 +57,13 @@ class LegacyReader {
   void skip_strings(uint64_t count);
   int64_t cell_index(Binary type);
   void read_points();
-  void read_cells();
+  // CELLS, or a POLYDATA section (`section`: its keyword, lower case), whose
+  // cells are added to those of the sections before it.
+  void read_cells(const std::string& section = "cells");
+  // The triangles of a POLYDATA polygon or strip (cell `i`, `k` nodes at `v`).
+  void add_polydata_triangles(size_t i, int type, const int32_t* v, int64_t k);
+  // Cell data value `v` of cell `i` onto the triangles or tetrahedron it became.
+  void put(detail::VtkCellDataSink& sink, uint64_t i, double v);
   void read_cell_types();
   void build_elements();
   detail::VtkCellRoles roles_of(const std::string& name);
@@ -74,6 +84,9 @@ class LegacyReader {
   std::map<uint64_t, int64_t> large_;      // cells of 255 nodes or more
   std::vector<uint8_t> types_;             // per cell; 255 for types beyond 254
   bool have_cells_ = false, have_types_ = false, built_ = false;
+  bool polydata_ = false;
+  bool data_seen_ = false;  // a CELL_DATA or POINT_DATA section was read
+  std::vector<uint32_t> triangles_of_;  // POLYDATA: per cell, the triangles it became
   // Cell data read before CELL_TYPES, applied once the elements exist.
   std::vector<std::pair<detail::VtkCellRoles, std::vector<double>>> pending_;
   // Which array set the region / face so far: a lower rank wins.
@@ -162,8 +175,14 @@ void LegacyReader::read_points() {
   });
 }
 
-void LegacyReader::read_cells() {
-  if (have_cells_) in_.fail("a second CELLS section");
+void LegacyReader::read_cells(const std::string& section) {
+  std::string keyword = section;
+  for (char& c : keyword) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (built_ || data_seen_) in_.fail(keyword + " after the point or cell data");
+  if (have_cells_ && !polydata_) in_.fail("a second CELLS section");
+  if (polydata_ && m_.points.empty()) in_.fail(keyword + " before POINTS");
+  // A POLYDATA section's cells follow those of the sections before it.
+  const size_t base = sizes_.size();
   const uint64_t a = in_.count("the number of cells", in_.remaining());
   const uint64_t b = in_.count("the cell list size", in_.remaining());
   const int64_t np = static_cast<int64_t>(m_.points.size());
@@ -176,10 +195,10 @@ void LegacyReader::read_cells() {
     return static_cast<int32_t>(v);
   };
   auto set_size = [&](uint64_t i, int64_t k) {
-    sizes_[i] = static_cast<uint8_t>(k < 255 ? k : 255);
-    if (k >= 255) large_[i] = k;
+    sizes_[base + i] = static_cast<uint8_t>(k < 255 ? k : 255);
+    if (k >= 255) large_[base + i] = k;
   };
-  sizes_.assign(static_cast<size_t>(a), 0);
+  sizes_.resize(base + static_cast<size_t>(a), 0);  // a <= the bytes left
   // Peek at the next token; at_end() first so seeking back crosses no line.
   if (in_.at_end()) in_.fail("unexpected end of file in CELLS");
   const size_t mark = in_.pos();
@@ -194,7 +213,7 @@ void LegacyReader::read_cells() {
     if (binary_ && a > in_.remaining() / 4) in_.fail("file ends inside the cells");
     int64_t previous = cell_index(ot);
     if (previous != 0) in_.fail("offsets must start with 0");
-    sizes_.resize(static_cast<size_t>(a - 1));
+    sizes_.resize(base + static_cast<size_t>(a - 1));
     for (uint64_t i = 0; i + 1 < a; ++i) {
       const int64_t end = cell_index(ot);
       if (end < previous || static_cast<uint64_t>(end) > b) in_.fail("cell " + std::to_string(i) + " has bad offsets");
@@ -209,13 +228,13 @@ void LegacyReader::read_cells() {
     if (binary_ && ct != Binary::Int32 && ct != Binary::Int64) in_.fail("cell indices must be 4 or 8 byte integers");
     if (binary_) in_.skip_newline();
     if (binary_ && b > in_.remaining() / 4) in_.fail("file ends inside the cells");
-    conn_.reserve(static_cast<size_t>(b));
+    conn_.reserve(conn_.size() + static_cast<size_t>(b));
     for (uint64_t j = 0; j < b; ++j) conn_.push_back(node(ct));
   } else {
     in_.seek(mark);
     if (binary_) in_.skip_newline();
     if (binary_ && b > in_.remaining() / 4) in_.fail("file ends inside the cells");
-    conn_.reserve(detail::capped(b >= a ? b - a : 0, in_.remaining(), binary_ ? 4 : 2));
+    conn_.reserve(conn_.size() + detail::capped(b >= a ? b - a : 0, in_.remaining(), binary_ ? 4 : 2));
     uint64_t read = 0;
     for (uint64_t i = 0; i < a; ++i) {
       if (read >= b) in_.fail("the cell list is shorter than its " + std::to_string(a) + " cells");
@@ -229,6 +248,19 @@ void LegacyReader::read_cells() {
     if (read != b) in_.fail("the cell list size does not match its cells");
   }
   have_cells_ = true;
+  if (!polydata_) return;
+  // VTK's cell types for what POLYDATA's sections hold: poly-vertices and
+  // polylines (skipped), triangles, polygons, triangle strips.
+  for (size_t i = base; i < sizes_.size(); ++i) {
+    const int64_t k = sizes_[i] == 255 ? large_[i] : sizes_[i];
+    const uint8_t type = section == "vertices" ? 2
+                         : section == "lines"  ? 4
+                         : section == "triangle_strips" ? 6
+                         : k == 3               ? detail::kVtkTriangle
+                                                : 7;
+    types_.push_back(type);
+  }
+  have_types_ = true;
 }
 
 void LegacyReader::read_cell_types() {
@@ -253,7 +285,9 @@ void LegacyReader::build_elements() {
              " cells");
   const detail::VtkElementCounts counts(types_);
   if (counts.mixed_order()) in_.fail("first- and second-order cells of one kind are mixed");
-  if (counts.first_lost >= 0) in_.fail(counts.lost_text(types_));
+  // POLYDATA's polygons and strips become triangles (add_polydata_triangles).
+  if (counts.first_lost >= 0 && !polydata_) in_.fail(counts.lost_text(types_));
+  if (polydata_) triangles_of_.assign(types_.size(), 0);
   m_.tets.reserve(counts.tets);
   m_.tet_mid.reserve(counts.tets10);
   m_.triangles.reserve(counts.tris);
@@ -277,6 +311,9 @@ void LegacyReader::build_elements() {
       t.v = {v[0], v[1], v[2]};
       m_.triangles.push_back(t);
       if (want == 6) m_.triangle_mid.push_back({v[3], v[4], v[5]});
+      if (polydata_) triangles_of_[i] = 1;
+    } else if (polydata_ && (type == 6 || type == 7)) {
+      add_polydata_triangles(i, type, v, k);
     }
     at += static_cast<size_t>(k);
   }
@@ -286,9 +323,38 @@ void LegacyReader::build_elements() {
   built_ = true;
   for (const auto& [roles, data] : pending_) {
     detail::VtkCellDataSink sink(m_, roles);
-    for (size_t i = 0; i < data.size(); ++i) sink.put(types_[i], data[i]);
+    for (size_t i = 0; i < data.size(); ++i) put(sink, i, data[i]);
   }
   pending_.clear();
+}
+
+void LegacyReader::add_polydata_triangles(size_t i, int type, const int32_t* v, int64_t k) {
+  const size_t before = m_.triangles.size();
+  if (type == 6) {
+    // A strip's triangle j is (j, j+1, j+2), every other one turned so that
+    // all face as the first; repeated nodes (strips joined by degenerate
+    // triangles) give no triangle.
+    for (int64_t j = 0; j + 2 < k; ++j) {
+      Triangle t;
+      t.v = j % 2 == 0 ? std::array<int, 3>{v[j], v[j + 1], v[j + 2]} : std::array<int, 3>{v[j + 1], v[j], v[j + 2]};
+      if (t.v[0] != t.v[1] && t.v[1] != t.v[2] && t.v[0] != t.v[2]) m_.triangles.push_back(t);
+    }
+  } else {
+    if (k < 3) in_.fail("polygon " + std::to_string(i) + " has " + std::to_string(k) + " nodes");
+    const std::vector<int> polygon(v, v + k);
+    for (const auto& corners : detail::triangulate_polygon(m_.points, polygon)) {
+      Triangle t;
+      t.v = corners;
+      m_.triangles.push_back(t);
+    }
+  }
+  triangles_of_[i] = static_cast<uint32_t>(m_.triangles.size() - before);
+}
+
+void LegacyReader::put(detail::VtkCellDataSink& sink, uint64_t i, double v) {
+  if (!polydata_) return sink.put(types_[i], v);
+  if (!detail::vtk_is_triangle(types_[i]) && types_[i] != 6 && types_[i] != 7) return;
+  for (uint32_t r = 0; r < triangles_of_[i]; ++r) sink.put(detail::kVtkTriangle, v);
 }
 
 detail::VtkCellRoles LegacyReader::roles_of(const std::string& name) {
@@ -313,7 +379,7 @@ void LegacyReader::cell_array(const std::string& name, uint64_t n, std::string_v
   if (!roles.any()) return skip_values(n, type);
   if (built_) {
     detail::VtkCellDataSink sink(m_, roles);
-    values(n, type, [&](uint64_t i, double v) { sink.put(types_[i], v); });
+    values(n, type, [&](uint64_t i, double v) { put(sink, i, v); });
     return;
   }
   std::vector<double> data(static_cast<size_t>(n));
@@ -422,20 +488,27 @@ Mesh LegacyReader::read() {
   else if (!detail::iequals(fmt, "ASCII")) in_.fail("expected ASCII or BINARY, found '" + std::string(fmt.substr(0, 40)) + "'");
   expect_word("DATASET");
   const std::string_view dataset = in_.token("the dataset type");
-  if (!detail::iequals(dataset, "UNSTRUCTURED_GRID"))
-    in_.fail("dataset " + std::string(dataset.substr(0, 40)) + " is not supported (UNSTRUCTURED_GRID is)");
+  polydata_ = detail::iequals(dataset, "POLYDATA");
+  if (!detail::iequals(dataset, "UNSTRUCTURED_GRID") && !polydata_)
+    in_.fail("dataset " + std::string(dataset.substr(0, 40)) +
+             " is not supported (UNSTRUCTURED_GRID and POLYDATA are)");
   while (!in_.at_end()) {
     const std::string keyword = detail::to_lower(in_.token("a section keyword"));
     if (keyword == "points") {
       read_points();
-    } else if (keyword == "cells") {
+    } else if (keyword == "cells" && !polydata_) {
       read_cells();
-    } else if (keyword == "cell_types") {
+    } else if (polydata_ && (keyword == "vertices" || keyword == "lines" || keyword == "polygons" ||
+                             keyword == "triangle_strips")) {
+      read_cells(keyword);
+    } else if (keyword == "cell_types" && !polydata_) {
       read_cell_types();
       build_elements();
     } else if (keyword == "cell_data") {
+      data_seen_ = true;
       attributes(in_.count("the number of cells"), true);
     } else if (keyword == "point_data") {
+      data_seen_ = true;
       attributes(in_.count("the number of points"), false);
     } else if (keyword == "field" || keyword == "metadata") {
       in_.seek(in_.pos() - keyword.size());
@@ -444,6 +517,7 @@ Mesh LegacyReader::read() {
       in_.fail("unexpected keyword '" + keyword.substr(0, 40) + "'");
     }
   }
+  if (polydata_ && !have_cells_ && !m_.points.empty()) in_.fail("POLYDATA without POLYGONS or TRIANGLE_STRIPS");
   if (have_cells_ != have_types_ || (!have_cells_ && !m_.points.empty())) in_.fail("CELLS or CELL_TYPES missing");
   if (have_cells_ && !built_) build_elements();
   if (!pending_.empty()) in_.fail("CELL_DATA without the cells");

@@ -6,7 +6,7 @@ region interface as face 7, is written as a Medit .mesh, converted by the
 CLI to every volume format, and read back with meshio (counts, volume, tag
 sets), Gmsh (the .msh and the legacy .vtk) and VTK (the .vtk and .vtu);
 and the other way: files VTK's writers make of it, and files Gmsh and
-meshio write, read by vdmesh.
+meshio write, read by vdmesh; and surfaces VTK writes as POLYDATA, meshed.
 Exits non-zero on the first failed check; prints every check it made.
 Needs VDMESH_BIN (the CLI); without it the test says so and passes.
 """
@@ -873,6 +873,109 @@ def check_convert_reorients_inverted_tetrahedra(binary, tmp):
           (len(tets_back), volumes.sum(), on_their_edges, run.stderr.strip()[:200]))
 
 
+def check_meshes_vtk_polydata(binary, tmp):
+    """Surfaces VTK's vtkPolyDataWriter makes (DATASET POLYDATA: the 5.1
+    OFFSETS/CONNECTIVITY layout and 4.2's, ASCII and binary, quadrilaterals,
+    triangle strips, a cell array "face") meshed by vdmesh: its tetrahedra fill
+    the volume VTK's vtkMassProperties gives the surface (--no-flips keeps
+    the surface's shape), and the faces keep their ids and areas. Refused
+    with "DATASET POLYDATA is not supported" until 2026-12-01."""
+    import vtk
+    from vtk.util.numpy_support import numpy_to_vtk
+
+    def write(data, name, binary_file, version):
+        if not binary_file:
+            # Double coordinates in the text: VTK reads "float" text into
+            # float32 where vdmesh keeps double, 3e-9 apart in volume.
+            points = vtk.vtkPoints()
+            points.SetDataTypeToDouble()
+            points.SetNumberOfPoints(data.GetNumberOfPoints())
+            for i in range(data.GetNumberOfPoints()):
+                points.SetPoint(i, data.GetPoint(i))
+            copy = vtk.vtkPolyData()
+            copy.DeepCopy(data)
+            copy.SetPoints(points)
+            data = copy
+        w = vtk.vtkPolyDataWriter()
+        w.SetInputData(data)
+        w.SetFileName(os.path.join(tmp, name))
+        if binary_file:
+            w.SetFileTypeToBinary()
+        if version:
+            w.SetFileVersion(version)
+        w.Write()
+        return os.path.join(tmp, name)
+
+    def enclosed(path):
+        # From the file, as vdmesh reads it (ASCII keeps 7 digits or so).
+        reader = vtk.vtkPolyDataReader()
+        reader.SetFileName(path)
+        reader.Update()
+        tri = vtk.vtkTriangleFilter()
+        tri.SetInputData(reader.GetOutput())
+        tri.Update()
+        mass = vtk.vtkMassProperties()
+        mass.SetInputData(tri.GetOutput())
+        mass.Update()
+        return mass.GetVolume()
+
+    sphere = vtk.vtkSphereSource()
+    sphere.SetRadius(2)
+    sphere.SetThetaResolution(24)
+    sphere.SetPhiResolution(16)
+    sphere.Update()
+    strips = vtk.vtkStripper()
+    strips.SetInputData(sphere.GetOutput())
+    strips.Update()
+    # A 1 x 2 x 3 box of 6 quadrilaterals, face ids 1..6 in a cell array.
+    cube = vtk.vtkCubeSource()
+    cube.SetXLength(1)
+    cube.SetYLength(2)
+    cube.SetZLength(3)
+    cube.Update()
+    box = cube.GetOutput()
+    ids = numpy_to_vtk(np.arange(1, 7, dtype=np.int32), deep=True)
+    ids.SetName("face")
+    box.GetCellData().AddArray(ids)
+    cases = [(sphere.GetOutput(), "sphere"), (strips.GetOutput(), "sphere_strips"), (box, "box")]
+    check(strips.GetOutput().GetNumberOfStrips() > 0, "vtkStripper made triangle strips")
+    for data, stem in cases:
+        for binary_file, version in ((False, 0), (True, 0), (False, 42), (True, 42)):
+            name = "%s_%s%s.vtk" % (stem, "bin" if binary_file else "ascii", "_v42" if version else "")
+            path = write(data, name, binary_file, version)
+            volume = enclosed(path)
+            out = path[:-4] + ".mesh.vtu"
+            run = subprocess.run([binary, "mesh", path, "-o", out, "--no-flips", "--quiet"], capture_output=True,
+                                 text=True)
+            check(run.returncode == 0, "vdmesh mesh %s (VTK POLYDATA) (exit %d %s)" %
+                  (name, run.returncode, run.stderr.strip()[:200]))
+            if run.returncode != 0:
+                continue
+            reader = vtk.vtkXMLUnstructuredGridReader()
+            reader.SetFileName(out)
+            reader.Update()
+            grid = reader.GetOutput()
+            from vtk.util.numpy_support import vtk_to_numpy
+            points = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+            types = vtk_to_numpy(grid.GetCellTypesArray())
+            conn = vtk_to_numpy(grid.GetCells().GetConnectivityArray())
+            offsets = vtk_to_numpy(grid.GetCells().GetOffsetsArray())
+            tets = np.array([conn[offsets[i]:offsets[i + 1]] for i in np.where(types == 10)[0]])
+            got = float(signed_volumes(points, tets).sum())
+            check(abs(got - volume) <= 1e-9 * volume,
+                  "%s: tetrahedra fill %.9g, VTK's volume of the surface %.9g" % (name, got, volume))
+            if stem != "box":
+                continue
+            faces = vtk_to_numpy(grid.GetCellData().GetArray("face"))
+            areas = {}
+            for i in np.where(types == 5)[0]:
+                a, b, c = points[conn[offsets[i]:offsets[i + 1]]]
+                areas[int(faces[i])] = areas.get(int(faces[i]), 0.0) + 0.5 * np.linalg.norm(np.cross(b - a, c - a))
+            want = sorted([2.0, 2.0, 3.0, 3.0, 6.0, 6.0])
+            check(sorted(areas) == [1, 2, 3, 4, 5, 6] and np.allclose(sorted(areas.values()), want, rtol=1e-12),
+                  "%s: faces 1..6 keep their areas (%s)" % (name, {k: round(v, 9) for k, v in sorted(areas.items())}))
+
+
 def main():
     binary = os.environ.get("VDMESH_BIN", "")
     if not binary or not os.access(binary, os.X_OK):
@@ -935,6 +1038,7 @@ def main():
         check_plc_hole_point_in_a_thin_slot(binary, tmp)
         check_plc_keeps_regions_and_cavities(binary, tmp)
         check_convert_reorients_inverted_tetrahedra(binary, tmp)
+        check_meshes_vtk_polydata(binary, tmp)
         if "msh" in outputs:
             gmsh_check = subprocess.run(["gmsh", outputs["msh"], "-check"], capture_output=True, text=True, cwd=tmp)
             check(gmsh_check.returncode == 0, "gmsh -check out.msh (exit %d)" % gmsh_check.returncode)

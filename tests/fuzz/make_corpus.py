@@ -130,6 +130,35 @@ def main():
             setup(writer)
             writer.Write()
             seed("vtu", "seed_vtu_" + name, open(os.path.join(tmp, name + ".vtu"), "rb").read())
+        # Legacy POLYDATA as VTK writes it: a box of quadrilaterals with a
+        # cell array, and a small sphere in triangle strips; 5.1 and 4.2
+        # layouts, ASCII and binary.
+        cube = vtk.vtkCubeSource()
+        cube.Update()
+        box = cube.GetOutput()
+        faces = vtk.vtkIntArray()
+        faces.SetName("face")
+        for i in range(box.GetNumberOfCells()):
+            faces.InsertNextValue(i + 1)
+        box.GetCellData().AddArray(faces)
+        sphere = vtk.vtkSphereSource()
+        sphere.SetThetaResolution(6)
+        sphere.SetPhiResolution(4)
+        strips = vtk.vtkStripper()
+        strips.SetInputConnection(sphere.GetOutputPort())
+        strips.Update()
+        for stem, data in (("box", box), ("strips", strips.GetOutput())):
+            for suffix, binary, version in (("", False, 0), ("_binary", True, 0), ("_42", False, 42)):
+                writer = vtk.vtkPolyDataWriter()
+                writer.SetInputData(data)
+                path = os.path.join(tmp, stem + suffix + ".vtk")
+                writer.SetFileName(path)
+                if binary:
+                    writer.SetFileTypeToBinary()
+                if version:
+                    writer.SetFileVersion(version)
+                writer.Write()
+                seed("vtk", "seed_vtk_polydata_" + stem + suffix, open(path, "rb").read())
 
 
 if __name__ == "__main__":

@@ -114,6 +114,18 @@ const Snippet kSnippets[] = {
      "# vtk DataFile Version 3.0\nx\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 2 double\n0 0 0\n1 y 1\n"},
     {"not_vtk.vtk", 1, "hello\n"},
     {"polydata.vtk", 4, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET STRUCTURED_POINTS\n"},
+    {"polygon_missing_point.vtk", 10,
+     "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0\n1 0 0\n0 1 0\n"
+     "POLYGONS 1 5\n4 0 1 2 3\n"},
+    {"polygons_first.vtk", 5, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOLYGONS 1 4\n3 0 1 2\n"},
+    {"polygon_of_two.vtk", 0,
+     "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0\n1 0 0\n0 1 0\n"
+     "POLYGONS 1 3\n2 0 1\n"},
+    {"polydata_points_only.vtk", 0,
+     "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0\n1 0 0\n0 1 0\n"},
+    {"polydata_cells_after_data.vtk", 12,
+     "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0\n1 0 0\n0 1 0\n"
+     "POLYGONS 1 4\n3 0 1 2\nCELL_DATA 1\nPOLYGONS 1 4\n3 0 1 2\n"},
     {"short_types.vtk", 14,
      "# vtk DataFile Version 3.0\nx\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 double\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
      "CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 2\n10\n"},

@@ -1357,17 +1357,23 @@ TEST(ConvertersRoundTrip, NonConvexPolygonsAreTriangulatedInside) {
   const std::vector<std::vector<int>> faces = {{5, 4, 3, 2, 1, 0}, {6, 7, 8, 9, 10, 11}, {0, 1, 7, 6}, {1, 2, 8, 7},
                                                {2, 3, 9, 8},       {3, 4, 10, 9},        {4, 5, 11, 10}, {5, 0, 6, 11}};
   std::string off = std::string("OFF\n12 8 0\n") + points, obj, smesh = "12 3 0 0\n";
+  std::string vtk = std::string("# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 12 double\n") + points +
+                    "POLYGONS 8 44\n";
   std::istringstream lines(points);
   int k = 0;
   for (std::string line; std::getline(lines, line);) obj += "v " + line + "\n", smesh += std::to_string(++k) + " " + line + "\n";
   smesh += "8 0\n";
   for (const auto& f : faces) {
-    off += std::to_string(f.size()), obj += "f", smesh += std::to_string(f.size());
-    for (int v : f) off += " " + std::to_string(v), obj += " " + std::to_string(v + 1), smesh += " " + std::to_string(v + 1);
-    off += "\n", obj += "\n", smesh += "\n";
+    off += std::to_string(f.size()), obj += "f", smesh += std::to_string(f.size()), vtk += std::to_string(f.size());
+    for (int v : f) {
+      off += " " + std::to_string(v), obj += " " + std::to_string(v + 1), smesh += " " + std::to_string(v + 1);
+      vtk += " " + std::to_string(v);
+    }
+    off += "\n", obj += "\n", smesh += "\n", vtk += "\n";
   }
   smesh += "0\n0\n";
-  for (const auto& [name, text] : {std::pair{"l.off", off}, std::pair{"l.obj", obj}, std::pair{"l.smesh", smesh}}) {
+  for (const auto& [name, text] :
+       {std::pair{"l.off", off}, std::pair{"l.obj", obj}, std::pair{"l.smesh", smesh}, std::pair{"l.vtk", vtk}}) {
     SCOPED_TRACE(name);
     const std::string path = test::temp_path(name);
     std::ofstream(path) << text;
@@ -1384,6 +1390,27 @@ TEST(ConvertersRoundTrip, NonConvexPolygonsAreTriangulatedInside) {
     EXPECT_DOUBLE_EQ(top, 3.0);
     EXPECT_DOUBLE_EQ(bottom, -3.0);
     EXPECT_NEAR(std::abs(volume), 3.0, 1e-12);
+  }
+}
+
+// VTK POLYDATA: vertices and lines are skipped, a triangle strip is cut into
+// triangles that all face as its first, and cell data (in VTK's order:
+// vertices, lines, polygons, strips) goes to the triangles each cell became.
+TEST(ConvertersRoundTrip, VtkPolydataStripsAndCellData) {
+  const std::string path = test::temp_path("strips.vtk");
+  std::ofstream(path) << "# vtk DataFile Version 3.0\nstrips\nASCII\nDATASET POLYDATA\n"
+                         "POINTS 6 float\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 2 0\n1 2 0\n"
+                         "VERTICES 1 2\n1 0\nLINES 1 3\n2 0 5\nPOLYGONS 1 4\n3 2 3 4\n"
+                         "TRIANGLE_STRIPS 1 7\n6 0 1 2 3 3 3\n"
+                         "CELL_DATA 4\nSCALARS face int 1\nLOOKUP_TABLE default\n7 8 9 11\n";
+  const Mesh m = io::read_mesh(path);
+  ASSERT_EQ(m.triangles.size(), 3u);  // the polygon, then the strip's two (its degenerate ones dropped)
+  EXPECT_EQ(m.triangles[0].face, 9);
+  EXPECT_EQ(m.triangles[1].face, 11);
+  EXPECT_EQ(m.triangles[2].face, 11);
+  for (const Triangle& t : m.triangles) {
+    const Vec3 a = m.points[t.v[0]], b = m.points[t.v[1]], c = m.points[t.v[2]];
+    EXPECT_DOUBLE_EQ(cross(b - a, c - a).z, 1.0) << t.v[0] << " " << t.v[1] << " " << t.v[2];
   }
 }
 
