@@ -11,7 +11,7 @@ const std::vector<Format>& formats() {
       make_gmsh_format(),   make_vtu_format(),   make_pvtu_format(), make_vtk_format(),
       make_abaqus_format(), make_medit_format(), make_meshb_format(), make_tetgen_format(),
       make_tetgen_plc_format(), make_off_format(), make_stl_format(),
-      make_obj_format(),
+      make_obj_format(),    make_ply_format(),
   };
   return all;
 }

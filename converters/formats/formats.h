@@ -8,6 +8,7 @@ namespace vd::io {
 Format make_off_format();
 Format make_stl_format();
 Format make_obj_format();
+Format make_ply_format();
 Format make_gmsh_format();
 Format make_vtk_format();
 Format make_vtu_format();

@@ -35,7 +35,7 @@ namespace {
 const char* kMeshHelp =
     "usage: vdmesh mesh INPUT -o OUTPUT [options]\n"
     "  INPUT   CAD part or assembly: .step .stp .iges .igs .brep .brp (solids; touching solids are fused)\n"
-    "          or a closed triangulated surface: .off .stl .obj .msh .vtk .vtu .mesh .smesh .poly .node (.gz too)\n"
+    "          or a closed triangulated surface: .off .stl .obj .ply .msh .vtk .vtu .mesh .smesh .poly .node (.gz too)\n"
     "  OUTPUT  .vtu .vtk .msh .inp .mesh .node (volume) or a surface format\n"
     "options:\n"
     "  --size H                target edge length (default: surface input: from its edges, graded;\n"

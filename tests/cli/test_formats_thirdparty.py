@@ -6,7 +6,8 @@ region interface as face 7, is written as a Medit .mesh, converted by the
 CLI to every volume format, and read back with meshio (counts, volume, tag
 sets), Gmsh (the .msh and the legacy .vtk) and VTK (the .vtk and .vtu);
 and the other way: files VTK's writers make of it, and files Gmsh and
-meshio write, read by vdmesh; and surfaces VTK writes as POLYDATA, meshed.
+meshio write, read by vdmesh; and surfaces VTK writes as POLYDATA, and
+PLY both ways.
 Exits non-zero on the first failed check; prints every check it made.
 Needs VDMESH_BIN (the CLI); without it the test says so and passes.
 """
@@ -873,6 +874,23 @@ def check_convert_reorients_inverted_tetrahedra(binary, tmp):
           (len(tets_back), volumes.sum(), on_their_edges, run.stderr.strip()[:200]))
 
 
+def read_vtu_with_vtk(path):
+    """VTK's reading of a .vtu: points, cell types, connectivity, offsets,
+    cell data, and the tetrahedra's node lists."""
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    grid = reader.GetOutput()
+    points = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+    types = vtk_to_numpy(grid.GetCellTypesArray())
+    conn = vtk_to_numpy(grid.GetCells().GetConnectivityArray())
+    offsets = vtk_to_numpy(grid.GetCells().GetOffsetsArray())
+    tets = np.array([conn[offsets[i]:offsets[i + 1]] for i in np.where(types == 10)[0]])
+    return points, types, conn, offsets, grid.GetCellData(), tets
+
+
 def check_meshes_vtk_polydata(binary, tmp):
     """Surfaces VTK's vtkPolyDataWriter makes (DATASET POLYDATA: the 5.1
     OFFSETS/CONNECTIVITY layout and 4.2's, ASCII and binary, quadrilaterals,
@@ -881,7 +899,7 @@ def check_meshes_vtk_polydata(binary, tmp):
     the surface's shape), and the faces keep their ids and areas. Refused
     with "DATASET POLYDATA is not supported" until 2026-12-01."""
     import vtk
-    from vtk.util.numpy_support import numpy_to_vtk
+    from vtk.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
     def write(data, name, binary_file, version):
         if not binary_file:
@@ -951,22 +969,13 @@ def check_meshes_vtk_polydata(binary, tmp):
                   (name, run.returncode, run.stderr.strip()[:200]))
             if run.returncode != 0:
                 continue
-            reader = vtk.vtkXMLUnstructuredGridReader()
-            reader.SetFileName(out)
-            reader.Update()
-            grid = reader.GetOutput()
-            from vtk.util.numpy_support import vtk_to_numpy
-            points = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
-            types = vtk_to_numpy(grid.GetCellTypesArray())
-            conn = vtk_to_numpy(grid.GetCells().GetConnectivityArray())
-            offsets = vtk_to_numpy(grid.GetCells().GetOffsetsArray())
-            tets = np.array([conn[offsets[i]:offsets[i + 1]] for i in np.where(types == 10)[0]])
+            points, types, conn, offsets, cell_data, tets = read_vtu_with_vtk(out)
             got = float(signed_volumes(points, tets).sum())
             check(abs(got - volume) <= 1e-9 * volume,
                   "%s: tetrahedra fill %.9g, VTK's volume of the surface %.9g" % (name, got, volume))
             if stem != "box":
                 continue
-            faces = vtk_to_numpy(grid.GetCellData().GetArray("face"))
+            faces = vtk_to_numpy(cell_data.GetArray("face"))
             areas = {}
             for i in np.where(types == 5)[0]:
                 a, b, c = points[conn[offsets[i]:offsets[i + 1]]]
@@ -974,6 +983,108 @@ def check_meshes_vtk_polydata(binary, tmp):
             want = sorted([2.0, 2.0, 3.0, 3.0, 6.0, 6.0])
             check(sorted(areas) == [1, 2, 3, 4, 5, 6] and np.allclose(sorted(areas.values()), want, rtol=1e-12),
                   "%s: faces 1..6 keep their areas (%s)" % (name, {k: round(v, 9) for k, v in sorted(areas.items())}))
+
+
+def check_ply(binary, tmp):
+    """Stanford PLY both ways. In: a sphere written by VTK's vtkPLYWriter
+    (binary, float, both byte orders) and by meshio (ASCII and binary, double), meshed with
+    --no-flips: the tetrahedra fill the volume VTK's vtkMassProperties or
+    numpy over meshio's reading gives the file. Out: vdmesh's PLY of a tagged
+    two-region surface read by VTK (counts) and meshio (ASCII: the face,
+    front and back properties; meshio 5.0 reads a binary face element column
+    by column and fails on any that has more than its list)."""
+    import meshio
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    def tets_volume(path):
+        points, _, _, _, _, tets = read_vtu_with_vtk(path)
+        return float(signed_volumes(points, tets).sum())
+
+    def mesh(path):
+        out = path + ".vtu"
+        run = subprocess.run([binary, "mesh", path, "-o", out, "--no-flips", "--quiet"], capture_output=True, text=True)
+        check(run.returncode == 0, "vdmesh mesh %s (exit %d %s)" % (os.path.basename(path), run.returncode,
+                                                                    run.stderr.strip()[:200]))
+        return tets_volume(out) if run.returncode == 0 else None
+
+    sphere = vtk.vtkSphereSource()
+    sphere.SetRadius(2)
+    sphere.SetThetaResolution(24)
+    sphere.SetPhiResolution(16)
+    sphere.Update()
+    for order in ("little", "big"):
+        vtk_ply = os.path.join(tmp, "sphere_vtk_%s.ply" % order)
+        writer = vtk.vtkPLYWriter()
+        writer.SetInputData(sphere.GetOutput())
+        writer.SetFileName(vtk_ply)
+        writer.SetFileTypeToBinary()
+        if order == "big":
+            writer.SetDataByteOrderToBigEndian()
+        else:
+            writer.SetDataByteOrderToLittleEndian()
+        writer.Write()
+        reader = vtk.vtkPLYReader()
+        reader.SetFileName(vtk_ply)
+        reader.Update()
+        mass = vtk.vtkMassProperties()
+        mass.SetInputData(reader.GetOutput())
+        mass.Update()
+        got = mesh(vtk_ply)
+        if got is not None:
+            check(abs(got - mass.GetVolume()) <= 1e-9 * mass.GetVolume(),
+                  "%s: tetrahedra fill %.10g, VTK's volume of the file %.10g" %
+                  (os.path.basename(vtk_ply), got, mass.GetVolume()))
+    points = vtk_to_numpy(sphere.GetOutput().GetPoints().GetData()).astype(np.float64)
+    polys = vtk_to_numpy(sphere.GetOutput().GetPolys().GetConnectivityArray()).reshape(-1, 3).astype(np.int32)
+    for name, binary_file in (("sphere_meshio_ascii.ply", False), ("sphere_meshio_binary.ply", True)):
+        path = os.path.join(tmp, name)
+        meshio.write(path, meshio.Mesh(points, [("triangle", polys)]), binary=binary_file)
+        back = meshio.read(path)
+        tris = back.cells_dict["triangle"]
+        a, b, c = (back.points[tris[:, k]].astype(np.float64) for k in range(3))
+        volume = float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6)
+        got = mesh(path)
+        if got is not None:
+            check(abs(got - volume) <= 1e-9 * volume,
+                  "%s: tetrahedra fill %.10g, the volume of meshio's reading %.10g" % (name, got, volume))
+    # Out: a surface of two regions with face ids.
+    src = os.path.join(tmp, "two.off")
+    with open(src, "w") as f:
+        # Two unit cubes side by side, x in [0, 1] and [1, 2]: 11 quadrilaterals, the one at x = 1 shared.
+        f.write("OFF\n12 11 0\n")
+        for x in (0, 1, 2):
+            for y, z in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                f.write("%d %d %d\n" % (x, y, z))
+        for q in ((0, 3, 2, 1), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7), (4, 5, 6, 7),
+                  (4, 5, 9, 8), (5, 6, 10, 9), (6, 7, 11, 10), (7, 4, 8, 11), (8, 9, 10, 11)):
+            f.write("4 %d %d %d %d\n" % q)
+    tagged = os.path.join(tmp, "two.vtu")
+    run = subprocess.run([binary, "mesh", src, "-o", tagged, "--quiet"], capture_output=True, text=True)
+    check(run.returncode == 0, "vdmesh mesh two.off (exit %d %s)" % (run.returncode, run.stderr.strip()[:200]))
+    if run.returncode != 0:
+        return
+    source = meshio.read(tagged)
+    want = {k: np.concatenate([d for d, c in zip(source.cell_data[k], source.cells) if c.type == "triangle"])
+            for k in ("face", "front", "back")}
+    for name, flags in (("two.ply", []), ("two_binary.ply", ["--binary"])):
+        path = os.path.join(tmp, name)
+        run = subprocess.run([binary, "convert", tagged, path] + flags, capture_output=True, text=True)
+        check(run.returncode == 0, "vdmesh convert two.vtu %s (exit %d %s)" % (name, run.returncode, run.stderr[:200]))
+        if run.returncode != 0:
+            continue
+        reader = vtk.vtkPLYReader()
+        reader.SetFileName(path)
+        reader.Update()
+        check(reader.GetOutput().GetNumberOfCells() == len(want["face"]),
+              "VTK reads %s: %d triangles (%d written)" % (name, reader.GetOutput().GetNumberOfCells(),
+                                                           len(want["face"])))
+        if flags:
+            continue
+        back = meshio.read(path)
+        same = all(np.array_equal(np.asarray(back.cell_data[k][0]).astype(int), want[k]) for k in want)
+        check(same, "meshio reads %s: face, front and back of every triangle as written (regions %s)" %
+              (name, sorted(set(want["front"].tolist()) | set(want["back"].tolist()))))
 
 
 def main():
@@ -1039,6 +1150,7 @@ def main():
         check_plc_keeps_regions_and_cavities(binary, tmp)
         check_convert_reorients_inverted_tetrahedra(binary, tmp)
         check_meshes_vtk_polydata(binary, tmp)
+        check_ply(binary, tmp)
         if "msh" in outputs:
             gmsh_check = subprocess.run(["gmsh", outputs["msh"], "-check"], capture_output=True, text=True, cwd=tmp)
             check(gmsh_check.returncode == 0, "gmsh -check out.msh (exit %d)" % gmsh_check.returncode)

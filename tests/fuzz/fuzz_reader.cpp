@@ -32,7 +32,7 @@ struct Target {
 
 // Keep in step with tests/fuzz/targets.cmake and make_corpus.py.
 constexpr Target kTargets[] = {
-    {"off", ".off"},     {"stl", ".stl"},   {"obj", ".obj"},   {"msh", ".msh"},
+    {"off", ".off"},     {"stl", ".stl"},   {"obj", ".obj"},   {"ply", ".ply"},   {"msh", ".msh"},
     {"vtk", ".vtk"},     {"vtu", ".vtu"},   {"tetgen", ".node"}, {"poly", ".poly"},
     {"smesh", ".smesh"}, {"mesh", ".mesh"}, {"meshb", ".meshb"}, {"inp", ".inp"}, {"gz", ".off.gz"},
 };

@@ -72,8 +72,8 @@ def main():
         src = os.path.join(tmp, "two.mesh")
         with open(src, "w") as f:
             f.write(TWO_TETS)
-        variants = [(ext, []) for ext in [".off", ".stl", ".obj", ".vtk", ".vtu", ".smesh", ".poly", ".mesh", ".meshb", ".inp", ".msh"]]
-        variants += [(ext, ["--binary"]) for ext in [".stl", ".vtk", ".vtu", ".msh"]]
+        variants = [(ext, []) for ext in [".off", ".stl", ".obj", ".ply", ".vtk", ".vtu", ".smesh", ".poly", ".mesh", ".meshb", ".inp", ".msh"]]
+        variants += [(ext, ["--binary"]) for ext in [".stl", ".ply", ".vtk", ".vtu", ".msh"]]
         variants += [(".msh", ["--msh-version", "22"]), (".msh", ["--binary", "--msh-version", "22"])]
         for ext, opts in variants:
             out = os.path.join(tmp, "out" + ext)
@@ -159,6 +159,16 @@ def main():
                     writer.SetFileVersion(version)
                 writer.Write()
                 seed("vtk", "seed_vtk_polydata_" + stem + suffix, open(path, "rb").read())
+        # PLY as VTK writes it: big-endian binary, and ASCII.
+        for name, setup in (("big_endian", lambda w: (w.SetFileTypeToBinary(), w.SetDataByteOrderToBigEndian())),
+                            ("vtk_ascii", lambda w: w.SetFileTypeToASCII())):
+            writer = vtk.vtkPLYWriter()
+            writer.SetInputData(strips.GetOutput())
+            path = os.path.join(tmp, name + ".ply")
+            writer.SetFileName(path)
+            setup(writer)
+            writer.Write()
+            seed("ply", "seed_ply_" + name, open(path, "rb").read())
 
 
 if __name__ == "__main__":

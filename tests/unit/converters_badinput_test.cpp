@@ -123,6 +123,25 @@ const Snippet kSnippets[] = {
      "POLYGONS 1 3\n2 0 1\n"},
     {"polydata_points_only.vtk", 0,
      "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0\n1 0 0\n0 1 0\n"},
+    // PLY
+    {"not_ply.ply", 1, "plywood\n"},
+    {"ply_no_end.ply", 0, "ply\nformat ascii 1.0\nelement vertex 1\n"},
+    {"ply_bad_format.ply", 2, "ply\nformat binary_middle_endian 1.0\nend_header\n"},
+    {"ply_bad_type.ply", 4, "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n"},
+    {"ply_no_z.ply", 0,
+     "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n"},
+    {"ply_missing_vertex.ply", 13,
+     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+     "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"},
+    {"ply_bad_number.ply", 10,
+     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+     "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 zero\n"},
+    {"ply_short.ply", 0,
+     "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+     "property float z\nend_header\nabc"},
+    {"ply_two_vertices.ply", 13,
+     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+     "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n"},
     {"polydata_cells_after_data.vtk", 12,
      "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0\n1 0 0\n0 1 0\n"
      "POLYGONS 1 4\n3 0 1 2\nCELL_DATA 1\nPOLYGONS 1 4\n3 0 1 2\n"},

@@ -1109,6 +1109,7 @@ TEST(ConvertersRoundTrip, SurfaceFormats) {
       {"s.msh", true, true, true},      {"s.vtu", true, true, true},
       {"s.vtk", false, true, true},     {"s.inp"},
       {"s.off.gz", false, false},       {"s.face"},
+      {"s.ply", false, true, true},     {"s.ply", true, true, true},
   };
   for (const SurfaceVariant& v : variants) {
     SCOPED_TRACE(v.file + (v.binary ? " binary" : ""));
@@ -1359,6 +1360,9 @@ TEST(ConvertersRoundTrip, NonConvexPolygonsAreTriangulatedInside) {
   std::string off = std::string("OFF\n12 8 0\n") + points, obj, smesh = "12 3 0 0\n";
   std::string vtk = std::string("# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 12 double\n") + points +
                     "POLYGONS 8 44\n";
+  std::string ply = std::string("ply\nformat ascii 1.0\nelement vertex 12\nproperty double x\nproperty double y\n"
+                                "property double z\nelement face 8\nproperty list uchar int vertex_indices\n"
+                                "end_header\n") + points;
   std::istringstream lines(points);
   int k = 0;
   for (std::string line; std::getline(lines, line);) obj += "v " + line + "\n", smesh += std::to_string(++k) + " " + line + "\n";
@@ -1370,10 +1374,14 @@ TEST(ConvertersRoundTrip, NonConvexPolygonsAreTriangulatedInside) {
       vtk += " " + std::to_string(v);
     }
     off += "\n", obj += "\n", smesh += "\n", vtk += "\n";
+    ply += std::to_string(f.size());
+    for (int v : f) ply += " " + std::to_string(v);
+    ply += "\n";
   }
   smesh += "0\n0\n";
   for (const auto& [name, text] :
-       {std::pair{"l.off", off}, std::pair{"l.obj", obj}, std::pair{"l.smesh", smesh}, std::pair{"l.vtk", vtk}}) {
+       {std::pair{"l.off", off}, std::pair{"l.obj", obj}, std::pair{"l.smesh", smesh}, std::pair{"l.vtk", vtk},
+        std::pair{"l.ply", ply}}) {
     SCOPED_TRACE(name);
     const std::string path = test::temp_path(name);
     std::ofstream(path) << text;
