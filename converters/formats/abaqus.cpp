@@ -29,12 +29,6 @@ using detail::FileBytes;
 // C3D4 / C3D10 faces S1..S4 by corner (0-based).
 const int kFaces[4][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
 
-std::string upper(std::string_view s) {
-  std::string r(s);
-  for (char& c : r) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return r;
-}
-
 // Abaqus names: letters, digits and '_', starting with a letter.
 std::string sanitized(const std::string& name) {
   std::string r;
@@ -54,7 +48,7 @@ class SetNames {
     constexpr size_t kLongest = 80 - 6;  // room for "_Nodes"
     const std::string base = sanitized(wanted).substr(0, kLongest);
     std::string name = base;
-    for (int k = 2; !taken_.insert(upper(name)).second; ++k) {
+    for (int k = 2; !taken_.insert(detail::to_upper(name)).second; ++k) {
       const std::string suffix = "_" + std::to_string(k);
       name = base.substr(0, kLongest - suffix.size()) + suffix;
     }
@@ -397,12 +391,12 @@ Keyword InpReader::keyword(std::string_view line) {
     const size_t comma = std::min(line.find(',', at), line.size());
     const std::string_view part = trim(line.substr(at, comma - at));
     if (first) {
-      k.name = upper(part);
+      k.name = detail::to_upper(part);
       first = false;
     } else if (!part.empty()) {
       const size_t eq = part.find('=');
-      if (eq == std::string_view::npos) k.options[upper(part)] = "";
-      else k.options[upper(trim(part.substr(0, eq)))] = std::string(trim(part.substr(eq + 1)));
+      if (eq == std::string_view::npos) k.options[detail::to_upper(part)] = "";
+      else k.options[detail::to_upper(trim(part.substr(0, eq)))] = std::string(trim(part.substr(eq + 1)));
     }
     at = comma + 1;
   }
@@ -434,7 +428,7 @@ void InpReader::read_id_comment(std::string_view line) {
   // Within what a name Region<k> or Face<k> can say (9 digits), so that the
   // numbers after them cannot overflow.
   if (!Cursor::parse_int(line.substr(0, space), id) || id < (region ? 1 : 0) || id > 999999999) return;
-  const std::string name = upper(trim(line.substr(space + 1)));
+  const std::string name = detail::to_upper(trim(line.substr(space + 1)));
   if (!name.empty()) (region ? region_id_of_name_ : face_id_of_name_).emplace(name, static_cast<int>(id));
 }
 
@@ -466,7 +460,7 @@ int InpReader::set_of(const std::string& name) {
   if (name.empty()) return -1;
   // Abaqus set names are not case-sensitive: Steel and STEEL are one set,
   // named as first written.
-  const auto [it, added] = set_index_.emplace(upper(name), static_cast<int>(set_names_.size()));
+  const auto [it, added] = set_index_.emplace(detail::to_upper(name), static_cast<int>(set_names_.size()));
   if (added) set_names_.push_back(name);
   return it->second;
 }
@@ -498,7 +492,7 @@ void InpReader::nodes() {
 
 void InpReader::elements(const Keyword& k) {
   const auto type_it = k.options.find("TYPE");
-  const std::string type = type_it == k.options.end() ? "" : upper(type_it->second);
+  const std::string type = type_it == k.options.end() ? "" : detail::to_upper(type_it->second);
   int nodes = 0;
   bool tet = false;
   // Stress (C3D4, C3D10 and their H, M, T... variants) and heat transfer
@@ -550,7 +544,7 @@ void InpReader::elset(const Keyword& k) {
   const auto it = k.options.find("ELSET");
   if (it == k.options.end()) fail("*ELSET without ELSET=");
   const bool generate = k.options.count("GENERATE") > 0;
-  const std::string key = upper(it->second);
+  const std::string key = detail::to_upper(it->second);
   if (!elsets_.count(key)) elset_order_.push_back(key);
   set_of(it->second);  // named as first written, like the blocks' sets
   ElementSet& set = elsets_[key];
@@ -561,7 +555,7 @@ void InpReader::elset(const Keyword& k) {
     for (std::string_view t : f) {
       int64_t v;
       if (Cursor::parse_int(t, v)) nums.push_back(v);
-      else if (!generate && !t.empty()) set.sets.push_back(upper(t));
+      else if (!generate && !t.empty()) set.sets.push_back(detail::to_upper(t));
     }
     if (generate) {
       if (nums.size() < 2) fail("GENERATE needs first, last[, step]");
@@ -580,13 +574,13 @@ void InpReader::elset(const Keyword& k) {
 
 void InpReader::surface(const Keyword& k) {
   const auto type = k.options.find("TYPE");
-  if (type != k.options.end() && upper(type->second) != "ELEMENT") return skip_data();
+  if (type != k.options.end() && detail::to_upper(type->second) != "ELEMENT") return skip_data();
   const auto name = k.options.find("NAME");
   std::vector<std::pair<std::string, int>> entries;
   while (at_data_line()) {
     const auto f = fields(2);
     if (f.size() < 2) fail("a surface line needs an element (or set) and a face");
-    const std::string face = upper(f[1]);
+    const std::string face = detail::to_upper(f[1]);
     if (face.size() != 2 || face[0] != 'S' || face[1] < '1' || face[1] > '4')
       fail("tetrahedron faces are S1..S4, not '" + face.substr(0, 40) + "'");
     entries.push_back({std::string(f[0]), face[1] - '1'});
@@ -607,7 +601,7 @@ void InpReader::surface(const Keyword& k) {
 void InpReader::regions_from_sets() {
   std::map<std::string, std::vector<int>> block;  // element block set -> tetrahedra (positions)
   for (size_t i = 0; i < m_.tets.size(); ++i)
-    if (m_.tets[i].region >= 0) block[upper(set_names_[static_cast<size_t>(m_.tets[i].region)])].push_back(static_cast<int>(i));
+    if (m_.tets[i].region >= 0) block[detail::to_upper(set_names_[static_cast<size_t>(m_.tets[i].region)])].push_back(static_cast<int>(i));
   // A set's tetrahedra (sorted, once each) and how many of its elements are
   // not tetrahedra, each set resolved once: a chain of 4,000 sets naming
   // the next took 2.4 s resolved anew for each. A set met again while it is
@@ -788,7 +782,7 @@ Mesh InpReader::read() {
     open = k;
     crossed = false;
     keyword_line_ = line;
-    if (k.name == "SOLID SECTION" && k.options.count("ELSET")) section_sets_.push_back(upper(k.options.at("ELSET")));
+    if (k.name == "SOLID SECTION" && k.options.count("ELSET")) section_sets_.push_back(detail::to_upper(k.options.at("ELSET")));
     keyword_data(k);
   }
   regions_from_sets();
@@ -802,7 +796,7 @@ Mesh InpReader::read() {
   // The ids vdmesh's writer gave in comments first: they say what a name
   // cannot (Zeta) or says otherwise (a region 1 named Region2).
   for (size_t k = 0; k < set_names_.size(); ++k) {
-    const auto given = region_id_of_name_.find(upper(set_names_[k]));
+    const auto given = region_id_of_name_.find(detail::to_upper(set_names_[k]));
     if (given == region_id_of_name_.end() || !claimed.insert(given->second).second) continue;
     region_of_set[k] = given->second;
     next_region = std::max(next_region, given->second + 1);
@@ -841,7 +835,7 @@ Mesh InpReader::read() {
     if (it != face_of_name.end()) return it->second;
     // The writer's comment first (Zeta, or a face 5 named Face7), then the
     // name's own number, then the next free one.
-    const auto given = face_id_of_name_.find(upper(name));
+    const auto given = face_id_of_name_.find(detail::to_upper(name));
     int k = given != face_id_of_name_.end() && !face_ids_taken.count(given->second) ? given->second
                                                                                      : detail::id_from_name(name, "Face");
     if (k < 1) k = next_face;
@@ -853,9 +847,9 @@ Mesh InpReader::read() {
   // Names with a comment's id, then names "Face<k>", claim their ids before
   // other names are numbered.
   for (const auto& [name, entries] : surface_sets_)
-    if (face_id_of_name_.count(upper(name))) face_id(name);
+    if (face_id_of_name_.count(detail::to_upper(name))) face_id(name);
   for (const Shell& s : shells_)
-    if (face_id_of_name_.count(upper(s.set))) face_id(s.set);
+    if (face_id_of_name_.count(detail::to_upper(s.set))) face_id(s.set);
   for (const auto& [name, entries] : surface_sets_)
     if (detail::id_from_name(name, "Face") >= 1) face_id(name);
   for (const Shell& s : shells_)
@@ -910,7 +904,7 @@ Mesh InpReader::read() {
         if (!add(eid, f)) throw InputError(in_->name() + ": surface " + name + " names element " + std::to_string(eid) +
                                            ", which is not a tetrahedron");
       } else {
-        auto it = elsets_.find(upper(target));
+        auto it = elsets_.find(detail::to_upper(target));
         if (it != elsets_.end())
           for (int64_t id : it->second.ids) add(id, f);
       }

@@ -56,6 +56,7 @@ std::string extension_of(const std::string& path);
 // `path` without a trailing ".gz" and without its extension.
 std::string strip_extension(const std::string& path);
 std::string to_lower(std::string_view s);
+std::string to_upper(std::string_view s);
 bool iequals(std::string_view a, std::string_view b);
 bool starts_with_ci(std::string_view s, std::string_view prefix);
 bool ends_with_ci(std::string_view s, std::string_view suffix);

@@ -4,7 +4,6 @@
 // Writes the classic CELLS layout (version 3.0, which Gmsh and VTK 9 read);
 // reads it and the 5.1 OFFSETS/CONNECTIVITY layout. Cell data: "region",
 // "face", "front", "back" (int).
-#include <cctype>
 #include <cmath>
 #include <map>
 
@@ -176,8 +175,7 @@ void LegacyReader::read_points() {
 }
 
 void LegacyReader::read_cells(const std::string& section) {
-  std::string keyword = section;
-  for (char& c : keyword) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  const std::string keyword = detail::to_upper(section);
   if (built_ || data_seen_) in_.fail(keyword + " after the point or cell data");
   if (have_cells_ && !polydata_) in_.fail("a second CELLS section");
   if (polydata_ && m_.points.empty()) in_.fail(keyword + " before POINTS");
