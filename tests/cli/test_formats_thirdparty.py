@@ -891,6 +891,44 @@ def read_vtu_with_vtk(path):
     return points, types, conn, offsets, grid.GetCellData(), tets
 
 
+def vtk_sphere():
+    """VTK's sphere of radius 2, 24 x 16 facets around."""
+    import vtk
+    sphere = vtk.vtkSphereSource()
+    sphere.SetRadius(2)
+    sphere.SetThetaResolution(24)
+    sphere.SetPhiResolution(16)
+    sphere.Update()
+    return sphere.GetOutput()
+
+
+def vtk_enclosed_volume(reader_class, path):
+    """The volume VTK's vtkMassProperties gives the surface in `path`, read
+    by `reader_class` (as vdmesh reads it: ASCII keeps 7 digits or so)."""
+    import vtk
+    reader = reader_class()
+    reader.SetFileName(path)
+    reader.Update()
+    tri = vtk.vtkTriangleFilter()
+    tri.SetInputData(reader.GetOutput())
+    tri.Update()
+    mass = vtk.vtkMassProperties()
+    mass.SetInputData(tri.GetOutput())
+    mass.Update()
+    return mass.GetVolume()
+
+
+def mesh_keeping_surface(binary, path):
+    """vdmesh mesh PATH --no-flips (the surface keeps its shape, so the
+    tetrahedra fill the volume it encloses): the .vtu written, None if it
+    failed."""
+    out = path + ".vtu"
+    run = subprocess.run([binary, "mesh", path, "-o", out, "--no-flips", "--quiet"], capture_output=True, text=True)
+    check(run.returncode == 0, "vdmesh mesh %s (exit %d %s)" % (os.path.basename(path), run.returncode,
+                                                                run.stderr.strip()[:200]))
+    return out if run.returncode == 0 else None
+
+
 def check_meshes_vtk_polydata(binary, tmp):
     """Surfaces VTK's vtkPolyDataWriter makes (DATASET POLYDATA: the 5.1
     OFFSETS/CONNECTIVITY layout and 4.2's, ASCII and binary, quadrilaterals,
@@ -924,26 +962,9 @@ def check_meshes_vtk_polydata(binary, tmp):
         w.Write()
         return os.path.join(tmp, name)
 
-    def enclosed(path):
-        # From the file, as vdmesh reads it (ASCII keeps 7 digits or so).
-        reader = vtk.vtkPolyDataReader()
-        reader.SetFileName(path)
-        reader.Update()
-        tri = vtk.vtkTriangleFilter()
-        tri.SetInputData(reader.GetOutput())
-        tri.Update()
-        mass = vtk.vtkMassProperties()
-        mass.SetInputData(tri.GetOutput())
-        mass.Update()
-        return mass.GetVolume()
-
-    sphere = vtk.vtkSphereSource()
-    sphere.SetRadius(2)
-    sphere.SetThetaResolution(24)
-    sphere.SetPhiResolution(16)
-    sphere.Update()
+    sphere = vtk_sphere()
     strips = vtk.vtkStripper()
-    strips.SetInputData(sphere.GetOutput())
+    strips.SetInputData(sphere)
     strips.Update()
     # A 1 x 2 x 3 box of 6 quadrilaterals, face ids 1..6 in a cell array.
     cube = vtk.vtkCubeSource()
@@ -955,19 +976,15 @@ def check_meshes_vtk_polydata(binary, tmp):
     ids = numpy_to_vtk(np.arange(1, 7, dtype=np.int32), deep=True)
     ids.SetName("face")
     box.GetCellData().AddArray(ids)
-    cases = [(sphere.GetOutput(), "sphere"), (strips.GetOutput(), "sphere_strips"), (box, "box")]
+    cases = [(sphere, "sphere"), (strips.GetOutput(), "sphere_strips"), (box, "box")]
     check(strips.GetOutput().GetNumberOfStrips() > 0, "vtkStripper made triangle strips")
     for data, stem in cases:
         for binary_file, version in ((False, 0), (True, 0), (False, 42), (True, 42)):
             name = "%s_%s%s.vtk" % (stem, "bin" if binary_file else "ascii", "_v42" if version else "")
             path = write(data, name, binary_file, version)
-            volume = enclosed(path)
-            out = path[:-4] + ".mesh.vtu"
-            run = subprocess.run([binary, "mesh", path, "-o", out, "--no-flips", "--quiet"], capture_output=True,
-                                 text=True)
-            check(run.returncode == 0, "vdmesh mesh %s (VTK POLYDATA) (exit %d %s)" %
-                  (name, run.returncode, run.stderr.strip()[:200]))
-            if run.returncode != 0:
+            volume = vtk_enclosed_volume(vtk.vtkPolyDataReader, path)
+            out = mesh_keeping_surface(binary, path)
+            if out is None:
                 continue
             points, types, conn, offsets, cell_data, tets = read_vtu_with_vtk(out)
             got = float(signed_volumes(points, tets).sum())
@@ -997,26 +1014,18 @@ def check_ply(binary, tmp):
     import vtk
     from vtk.util.numpy_support import vtk_to_numpy
 
-    def tets_volume(path):
-        points, _, _, _, _, tets = read_vtu_with_vtk(path)
+    def mesh(path):
+        out = mesh_keeping_surface(binary, path)
+        if out is None:
+            return None
+        points, _, _, _, _, tets = read_vtu_with_vtk(out)
         return float(signed_volumes(points, tets).sum())
 
-    def mesh(path):
-        out = path + ".vtu"
-        run = subprocess.run([binary, "mesh", path, "-o", out, "--no-flips", "--quiet"], capture_output=True, text=True)
-        check(run.returncode == 0, "vdmesh mesh %s (exit %d %s)" % (os.path.basename(path), run.returncode,
-                                                                    run.stderr.strip()[:200]))
-        return tets_volume(out) if run.returncode == 0 else None
-
-    sphere = vtk.vtkSphereSource()
-    sphere.SetRadius(2)
-    sphere.SetThetaResolution(24)
-    sphere.SetPhiResolution(16)
-    sphere.Update()
+    sphere = vtk_sphere()
     for order in ("little", "big"):
         vtk_ply = os.path.join(tmp, "sphere_vtk_%s.ply" % order)
         writer = vtk.vtkPLYWriter()
-        writer.SetInputData(sphere.GetOutput())
+        writer.SetInputData(sphere)
         writer.SetFileName(vtk_ply)
         writer.SetFileTypeToBinary()
         if order == "big":
@@ -1024,19 +1033,13 @@ def check_ply(binary, tmp):
         else:
             writer.SetDataByteOrderToLittleEndian()
         writer.Write()
-        reader = vtk.vtkPLYReader()
-        reader.SetFileName(vtk_ply)
-        reader.Update()
-        mass = vtk.vtkMassProperties()
-        mass.SetInputData(reader.GetOutput())
-        mass.Update()
+        volume = vtk_enclosed_volume(vtk.vtkPLYReader, vtk_ply)
         got = mesh(vtk_ply)
         if got is not None:
-            check(abs(got - mass.GetVolume()) <= 1e-9 * mass.GetVolume(),
-                  "%s: tetrahedra fill %.10g, VTK's volume of the file %.10g" %
-                  (os.path.basename(vtk_ply), got, mass.GetVolume()))
-    points = vtk_to_numpy(sphere.GetOutput().GetPoints().GetData()).astype(np.float64)
-    polys = vtk_to_numpy(sphere.GetOutput().GetPolys().GetConnectivityArray()).reshape(-1, 3).astype(np.int32)
+            check(abs(got - volume) <= 1e-9 * volume,
+                  "%s: tetrahedra fill %.10g, VTK's volume of the file %.10g" % (os.path.basename(vtk_ply), got, volume))
+    points = vtk_to_numpy(sphere.GetPoints().GetData()).astype(np.float64)
+    polys = vtk_to_numpy(sphere.GetPolys().GetConnectivityArray()).reshape(-1, 3).astype(np.int32)
     for name, binary_file in (("sphere_meshio_ascii.ply", False), ("sphere_meshio_binary.ply", True)):
         path = os.path.join(tmp, name)
         meshio.write(path, meshio.Mesh(points, [("triangle", polys)]), binary=binary_file)
