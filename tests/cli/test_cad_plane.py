@@ -118,8 +118,11 @@ def meshes_on_uniform_chords(size, height, which, stops, stalls):
 # after 198 s). The uniform chords are now tried again at half their height
 # (TessellationChain, kUniformChordRetries), which meshes it: 575,174
 # tetrahedra in 33 s on 2026-11-28 (0.38, 0.4 and 0.45 mesh too, at a
-# quarter of the height for the first two).
-meshes_on_uniform_chords("0.32", "0.00032", "half", 2, 0)
+# quarter of the height for the first two). Since the nose's pointed cones
+# keep their arcs under 60 deg (cad_remesh.cpp, 2026-12-01) the half, the
+# quarter and three quarters of the height stop too (48 to 131 facets
+# left), and three eighths meshes it: 648,558 tetrahedra.
+meshes_on_uniform_chords("0.32", "0.00024", "three eighths", 5, 0)
 
 # gmsh_simple_plane.brep at size 0.3786: the uniform chords stopped at their
 # height, at half and at a quarter of it (stalls and runaways where the wing's
@@ -135,16 +138,20 @@ meshes_on_uniform_chords("0.3786", "0.0005679", "three quarters", 4, 0)
 # the CAD vertex where the wing root's skins meet the fuselage; exit 4 after
 # 46 s until 2026-11-29). The chain then runs once more with the edges from
 # corners split on concentric shells (cad_mesher.cpp, mesh_chain_or_shells),
-# and its first uniform height meshes: 232,400 tetrahedra, 0.70 deg.
+# and its first uniform height meshes: 232,400 tetrahedra, 0.70 deg. Since
+# the nose's pointed cones keep their arcs under 60 deg (2026-12-01) 0.4067
+# meshes on a quarter of the uniform height; of 12 sizes sampled between
+# 0.39 and 0.47, 0.435, 0.445 and 0.46 stop on every link and mesh so.
+# 0.435: 10 recoveries stopped (57 s), then 263,078 tetrahedra, 2.08 deg.
 path = data("cad-assembly/gmsh_simple_plane.brep")
 if path:
-    code, rep, target, err = mesh_as("simple_plane_04067", path, "--size", "0.4067")
+    code, rep, target, err = mesh_as("simple_plane_0435", path, "--size", "0.435")
     again = "every tessellation's recovery stopped; all again with shell splits from corners" in err
     check(code == 0 and again and rep["delaunayzation"]["shell_splits"]
           and "recoveries stopped (mid-point splits)" in rep["seconds"] and rep["cad"]["recovery_retries"] == 1,
-          "simple plane at size 0.4067: every link stopped, then meshed with shell splits on the uniform chords "
+          "simple plane at size 0.435: every link stopped, then meshed with shell splits on the uniform chords "
           "(exit %d, %s)" % (code, err.strip()[-300:] if code else "retries %d" % rep["cad"]["recovery_retries"]))
     if code == 0:
-        tets_in_solids(target, 27, "simple plane at size 0.4067")
+        tets_in_solids(target, 27, "simple plane at size 0.435")
 
 finish()

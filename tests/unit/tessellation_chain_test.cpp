@@ -152,6 +152,11 @@ TEST(VolumeRounds, AHeldSolidPushedOverTheToleranceMakesTheRoundWorse) {
   EXPECT_FALSE(pushes_a_held_solid_over({0.0055, 0.0127, 0.001}, {0.0061, 0.0043, 0.001}, held, tolerance));
   // A solid the rounds refine going over is theirs to weigh.
   EXPECT_FALSE(pushes_a_held_solid_over({0.0028, 0.0010, 0.001}, {0.0028, 0.0070, 0.001}, held, tolerance));
+  // Over, but under the worst solid the rounds refine (simple_plane at its
+  // default size: held Solid7 to 0.456 % while the refined ones went from
+  // 5.33 to 1.62 %): theirs to weigh too; over it, not.
+  EXPECT_FALSE(pushes_a_held_solid_over({0.0038, 0.0533, 0.001}, {0.00456, 0.0162, 0.001}, held, tolerance));
+  EXPECT_TRUE(pushes_a_held_solid_over({0.0038, 0.0533, 0.001}, {0.0170, 0.0162, 0.001}, held, tolerance));
 }
 
 }  // namespace
