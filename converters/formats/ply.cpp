@@ -1,9 +1,11 @@
 // Stanford PLY, ASCII and binary (little- and big-endian): a surface of
 // polygons, triangulated as OFF's are (triangulate_polygon). The "vertex"
-// element's x, y, z and the "face" element's vertex_indices (or
-// vertex_index) list are read, every other element and property skipped;
-// face properties "face", "front" and "back" give the tags, which the writer
-// writes (ASCII, or binary little-endian with --binary).
+// element's x, y, z, the "face" element's vertex_indices (or vertex_index)
+// list and the "tristrips" element's vertex_indices (strips of the old
+// scanner files, -1 between strips) are read, every other element and
+// property skipped; face properties "face", "front" and "back" give the
+// tags, which the writer writes (ASCII, or binary little-endian with
+// --binary). Strips have no tags.
 #include <cmath>
 #include <cstdio>
 
@@ -59,6 +61,7 @@ class PlyReader {
   uint64_t whole(Type type, uint64_t limit, const char* what);
   void read_vertices(const Element& e);
   void read_faces(const Element& e);
+  void read_strips(const Element& e);
   void skip_element(const Element& e);
 
   Cursor in_;
@@ -235,6 +238,50 @@ void PlyReader::read_faces(const Element& e) {
   }
 }
 
+void PlyReader::read_strips(const Element& e) {
+  if (!have_vertices_) in_.fail("the tristrips element comes before the vertex element");
+  int indices = -1;
+  for (size_t i = 0; i < e.properties.size(); ++i)
+    if (e.properties[i].name == "vertex_indices" && e.properties[i].is_list()) indices = static_cast<int>(i);
+  if (indices < 0) in_.fail("the tristrips element has no vertex_indices list");
+  const double nv = static_cast<double>(m_.points.size());
+  std::vector<int> strip;
+  const auto end_strip = [&] {
+    for (const auto& corners : detail::strip_triangles(strip.data(), strip.size())) {
+      Triangle t;
+      t.v = corners;
+      m_.triangles.push_back(t);
+    }
+    strip.clear();
+  };
+  for (uint64_t r = 0; r < e.count; ++r) {
+    for (size_t i = 0; i < e.properties.size(); ++i) {
+      const Property& prop = e.properties[i];
+      if (!prop.is_list()) {
+        value(prop.type, "a tristrips value");
+        continue;
+      }
+      const uint64_t n = whole(prop.count_type, in_.remaining(), "a list length");
+      for (uint64_t j = 0; j < n; ++j) {
+        const double v = value(prop.type, "a strip vertex index");
+        if (static_cast<int>(i) != indices) continue;
+        // -1 ends a strip; an unsigned list writes it as its largest value.
+        if (v == -1 || (prop.type == Type::UInt32 && v == 4294967295.0)) {
+          end_strip();
+        } else if (v >= 0 && v < nv && v == std::floor(v)) {
+          strip.push_back(static_cast<int>(v));
+        } else {
+          char text[32];
+          std::snprintf(text, sizeof text, "%.17g", v);
+          in_.fail("tristrips " + std::to_string(r) + " refers to vertex " + text + ", which does not exist (" +
+                   std::to_string(m_.points.size()) + " vertices; -1 ends a strip)");
+        }
+      }
+      if (static_cast<int>(i) == indices) end_strip();
+    }
+  }
+}
+
 void PlyReader::skip_element(const Element& e) {
   if (e.properties.empty()) return;  // nothing in the data
   for (uint64_t r = 0; r < e.count; ++r)
@@ -253,6 +300,7 @@ Mesh PlyReader::read() {
   for (const Element& e : elements_) {
     if (e.name == "vertex") read_vertices(e);
     else if (e.name == "face") read_faces(e);
+    else if (e.name == "tristrips") read_strips(e);
     else skip_element(e);
   }
   if (!have_vertices_) in_.fail("no vertex element");

@@ -316,6 +316,16 @@ std::vector<std::array<int, 3>> fan(const std::vector<int>& polygon) {
   return out;
 }
 
+std::vector<std::array<int, 3>> strip_triangles(const int* strip, size_t count) {
+  std::vector<std::array<int, 3>> out;
+  for (size_t j = 0; j + 2 < count; ++j) {
+    const std::array<int, 3> t = j % 2 == 0 ? std::array<int, 3>{strip[j], strip[j + 1], strip[j + 2]}
+                                            : std::array<int, 3>{strip[j + 1], strip[j], strip[j + 2]};
+    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) out.push_back(t);
+  }
+  return out;
+}
+
 std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& points, const std::vector<int>& polygon) {
   const size_t n = polygon.size();
   const auto at = [&](size_t i) { return points[static_cast<size_t>(polygon[i % n])]; };

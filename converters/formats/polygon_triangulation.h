@@ -26,5 +26,10 @@ std::vector<std::array<int, 3>> triangulate_facet(const std::vector<Vec3>& point
 std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& points, const std::vector<int>& polygon);
 // The fan from the polygon's first vertex.
 std::vector<std::array<int, 3>> fan(const std::vector<int>& polygon);
+// A triangle strip's triangles (VTK's TRIANGLE_STRIPS, PLY's tristrips):
+// triangle j is (j, j+1, j+2), every other one turned so that all face as
+// the first; repeated vertices (strips joined by degenerate triangles) give
+// no triangle.
+std::vector<std::array<int, 3>> strip_triangles(const int* strip, size_t count);
 
 }  // namespace vd::io::detail

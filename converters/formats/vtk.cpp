@@ -4,6 +4,7 @@
 // Writes the classic CELLS layout (version 3.0, which Gmsh and VTK 9 read);
 // reads it and the 5.1 OFFSETS/CONNECTIVITY layout. Cell data: "region",
 // "face", "front", "back" (int).
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -329,13 +330,10 @@ void LegacyReader::build_elements() {
 void LegacyReader::add_polydata_triangles(size_t i, int type, const int32_t* v, int64_t k) {
   const size_t before = m_.triangles.size();
   if (type == 6) {
-    // A strip's triangle j is (j, j+1, j+2), every other one turned so that
-    // all face as the first; repeated nodes (strips joined by degenerate
-    // triangles) give no triangle.
-    for (int64_t j = 0; j + 2 < k; ++j) {
+    for (const auto& corners : detail::strip_triangles(v, static_cast<size_t>(std::max<int64_t>(k, 0)))) {
       Triangle t;
-      t.v = j % 2 == 0 ? std::array<int, 3>{v[j], v[j + 1], v[j + 2]} : std::array<int, 3>{v[j + 1], v[j], v[j + 2]};
-      if (t.v[0] != t.v[1] && t.v[1] != t.v[2] && t.v[0] != t.v[2]) m_.triangles.push_back(t);
+      t.v = corners;
+      m_.triangles.push_back(t);
     }
   } else {
     if (k < 3) in_.fail("polygon " + std::to_string(i) + " has " + std::to_string(k) + " nodes");

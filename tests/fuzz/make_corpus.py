@@ -169,6 +169,20 @@ def main():
             setup(writer)
             writer.Write()
             seed("ply", "seed_ply_" + name, open(path, "rb").read())
+    # PLY triangle strips (old scanner files): a unit cube, -1 between
+    # strips, ASCII and big-endian binary.
+    import struct
+    corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    strip = [0, 3, 1, 2, -1, 4, 5, 7, 6, -1, 0, 1, 4, 5, -1, 3, 7, 2, 6, -1, 0, 4, 3, 7, 7, 1, 1, 2, 5, 6]
+    for name, fmt in (("tristrips", "ascii"), ("tristrips_big_endian", "binary_big_endian")):
+        head = ("ply\nformat %s 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+                "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" % fmt).encode()
+        if fmt == "ascii":
+            body = "".join("%d %d %d\n" % c for c in corners) + " ".join(map(str, [len(strip)] + strip)) + "\n"
+            seed("ply", "seed_ply_" + name, head + body.encode())
+        else:
+            body = b"".join(struct.pack(">3f", *c) for c in corners) + struct.pack(">%di" % (len(strip) + 1), len(strip), *strip)
+            seed("ply", "seed_ply_" + name, head + body)
 
 
 if __name__ == "__main__":

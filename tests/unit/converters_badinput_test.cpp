@@ -142,6 +142,15 @@ const Snippet kSnippets[] = {
     {"ply_two_vertices.ply", 13,
      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n"},
+    {"ply_strip_missing_vertex.ply", 13,
+     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+     "element tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2 3\n"},
+    {"ply_strip_minus_two.ply", 13,
+     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+     "element tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2 -2\n"},
+    {"ply_strips_first.ply", 10,
+     "ply\nformat ascii 1.0\nelement tristrips 1\nproperty list int int vertex_indices\nelement vertex 3\n"
+     "property float x\nproperty float y\nproperty float z\nend_header\n3 0 1 2\n0 0 0\n1 0 0\n0 1 0\n"},
     {"polydata_cells_after_data.vtk", 12,
      "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0\n1 0 0\n0 1 0\n"
      "POLYGONS 1 4\n3 0 1 2\nCELL_DATA 1\nPOLYGONS 1 4\n3 0 1 2\n"},

@@ -1422,6 +1422,38 @@ TEST(ConvertersRoundTrip, VtkPolydataStripsAndCellData) {
   }
 }
 
+// PLY's tristrips element (old scanner files): one list of strips, -1
+// between them, the same strip rule as VTK's. A unit cube, a strip a side
+// (a, b, d, c for the side a b c d), one side as two strips joined by a
+// degenerate triangle: 12 triangles, every edge in two of them, volume 1.
+// A list of unsigned ints writes -1 as 4294967295.
+TEST(ConvertersRoundTrip, PlyTriangleStrips) {
+  for (const std::string end : {"-1", "4294967295"}) {
+    const std::string path = test::temp_path("strips.ply");
+    std::ofstream(path) << "ply\nformat ascii 1.0\ncomment strips\nelement vertex 8\nproperty float x\n"
+                           "property float y\nproperty float z\nelement tristrips 1\n"
+                           "property list int " << (end == "-1" ? "int" : "uint") << " vertex_indices\nend_header\n"
+                           "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                           "30 0 3 1 2 " << end << " 4 5 7 6 " << end << " 0 1 4 5 " << end << " 3 7 2 6 " << end
+                        << " 0 4 3 7 7 1 1 2 5 6\n";
+    SCOPED_TRACE(end);
+    const Mesh m = io::read_mesh(path);
+    ASSERT_EQ(m.triangles.size(), 12u);
+    double volume = 0;
+    std::map<std::pair<int, int>, int> directed;
+    for (const Triangle& t : m.triangles) {
+      volume += dot(m.points[t.v[0]], cross(m.points[t.v[1]], m.points[t.v[2]])) / 6;
+      for (int k = 0; k < 3; ++k) ++directed[{t.v[k], t.v[(k + 1) % 3]}];
+    }
+    EXPECT_DOUBLE_EQ(volume, 1.0);
+    // Closed and oriented alike: each directed edge once, and its reverse once.
+    for (const auto& [edge, count] : directed) {
+      EXPECT_EQ(count, 1);
+      EXPECT_EQ(directed.count({edge.second, edge.first}), 1u) << edge.first << " " << edge.second;
+    }
+  }
+}
+
 TEST(ConvertersRoundTrip, ReadsSharedPolyWithFacetHole) {
   VD_REQUIRE_DATA(path, "surface-multiregion/tetgen_example.poly");
   const Mesh m = io::read_mesh(path);
