@@ -10,12 +10,12 @@ from cli_support import check, run, tmpdir
 out = tmpdir()
 
 
-def mesh_as(name, path, *extra):
+def mesh_as(name, path, *extra, timeout=600):
     """Meshes path to NAME.vtu with its report NAME.json; gives the exit
     code, the report (None unless exit 0), the mesh's path and stderr."""
     target = os.path.join(out, name + ".vtu")
     report = os.path.join(out, name + ".json")
-    code, stdout, stderr = run("mesh", path, "-o", target, "--report", report, *extra)
+    code, stdout, stderr = run("mesh", path, "-o", target, "--report", report, *extra, timeout=timeout)
     rep = json.load(open(report)) if code == 0 else None
     return code, rep, target, stderr
 

@@ -107,7 +107,7 @@ def meshes_on_uniform_chords(size, height, which, stops, stalls):
     path = data("cad-assembly/gmsh_simple_plane.brep")
     if not path:
         return
-    code, rep, target, err = mesh_as("simple_plane_" + size.replace(".", ""), path, "--size", size)
+    code, rep, target, err = mesh_as("simple_plane_" + size.replace(".", ""), path, "--size", size, timeout=1800)
     on_it = "tessellate CAD faces again at 20 deg, chord height %s everywhere" % height in err
     stopped = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stopped: ")]
     stalled = [line for line in err.splitlines() if line.startswith("vdmesh: recovery stalled: ")]
@@ -132,8 +132,9 @@ def meshes_on_uniform_chords(size, height, which, stops, stalls):
 # quarter of the height for the first two). Since the nose's pointed cones
 # keep their arcs under 60 deg (cad_remesh.cpp, 2026-12-01) the half, the
 # quarter and three quarters of the height stop too (48 to 131 facets
-# left), and three eighths meshes it: 648,558 tetrahedra.
-meshes_on_uniform_chords("0.32", "0.00024", "three eighths", 5, 0)
+# left), and three eighths meshes it: 648,558 tetrahedra, but its five
+# stopped recoveries took over 10 minutes under the sanitizers. No longer
+# run here: 0.3786 (below) shows the retries.
 
 # gmsh_simple_plane.brep at size 0.3786: the uniform chords stopped at their
 # height, at half and at a quarter of it (stalls and runaways where the wing's
@@ -156,7 +157,7 @@ meshes_on_uniform_chords("0.3786", "0.0005679", "three quarters", 4, 0)
 # 0.435: 10 recoveries stopped (57 s), then 263,078 tetrahedra, 2.08 deg.
 path = data("cad-assembly/gmsh_simple_plane.brep")
 if path:
-    code, rep, target, err = mesh_as("simple_plane_0435", path, "--size", "0.435")
+    code, rep, target, err = mesh_as("simple_plane_0435", path, "--size", "0.435", timeout=1800)
     again = "every tessellation's recovery stopped; all again with shell splits from corners" in err
     check(code == 0 and again and rep["delaunayzation"]["shell_splits"]
           and "recoveries stopped (mid-point splits)" in rep["seconds"] and rep["cad"]["recovery_retries"] == 1,
