@@ -100,9 +100,10 @@ constexpr double kSmallestSurfaceBudget = 200000;
 // their apex (FaceChart::longest), where the chord height bounds nothing
 // near the apex (2026-12-01).
 constexpr double kMaxArcDeg = 60;
+// The chord of a kMaxArcDeg arc of a circle of this radius.
+double max_arc_chord(double radius) { return 2 * radius * std::sin(0.5 * kMaxArcDeg * M_PI / 180); }
 double chord_for(double rho, double deflection) {
-  const double arc_chord = 2 * rho * std::sin(0.5 * kMaxArcDeg * M_PI / 180);
-  return std::min(std::sqrt(8 * rho * deflection), arc_chord);
+  return std::min(std::sqrt(8 * rho * deflection), max_arc_chord(rho));
 }
 
 // A face's (u, v) mapped to a plane whose angles are those on the face.
@@ -223,7 +224,7 @@ class FaceChart {
     // (a pointy cone's smallest dihedral angle 2.41 deg instead of over 10).
     const double r = std::hypot(p.x(), p.y()) * sin_;
     double chord = std::sqrt(8 * r * deflection_ / cos_);
-    if (pointed_) chord = std::min(chord, 2 * r * std::sin(0.5 * kMaxArcDeg * M_PI / 180));
+    if (pointed_) chord = std::min(chord, max_arc_chord(r));
     return std::min(longest_, std::max(cone_floor_, chord));
   }
   // A chart can take the face: no corner at a point a sphere's chart sends

@@ -12,6 +12,7 @@ that once crashed a reader.
 import gzip
 import os
 import shutil
+import struct
 import subprocess
 import sys
 import tempfile
@@ -171,7 +172,6 @@ def main():
             seed("ply", "seed_ply_" + name, open(path, "rb").read())
     # PLY triangle strips (old scanner files): a unit cube, -1 between
     # strips, ASCII and big-endian binary.
-    import struct
     corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
     strip = [0, 3, 1, 2, -1, 4, 5, 7, 6, -1, 0, 1, 4, 5, -1, 3, 7, 2, 6, -1, 0, 4, 3, 7, 7, 1, 1, 2, 5, 6]
     for name, fmt in (("tristrips", "ascii"), ("tristrips_big_endian", "binary_big_endian")):
