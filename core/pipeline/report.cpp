@@ -73,6 +73,8 @@ std::string report_json(const MeshReport& r) {
       << r.front.candidates << ", \"searches\": " << r.front.searches << ", \"ties\": " << r.front.ties << "},\n";
   const auto& sl = r.slivers;
   s << "  \"slivers\": {\"angle_deg\": " << exact(sl.angle_deg) << ", \"raised_to_deg\": " << exact(sl.raised_to_deg)
+    << ", \"raised_changes\": " << sl.raised_changes
+    << ", \"raised_allowance_used\": " << (sl.raised_allowance_used ? "true" : "false")
     << ", \"before\": " << sl.slivers_before << ", \"removed_boundary\": " << sl.removed_boundary
     << ", \"removed_across_ridges\": " << sl.removed_across_ridges
     << ", \"removed_crease_caps\": " << sl.removed_crease_caps
@@ -288,7 +290,10 @@ std::string report_table(const MeshReport& r) {
                                  std::to_string(sl.edge_removals) + " edge removals), " +
                                  std::to_string(sl.moves) + " moves; " + std::to_string(sl.slivers_before) +
                                  " -> " + std::to_string(sl.slivers_after) + " slivers" +
-                                 (sl.raised_to_deg > 0 ? "; none left, aim raised to " + num(sl.raised_to_deg) + " deg" : ""));
+                                 (sl.raised_to_deg > 0 ? "; none left, aim raised to " + num(sl.raised_to_deg) + " deg (" +
+                                                               std::to_string(sl.raised_changes) + " changes" +
+                                                               (sl.raised_allowance_used ? ", the allowance" : "") + ")"
+                                                         : ""));
   row("before slivers: min, <5, <10", num(sl.min_dihedral_before_deg) + " deg, " +
                                           std::to_string(sl.below_5_before) + ", " +
                                           std::to_string(sl.below_10_before));

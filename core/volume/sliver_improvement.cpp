@@ -33,10 +33,6 @@ constexpr double kMinGainDeg = 1e-6;
 constexpr double kNotHeld = 10.0;
 // Largest number of tetrahedra around an edge that edge removal considers.
 constexpr int kMaxRing = 7;
-// At the raised angle, at most this many changes per change made at the
-// first, and at least kRaisedChangesAtLeast (improve_slivers).
-constexpr long kRaisedChangesPerFirst = 4;
-constexpr long kRaisedChangesAtLeast = 10000;
 // The facet look-ups that moves of vertices on curved faces may make in a
 // pass, per surface facet (move_a_vertex).
 constexpr long kCurvedTestsPerFacet = 100;
@@ -933,8 +929,12 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
           if ((changed && o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) ||
               (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, !changed, curved_tests_left, stats))) {
             ++changes;
-            if (allowance > 0) --allowance;
-            else ++first_changes;
+            if (allowance < 0) {
+              ++first_changes;
+            } else {
+              ++stats.raised_changes;
+              if (--allowance == 0) stats.raised_allowance_used = true;
+            }
             continue;
           }
           c.mark_failed(t);
@@ -949,7 +949,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
     // so the pass may stop anywhere at the raised angle: past this many
     // changes it does. A plate 50 x 50 x 0.2 (115k tetrahedra) made 2,673
     // at 10 deg in 1.1 s, then 89k at 20 deg in 10 s for 10.0 -> 10.7 deg.
-    allowance = std::max(kRaisedChangesPerFirst * first_changes, kRaisedChangesAtLeast);
+    allowance = std::max(o.raised_changes_per_first * first_changes, std::max(o.raised_changes_at_least, 1L));
   }
   c.write_back();
 }

@@ -44,6 +44,12 @@ struct SliverOptions {
   // on with this one (0 or not larger: they stop). Aiming higher costs
   // little where the first aim was reached, and much where slivers stay.
   double raised_angle_deg = 0;
+  // At the raised angle the passes stop after max(raised_changes_per_first
+  // times the changes made at the first angle, raised_changes_at_least):
+  // every change keeps its tetrahedra above those it replaces, so they may
+  // stop anywhere (sliver_improvement.cpp).
+  long raised_changes_per_first = 4;
+  long raised_changes_at_least = 10000;
   // Case A: largest angle between the two new facets. Small, because on a
   // curved face the new facets leave the input surface by about this angle
   // times their size, and B and C clear most slivers without it.
@@ -70,6 +76,8 @@ struct SliverOptions {
 struct SliverStats {
   double angle_deg = 0;         // the sliver angle used
   double raised_to_deg = 0;     // the raised angle, when the pass went on to it; else 0
+  long raised_changes = 0;      // flips and moves made at the raised angle
+  bool raised_allowance_used = false;  // the raised angle's passes stopped at their allowance
   long slivers_before = 0;      // tetrahedra under the sliver angle
   long removed_boundary = 0;    // case A
   long removed_across_ridges = 0;  // of which over the ridge angle, within the chord height (CAD input)

@@ -380,6 +380,40 @@ TEST(Slivers, RaisedAngleOnlyOnceTheFirstIsReached) {
   for (size_t i = 0; i < stuck.mesh.tets.size(); ++i) ASSERT_EQ(stuck.mesh.tets[i].v, stuck_plain.mesh.tets[i].v);
 }
 
+// The raised angle's allowance: its passes stop after that many changes,
+// deterministically, and where they stop no tetrahedron is worse than at the
+// first angle (every change keeps its tetrahedra above those it replaced).
+// An allowance of exactly what the free run made gives the free run's mesh.
+TEST(Slivers, RaisedAngleStopsAtItsAllowance) {
+  const Mesh in = shapes::box({0, 0, 0}, {1, 1, 1}, 8);
+  MeshOptions o;
+  o.size.uniform = 0.125;
+  o.slivers.sliver_angle_deg = 10;
+  const MeshResult plain = mesh_surface(in, o);
+  o.slivers.raised_angle_deg = 20;
+  const MeshResult free_run = mesh_surface(in, o);
+  const SliverStats& f = free_run.report.slivers;
+  ASSERT_EQ(f.raised_to_deg, 20);
+  ASSERT_GT(f.raised_changes, 5);
+  EXPECT_FALSE(f.raised_allowance_used);
+
+  o.slivers.raised_changes_per_first = 0;
+  o.slivers.raised_changes_at_least = 5;
+  const MeshResult cut = mesh_surface(in, o);
+  EXPECT_EQ(cut.report.slivers.raised_changes, 5);
+  EXPECT_TRUE(cut.report.slivers.raised_allowance_used);
+  EXPECT_GE(cut.report.quality.min_dihedral_deg, plain.report.quality.min_dihedral_deg);
+  EXPECT_TRUE(check_conformity(cut.mesh).ok(1e-9));
+  EXPECT_NE(report_json(cut.report).find("\"raised_changes\": 5, \"raised_allowance_used\": true"), std::string::npos);
+
+  o.slivers.raised_changes_at_least = f.raised_changes;
+  const MeshResult exact = mesh_surface(in, o);
+  EXPECT_EQ(exact.report.slivers.raised_changes, f.raised_changes);
+  ASSERT_EQ(exact.mesh.tets.size(), free_run.mesh.tets.size());
+  for (size_t i = 0; i < exact.mesh.tets.size(); ++i) ASSERT_EQ(exact.mesh.tets[i].v, free_run.mesh.tets[i].v);
+  for (size_t i = 0; i < exact.mesh.points.size(); ++i) ASSERT_EQ(exact.mesh.points[i].x, free_run.mesh.points[i].x);
+}
+
 }  // namespace
 }  // namespace vd
 
