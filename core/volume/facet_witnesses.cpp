@@ -224,16 +224,21 @@ bool FacetWitnesses::reshaped_bounds(int id, bool on_hull, std::vector<int>& occ
     const Vec3& x = grid_.position(q);
     if (tightens(a, b, c, x, held)) held = {Bound::point, x};
   }
-  if (on_hull) open = {Bound::none, Vec3{}};
-  else if (!open_side_bound(a, b, c, f.v, held, -occupied, occupants, open)) return false;
   // A bound far off the facet's size is listed in coarse cells that many
   // later lookups walk: on a foil 0.03 thick with facets 6 wide (balls of
   // radius about 180), the pass went from 34 s to past 5 minutes, 63 % of it
   // in allows() (a tester, 2026-11-30). Such a facet keeps the old rule.
+  // The held bound is checked before the open side is looked for: the open
+  // side's look-up reaches past it, and on c3tm_nefertiti.obj those balls
+  // held 6,000 vertices on average.
   const double largest = kLargestHeldBall * equatorial_sphere(a, b, c).radius;
-  for (const Bound* x : {&held, &open})
-    if (x->kind == Bound::point && !(circumsphere(a, b, c, x->at).radius <= largest)) return false;
-  return true;
+  const auto too_large = [&](const Bound& x) {
+    return x.kind == Bound::point && !(circumsphere(a, b, c, x.at).radius <= largest);
+  };
+  if (too_large(held)) return false;
+  if (on_hull) open = {Bound::none, Vec3{}};
+  else if (!open_side_bound(a, b, c, f.v, held, -occupied, occupants, open)) return false;
+  return !too_large(open);
 }
 
 // The open side's bound of a reshaped facet (a, b, c) whose occupied side
