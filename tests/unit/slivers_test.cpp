@@ -43,6 +43,17 @@ bool same_triangles(const Mesh& a, const Mesh& b) {
   return true;
 }
 
+// The same points (every coordinate, exactly) and the same tetrahedra.
+bool same_mesh(const Mesh& a, const Mesh& b) {
+  if (a.points.size() != b.points.size() || a.tets.size() != b.tets.size()) return false;
+  for (size_t i = 0; i < a.points.size(); ++i)
+    if (a.points[i].x != b.points[i].x || a.points[i].y != b.points[i].y || a.points[i].z != b.points[i].z)
+      return false;
+  for (size_t i = 0; i < a.tets.size(); ++i)
+    if (a.tets[i].v != b.tets[i].v) return false;
+  return true;
+}
+
 // The Delaunay tetrahedralization of m's points, as the sliver pass's FacetApexes.
 struct DelaunayApexes {
   DelaunayTetrahedralization dt;
@@ -285,13 +296,7 @@ TEST(Slivers, CurvedFaceVerticesSlideOnTheirFaces) {
   Mesh again = before;
   SliverStats again_stats;
   improve_slivers(again, on_spheres, delaunay.apexes(), again_stats);
-  bool same_points = again.points.size() == slid.points.size();
-  for (size_t i = 0; same_points && i < slid.points.size(); ++i)
-    same_points = again.points[i].x == slid.points[i].x && again.points[i].y == slid.points[i].y &&
-                  again.points[i].z == slid.points[i].z;
-  EXPECT_TRUE(same_points);
-  ASSERT_EQ(again.tets.size(), slid.tets.size());
-  for (size_t i = 0; i < slid.tets.size(); ++i) ASSERT_EQ(again.tets[i].v, slid.tets[i].v);
+  EXPECT_TRUE(same_mesh(again, slid));
 }
 
 // Case C's second round, which holds the tetrahedra worse than the sliver
@@ -346,19 +351,24 @@ TEST(Slivers, PipelineReportsBeforeAndAfter) {
   const std::string json = report_json(a.report);
   EXPECT_NE(json.find("\"tets_below_10_deg_before\": " + std::to_string(s.below_10_before)), std::string::npos);
   EXPECT_NE(json.find("\"moves\": " + std::to_string(s.moves)), std::string::npos);
-  ASSERT_EQ(a.mesh.tets.size(), b.mesh.tets.size());
-  for (size_t i = 0; i < a.mesh.tets.size(); ++i) ASSERT_EQ(a.mesh.tets[i].v, b.mesh.tets[i].v);
-  for (size_t i = 0; i < a.mesh.points.size(); ++i) ASSERT_EQ(a.mesh.points[i].x, b.mesh.points[i].x);
+  EXPECT_TRUE(same_mesh(a.mesh, b.mesh));
 }
 
 // A raised angle: where the pass leaves nothing under the sliver angle, it
 // goes on to the raised one (the pipeline's figures say so); where slivers
 // stay under it, the raised angle changes nothing.
-TEST(Slivers, RaisedAngleOnlyOnceTheFirstIsReached) {
-  const Mesh in = shapes::box({0, 0, 0}, {1, 1, 1}, 8);
+// The raised-angle tests' input: a unit box at size 0.125 and a sliver
+// angle of 10 deg, which the pass clears.
+MeshOptions box_at_sliver_angle_10() {
   MeshOptions o;
   o.size.uniform = 0.125;
   o.slivers.sliver_angle_deg = 10;
+  return o;
+}
+
+TEST(Slivers, RaisedAngleOnlyOnceTheFirstIsReached) {
+  const Mesh in = shapes::box({0, 0, 0}, {1, 1, 1}, 8);
+  MeshOptions o = box_at_sliver_angle_10();
   const MeshResult plain = mesh_surface(in, o);
   ASSERT_EQ(plain.report.quality.below_10_deg, 0);
   EXPECT_EQ(plain.report.slivers.raised_to_deg, 0);
@@ -376,8 +386,7 @@ TEST(Slivers, RaisedAngleOnlyOnceTheFirstIsReached) {
   const MeshResult stuck = mesh_surface(test::thin_wedge(1.0), w);
   ASSERT_GT(stuck.report.quality.below_10_deg, 0);
   EXPECT_EQ(stuck.report.slivers.raised_to_deg, 0);
-  ASSERT_EQ(stuck.mesh.tets.size(), stuck_plain.mesh.tets.size());
-  for (size_t i = 0; i < stuck.mesh.tets.size(); ++i) ASSERT_EQ(stuck.mesh.tets[i].v, stuck_plain.mesh.tets[i].v);
+  EXPECT_TRUE(same_mesh(stuck.mesh, stuck_plain.mesh));
 }
 
 // The raised angle's allowance: its passes stop after that many changes,
@@ -386,9 +395,7 @@ TEST(Slivers, RaisedAngleOnlyOnceTheFirstIsReached) {
 // An allowance of exactly what the free run made gives the free run's mesh.
 TEST(Slivers, RaisedAngleStopsAtItsAllowance) {
   const Mesh in = shapes::box({0, 0, 0}, {1, 1, 1}, 8);
-  MeshOptions o;
-  o.size.uniform = 0.125;
-  o.slivers.sliver_angle_deg = 10;
+  MeshOptions o = box_at_sliver_angle_10();
   const MeshResult plain = mesh_surface(in, o);
   o.slivers.raised_angle_deg = 20;
   const MeshResult free_run = mesh_surface(in, o);
@@ -409,9 +416,7 @@ TEST(Slivers, RaisedAngleStopsAtItsAllowance) {
   o.slivers.raised_changes_at_least = f.raised_changes;
   const MeshResult exact = mesh_surface(in, o);
   EXPECT_EQ(exact.report.slivers.raised_changes, f.raised_changes);
-  ASSERT_EQ(exact.mesh.tets.size(), free_run.mesh.tets.size());
-  for (size_t i = 0; i < exact.mesh.tets.size(); ++i) ASSERT_EQ(exact.mesh.tets[i].v, free_run.mesh.tets[i].v);
-  for (size_t i = 0; i < exact.mesh.points.size(); ++i) ASSERT_EQ(exact.mesh.points[i].x, free_run.mesh.points[i].x);
+  EXPECT_TRUE(same_mesh(exact.mesh, free_run.mesh));
 }
 
 }  // namespace
