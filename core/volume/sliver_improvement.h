@@ -28,7 +28,9 @@ namespace vd {
 // be a face of it, as after the pipeline's recovery and case A.
 // `apexes_done` (may be empty) is called as soon as `apexes` is no longer
 // needed, before the passes: the caller may free what answers it.
+// `measures`: each tetrahedron's smallest_dihedral_if_positive when the
+// caller has them (one per tetrahedron of m), else empty.
 void improve_slivers(Mesh& m, const SliverOptions& options, const FacetApexes& apexes, SliverStats& stats,
-                     const std::function<void()>& apexes_done = {});
+                     const std::function<void()>& apexes_done = {}, std::vector<double> measures = {});
 
 }  // namespace vd
