@@ -52,10 +52,18 @@ SizeField::SizeField(const Mesh& m, const std::vector<double>& hv, const SizeFie
           }
         }
   }
+  // The step to a neighbour node by how many of its coordinates differ,
+  // worked out as the loop below did per neighbour.
+  double rise[4] = {0, 0, 0, 0};
+  for (int s = 1; s <= 3; ++s) rise[s] = o.gradation * step_ * std::sqrt(double(s));
   while (!queue.empty()) {
     const auto [h, id] = queue.top();
     queue.pop();
     if (h > h_[id]) continue;
+    // No node holds more than the cap, and the nearest neighbour would get
+    // h + rise[1] at least: nothing to lower (most of a box's nodes near
+    // its surface, where the field starts near the cap).
+    if (!(h + rise[1] < cap)) continue;
     const int i = static_cast<int>(id % n_[0]), j = static_cast<int>((id / n_[0]) % n_[1]);
     const int k = static_cast<int>(id / (static_cast<size_t>(n_[0]) * n_[1]));
     for (int dk = -1; dk <= 1; ++dk)
@@ -63,7 +71,7 @@ SizeField::SizeField(const Mesh& m, const std::vector<double>& hv, const SizeFie
         for (int di = -1; di <= 1; ++di) {
           const int a = i + di, b = j + dj, c = k + dk;
           if (a < 0 || b < 0 || c < 0 || a >= n_[0] || b >= n_[1] || c >= n_[2]) continue;
-          const double next = h + o.gradation * step_ * std::sqrt(double(di * di + dj * dj + dk * dk));
+          const double next = h + rise[di * di + dj * dj + dk * dk];
           const size_t nid = index(a, b, c);
           if (next < h_[nid]) {
             h_[nid] = next;
