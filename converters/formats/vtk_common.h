@@ -143,12 +143,14 @@ class VtkCellView {
     const size_t t = cell - tets_;
     return j < 3 ? m_.triangles[t].v[j] : m_.triangle_mid[t][j - 3];
   }
-  // Node k of the connectivity (all cells' nodes in a row).
+  // Node k of the connectivity (all cells' nodes in a row). Divided by
+  // constants, which the compiler turns into multiplications: a division by
+  // a run-time count per node was a 64-bit divide each.
   int flat_node(size_t k) const {
     const size_t in_tets = tets_ * static_cast<size_t>(tet_nodes_);
-    if (k < in_tets) return node(k / static_cast<size_t>(tet_nodes_), static_cast<int>(k % static_cast<size_t>(tet_nodes_)));
+    if (k < in_tets) return tet_nodes_ == 4 ? node(k / 4, static_cast<int>(k % 4)) : node(k / 10, static_cast<int>(k % 10));
     k -= in_tets;
-    return node(tets_ + k / static_cast<size_t>(tri_nodes_), static_cast<int>(k % static_cast<size_t>(tri_nodes_)));
+    return tri_nodes_ == 3 ? node(tets_ + k / 3, static_cast<int>(k % 3)) : node(tets_ + k / 6, static_cast<int>(k % 6));
   }
   int type(size_t cell) const {
     if (cell < tets_) return tet_nodes_ == 4 ? kVtkTet : kVtkQuadraticTet;
