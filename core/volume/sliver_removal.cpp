@@ -29,7 +29,11 @@ SmallestAngles smallest_angles(const Mesh& m, double sliver_angle_deg, std::vect
   constexpr long kChunk = 1 << 16;
   const long n = static_cast<long>(m.tets.size());
   std::vector<SmallestAngles> parts((n + kChunk - 1) / kChunk);
-  if (measures) measures->resize(static_cast<size_t>(n));
+  if (measures) {
+    // The complex takes the vector over, with room for what flips add.
+    measures->reserve(sliver_pass_room(static_cast<size_t>(n)));
+    measures->resize(static_cast<size_t>(n));
+  }
   for_each_chunk(n, kChunk, [&](long c, long begin, long end) {
     SmallestAngles& p = parts[c];
     for (long t = begin; t < end; ++t) {

@@ -73,6 +73,10 @@ struct SliverOptions {
   int max_passes = 8;              // of cases B and C over the remaining slivers
 };
 
+// The capacity the sliver pass's arrays of n tetrahedra start with: room for
+// those its flips add (a few per cent at most) without doubling any of them.
+inline size_t sliver_pass_room(size_t n) { return n + n / 8 + 1024; }
+
 struct SliverStats {
   double angle_deg = 0;         // the sliver angle used
   double raised_to_deg = 0;     // the raised angle, when the pass went on to it; else 0
