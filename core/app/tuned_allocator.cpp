@@ -13,8 +13,8 @@ namespace {
 // hugetlb=1: malloc asks for transparent huge pages (madvise) on the memory
 // it takes from the system. mmap_threshold (the largest glibc accepts) and
 // trim_threshold: blocks stay in the heap, freed memory is reused instead
-// of unmapped and faulted in again (return_free_memory() still trims it
-// where a phase wants it back). The number of arenas stays glibc's: one
+// of unmapped and faulted in again (a page fault costs about 20 us on the
+// 2-CPU VMs this was measured on). The number of arenas stays glibc's: one
 // arena for all threads (arena_max=1) saved Nefertiti's surface run 14 MiB
 // of thread heaps but cost gmsh_simple_plane.brep 2 to 4 s of 22 in lock
 // waits (OpenCASCADE's fuse and the faces remeshed on two threads allocate

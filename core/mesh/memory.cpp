@@ -3,10 +3,6 @@
 #include <fstream>
 #include <string>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
-
 namespace vd {
 
 double peak_resident_mib() {
@@ -21,12 +17,6 @@ double peak_resident_mib() {
     status.ignore(4096, '\n');
   }
   return 0;
-}
-
-void return_free_memory() {
-#if defined(__GLIBC__)
-  malloc_trim(0);
-#endif
 }
 
 }  // namespace vd
