@@ -92,12 +92,16 @@ double SizeField::at(const Vec3& p) const {
     c[i] = static_cast<int>(g[i]);
     t[i] = g[i] - c[i];
   }
+  // The clamp keeps c[i] + 1 inside the grid (n_[i] >= 3), so the corners
+  // are the node at c and its neighbours one step along each axis.
+  const size_t base = (static_cast<size_t>(c[2]) * n_[1] + c[1]) * n_[0] + c[0];
+  const size_t step[3] = {1, static_cast<size_t>(n_[0]), static_cast<size_t>(n_[0]) * n_[1]};
   double h = 0;
   for (int dk = 0; dk <= 1; ++dk)
     for (int dj = 0; dj <= 1; ++dj)
       for (int di = 0; di <= 1; ++di) {
         const double w = (di ? t[0] : 1 - t[0]) * (dj ? t[1] : 1 - t[1]) * (dk ? t[2] : 1 - t[2]);
-        h += w * node(std::min(c[0] + di, n_[0] - 1), std::min(c[1] + dj, n_[1] - 1), std::min(c[2] + dk, n_[2] - 1));
+        h += w * h_[base + di * step[0] + dj * step[1] + dk * step[2]];
       }
   return h;
 }

@@ -35,7 +35,6 @@ class SizeField {
   std::vector<double> h_;
   double uniform_ = 0;
   double smallest_ = 0;
-  double node(int i, int j, int k) const { return h_[(static_cast<size_t>(k) * n_[1] + j) * n_[0] + i]; }
 };
 
 }  // namespace vd
