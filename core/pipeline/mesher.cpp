@@ -158,6 +158,11 @@ constexpr int kPatienceWithCautiousRetry = 8;
 // is not where it ran away (the faces RecoveryError carries).
 constexpr int kHandfulOnAFace = 10;
 
+// Resident memory over which the freed tetrahedralization is handed back
+// before the sliver pass (see there): the 125k box holds 27 MiB then, the
+// 765k box and the elephant about 100, gmsh_simple_plane.brep 180.
+constexpr double kHandBackFreedTetrahedralizationMiB = 64;
+
 // Thrown by mesh_surface_once when a recovery after the first stops and a
 // cautious run is left: the seconds spent.
 struct LaterRecoveryStopped {
@@ -641,14 +646,18 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
     timer.start("slivers");
     report.slivers = remove_slivers(
         m, sliver_options, [&dt](const std::vector<Triangle>& t) { return dt.facet_apexes(t); }, &report.quality,
-        // The freed tetrahedralization stays in the heap, where the sliver
-        // pass's complex and witnesses are built: handing it back first
-        // (malloc_trim) cost a page fault for each page they then took
-        // again, about 20 us each on this kind of machine (2,350 faults, 10 %
-        // of a run on the 125k box, 0.4 s on the 765k box), and since the
-        // complex takes the tetrahedra over instead of copying them the peak
-        // is no higher without it (the 125k box 25-28 MiB either way).
-        [&dt_owner] { dt_owner.reset(); });  // nothing below looks at dt
+        [&dt_owner] {
+          dt_owner.reset();  // nothing below looks at dt
+          // The freed tetrahedralization is handed back only when the run
+          // holds much: the pages the pass's complex and witnesses then take
+          // again cost a fault each, about 20 us on the 2-CPU VMs measured
+          // (on the 125k box 2,350 faults, a tenth of its run; its peak is
+          // 25-28 MiB either way, the complex taking the tetrahedra over),
+          // while in large runs the complex may not fit in the freed blocks
+          // and stacks beside them (gmsh_simple_plane.brep: 183 MiB with
+          // the pages handed back, 212 without).
+          if (resident_mib() > kHandBackFreedTetrahedralizationMiB) return_free_memory();
+        });
     report.output_facets = static_cast<int>(m.triangles.size());
   }
   // After the sliver pass, whose facet witnesses are the shifted points'
