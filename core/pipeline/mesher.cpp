@@ -644,9 +644,13 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   }
   if (options.remove_slivers) {
     timer.start("slivers");
+    // Small runs keep the freed tetrahedralization's pages (below), and the
+    // complex reuses them: the witnesses are then built on this thread too.
+    const bool hand_back = resident_mib() > kHandBackFreedTetrahedralizationMiB;
+    sliver_options.witnesses_beside = hand_back;
     report.slivers = remove_slivers(
         m, sliver_options, [&dt](const std::vector<Triangle>& t) { return dt.facet_apexes(t); }, &report.quality,
-        [&dt_owner] {
+        [&dt_owner, hand_back] {
           dt_owner.reset();  // nothing below looks at dt
           // The freed tetrahedralization is handed back only when the run
           // holds much: the pages the pass's complex and witnesses then take
@@ -656,7 +660,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
           // while in large runs the complex may not fit in the freed blocks
           // and stacks beside them (gmsh_simple_plane.brep: 183 MiB with
           // the pages handed back, 212 without).
-          if (resident_mib() > kHandBackFreedTetrahedralizationMiB) return_free_memory();
+          if (hand_back) return_free_memory();
         });
     report.output_facets = static_cast<int>(m.triangles.size());
   }

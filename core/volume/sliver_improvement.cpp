@@ -903,7 +903,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
     // the tetrahedra) side by side: each was about 4 % of a run on a box of
     // 125k tetrahedra, and the witnesses' set-up is sequential.
     const auto build_witnesses = [&] { witnesses = std::make_unique<FacetWitnesses>(m.points, m.triangles, apexes_of); };
-    if (thread_count() > 1) {
+    if (thread_count() > 1 && o.witnesses_beside) {
       std::exception_ptr failure;
       std::thread beside([&] {
         try {
