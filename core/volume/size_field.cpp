@@ -35,7 +35,6 @@ SizeField::SizeField(const Mesh& m, const std::vector<double>& hv, const SizeFie
   // Seed the nodes around each surface vertex, then relax outwards.
   using Item = std::pair<double, size_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-  auto index = [&](int i, int j, int k) { return (static_cast<size_t>(k) * n_[1] + j) * n_[0] + i; };
   for (size_t v = 0; v < m.points.size(); ++v) {
     if (hv[v] <= 0) continue;
     const Vec3 g = (1.0 / step_) * (m.points[v] - origin_);
@@ -45,7 +44,7 @@ SizeField::SizeField(const Mesh& m, const std::vector<double>& hv, const SizeFie
         for (int i = i0; i <= i0 + 1; ++i) {
           const Vec3 node_point = origin_ + step_ * Vec3{double(i), double(j), double(k)};
           const double h = std::min(cap, hv[v] + o.gradation * norm(node_point - m.points[v]));
-          const size_t id = index(i, j, k);
+          const size_t id = node_index(i, j, k);
           if (h < h_[id]) {
             h_[id] = h;
             queue.emplace(h, id);
@@ -72,7 +71,7 @@ SizeField::SizeField(const Mesh& m, const std::vector<double>& hv, const SizeFie
           const int a = i + di, b = j + dj, c = k + dk;
           if (a < 0 || b < 0 || c < 0 || a >= n_[0] || b >= n_[1] || c >= n_[2]) continue;
           const double next = h + rise[di * di + dj * dj + dk * dk];
-          const size_t nid = index(a, b, c);
+          const size_t nid = node_index(a, b, c);
           if (next < h_[nid]) {
             h_[nid] = next;
             queue.emplace(next, nid);
@@ -94,7 +93,7 @@ double SizeField::at(const Vec3& p) const {
   }
   // The clamp keeps c[i] + 1 inside the grid (n_[i] >= 3), so the corners
   // are the node at c and its neighbours one step along each axis.
-  const size_t base = (static_cast<size_t>(c[2]) * n_[1] + c[1]) * n_[0] + c[0];
+  const size_t base = node_index(c[0], c[1], c[2]);
   const size_t step[3] = {1, static_cast<size_t>(n_[0]), static_cast<size_t>(n_[0]) * n_[1]};
   double h = 0;
   for (int dk = 0; dk <= 1; ++dk)

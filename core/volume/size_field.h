@@ -35,6 +35,7 @@ class SizeField {
   std::vector<double> h_;
   double uniform_ = 0;
   double smallest_ = 0;
+  size_t node_index(int i, int j, int k) const { return (static_cast<size_t>(k) * n_[1] + j) * n_[0] + i; }
 };
 
 }  // namespace vd
