@@ -74,6 +74,11 @@ const char* kMeshHelp =
     "                          (default 20; CAD input 10, then 20 when every tetrahedron reached 10;\n"
     "                          at most 70.5)\n"
     "  --keep-slivers          no sliver removal: the Delaunay tetrahedra as they are\n"
+    "  --delaunay-surface      the sliver pass keeps every surface facet a face of the Delaunay\n"
+    "                          tetrahedralization of the output's vertices (a vertex move that would\n"
+    "                          break that is refused); default off with interior vertices (moves\n"
+    "                          need only keep every tetrahedron positive, and reach better angles),\n"
+    "                          always on without them (--no-interior)\n"
     "  --cautious              interior vertices that take no surface facet, no cap fold splits (what a\n"
     "                          run falls back to when the recovery with interior vertices stops)\n"
     "  --volume METHOD         delaunay (default): the tetrahedra of the Delaunay tetrahedralization;\n"
@@ -260,6 +265,7 @@ int mesh_command(const std::vector<std::string>& raw) {
   opt.surface_grading = args.number("--surface-grading", opt.surface_grading);
   opt.slivers.sliver_angle_deg = args.number("--sliver-angle", opt.slivers.sliver_angle_deg);
   opt.remove_slivers = !args.flag("--keep-slivers");
+  opt.slivers.delaunay_surface = args.flag("--delaunay-surface");
   opt.cautious = args.flag("--cautious");
   const std::string volume = args.value("--volume", "delaunay");
   if (volume == "advancing-front") opt.volume = VolumeMethod::advancing_front;

@@ -439,6 +439,9 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   sliver_options.flip_ridge_deg = options.delaunayzation.flip_angle_deg;
   // Moves on curved CAD faces change the surface's chords: not with --no-flips.
   if (options.delaunayzation.flips) sliver_options.geometry = options.delaunayzation.geometry;
+  // Without interior vertices the run's product is the recovered surface,
+  // a conforming Delaunay one (issue 2): the sliver pass keeps it so.
+  if (!options.interior) sliver_options.delaunay_surface = true;
   if (options.interior) {
     // The size field and the region lookup are a phase of their own: they
     // do not look at the cancel flag, and a Cancel during "interior

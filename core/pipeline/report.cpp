@@ -81,6 +81,7 @@ std::string report_json(const MeshReport& r) {
     << ", \"flips_23\": " << sl.flips_23 << ", \"flips_32\": " << sl.flips_32
     << ", \"edge_removals\": " << sl.edge_removals << ", \"moves\": " << sl.moves
     << ", \"surface_moves\": " << sl.surface_moves << ", \"held_moves\": " << sl.held_moves
+    << ", \"delaunay_surface\": " << (sl.delaunay_surface ? "true" : "false")
     << ", \"moves_blocked\": " << sl.moves_blocked << ", \"after\": " << sl.slivers_after
     << ", \"min_dihedral_before_deg\": " << exact(sl.min_dihedral_before_deg)
     << ", \"min_dihedral_after_deg\": " << exact(sl.min_dihedral_after_deg)

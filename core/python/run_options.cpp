@@ -76,6 +76,9 @@ const char* const kOptionsDoc = R"(Options (keyword arguments; the command line'
     sliver_angle (float, 20; mesh_cad 10, then 20 when every tetrahedron reached 10):
         tetrahedra under this dihedral angle (deg) are slivers, removed or improved
     keep_slivers (bool, False): no sliver removal
+    delaunay_surface (bool, False): the sliver pass keeps every surface facet a face
+        of the Delaunay tetrahedralization of the output's vertices (--delaunay-surface;
+        always so with interior=False)
     cautious (bool, False): interior vertices that take no surface facet, and no
         cap fold splits (what a run falls back to when the recovery with interior
         vertices stops)
@@ -124,7 +127,7 @@ std::shared_ptr<std::atomic<bool>> cancel_flag(py::handle value) {
 
 RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
   static const std::set<std::string> kCommon = {
-      "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "cautious", "oracle",     "lp_limit", "volume",
+      "size",     "gradation",  "interior",    "surface_grading",    "sliver_angle", "keep_slivers", "delaunay_surface", "cautious", "oracle",     "lp_limit", "volume",
       "flips",    "flip_angle", "sharp_angle", "seed",         "shift",        "max_passes", "max_added",
       "order",    "progress",   "cancel",      "threads"};
   static const std::set<std::string> kCad = {"deflection", "planar_splits", "full_fuse", "angular_deflection", "volume_tolerance",
@@ -152,6 +155,7 @@ RunOptions parse_options(const py::kwargs& kwargs, bool cad_input) {
       opt.slivers.raised_angle_deg = 0;  // the angle given, and no other
     }
     else if (name == "keep_slivers") opt.remove_slivers = !boolean(value, name);
+    else if (name == "delaunay_surface") opt.slivers.delaunay_surface = boolean(value, name);
     else if (name == "cautious") opt.cautious = boolean(value, name);
     else if (name == "volume") {
       if (!PyUnicode_Check(value.ptr())) throw py::type_error("option volume: expected a str, got " + type_name(value));

@@ -802,7 +802,7 @@ bool worse_around(const TetComplex& c, int v, double quality) {
 // under it worse.
 // `unchanged`: nothing around t changed since its moves last failed, so
 // only a vertex with a worse tetrahedron around it (one held now) is tried.
-bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, int t, bool hold_worse,
+bool move_a_vertex(TetComplex& c, FacetWitnesses* w, const SlidePlanes& planes, int t, bool hold_worse,
                    bool unchanged, long& curved_tests_left, SliverStats& stats) {
   int best_v = -1;
   Vec3 best_to;
@@ -853,12 +853,14 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, 
           if (!positive || q - old_q <= best_gain) break;  // refused whatever the rest give
         }
         if (!positive || q - old_q <= best_gain) continue;
-        const long tests_before = w.tests_made();
-        const bool allowed = w.allows(p, v);
-        if (round == 1) curved_tests_left -= w.tests_made() - tests_before;
-        if (!allowed || (plane && !w.reshape_allows(v, p))) {
-          blocked = true;
-          continue;
+        if (w) {
+          const long tests_before = w->tests_made();
+          const bool allowed = w->allows(p, v);
+          if (round == 1) curved_tests_left -= w->tests_made() - tests_before;
+          if (!allowed || (plane && !w->reshape_allows(v, p))) {
+            blocked = true;
+            continue;
+          }
         }
         best_v = v, best_to = p, best_gain = q - old_q;
         break;
@@ -870,7 +872,7 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, 
     return false;
   }
   c.move_point(best_v, best_to);
-  w.moved(best_v, best_to);
+  if (w) w->moved(best_v, best_to);
   ++stats.moves;
   stats.held_moves += hold_worse;
   stats.surface_moves += c.on_surface(best_v);
@@ -882,12 +884,13 @@ bool move_a_vertex(TetComplex& c, FacetWitnesses& w, const SlidePlanes& planes, 
 void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes, SliverStats& stats,
                      const std::function<void()>& apexes_done, std::vector<double> measures) {
   std::unique_ptr<FacetWitnesses> witnesses;
+  stats.delaunay_surface = o.delaunay_surface;
   SlidePlanes planes;
   if (o.moves) planes = slide_planes(m, o.geometry);
   // Case C moves interior vertices, and surface vertices with a slide
   // plane. Without either (a surface-only run on a curved surface) nothing
-  // can move, and the witnesses, 1.4 s of the elephant's 6.7 s pass with
-  // --no-interior, would never be asked.
+  // can move, and the witnesses (SliverOptions::delaunay_surface), 1.4 s of
+  // the elephant's 6.7 s pass with --no-interior, would never be asked.
   const std::vector<char> on_surface = surface_vertex_flags(m.points.size(), m.triangles);
   const bool has_interior_vertex = std::find(on_surface.begin(), on_surface.end(), 0) != on_surface.end();
   const bool can_move = o.moves && (!planes.empty() || has_interior_vertex);
@@ -896,7 +899,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
   // either (on a box of 125k tetrahedra its 11.5 MB and the witnesses'
   // 2.6 MB side by side were the run's peak).
   std::optional<TetComplex> built;
-  if (can_move) {
+  if (can_move && o.delaunay_surface) {
     const std::vector<std::array<int, 2>> apexes_of = apexes(m.triangles);
     if (apexes_done) apexes_done();
     // The witnesses (read the points and facets) and the complex (takes
@@ -969,7 +972,7 @@ void improve_slivers(Mesh& m, const SliverOptions& o, const FacetApexes& apexes,
           if (!changed && !hold) continue;
           Replacement r;
           if ((changed && o.flips && best_flip(c, t, r) && apply_if_valid(c, r, stats)) ||
-              (can_move && move_a_vertex(c, *witnesses, planes, t, hold == 1, !changed, curved_tests_left, stats))) {
+              (can_move && move_a_vertex(c, witnesses.get(), planes, t, hold == 1, !changed, curved_tests_left, stats))) {
             ++changes;
             if (allowance < 0) {
               ++first_changes;

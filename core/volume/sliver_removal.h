@@ -70,6 +70,21 @@ struct SliverOptions {
   // around a moved vertex that are worse than the sliver mended are held
   // (may not get worse) instead of scoring the move (sliver_improvement.cpp).
   bool hold_worse = true;
+  // Case C keeps every surface facet a face of the Delaunay
+  // tetrahedralization of the vertices (FacetWitnesses): a move that would
+  // put a vertex into every empty sphere of a facet is refused. Off by
+  // default since 2026-12-02: the mesh stays valid and conforming without
+  // it (moves change no tetrahedron's vertices, only their shape, and are
+  // taken only when every tetrahedron around the vertex stays positive),
+  // the paper asks nothing more of case C, and those refusals were what
+  // held the worst tetrahedra: caxif_as1-oc-214.stp 9.16 -> 17.23 deg,
+  // cgal_anchor_dense.off 6.02 -> 14.72, occt_MODERN_Exhaust_1.brep 0.15 ->
+  // 2.41, gmsh_simple_plane.brep 1.42 -> 4.55 (README, "Quality and
+  // slivers"). On (`--delaunay-surface`, and always without interior
+  // vertices, mesher.cpp): the surface stays a conforming Delaunay one, as
+  // recovery left it, for a caller who tetrahedralizes the output's
+  // vertices again.
+  bool delaunay_surface = false;
   // With more than one thread, the facet witnesses are built on a second
   // one beside the complex. A second thread allocates in an arena of its
   // own, in fresh pages: where the complex reuses the heap the freed
@@ -87,6 +102,7 @@ inline size_t sliver_pass_room(size_t n) { return n + n / 8 + 1024; }
 struct SliverStats {
   double angle_deg = 0;         // the sliver angle used
   double raised_to_deg = 0;     // the raised angle, when the pass went on to it; else 0
+  bool delaunay_surface = false;  // SliverOptions::delaunay_surface: moves kept the facets Delaunay
   long raised_changes = 0;      // flips and moves made at the raised angle
   bool raised_allowance_used = false;  // the raised angle's passes stopped at their allowance
   long slivers_before = 0;      // tetrahedra under the sliver angle
@@ -98,7 +114,8 @@ struct SliverStats {
   long edge_removals = 0;       // case B: edge with four to seven tetrahedra around it
   long moves = 0;               // case C: vertices moved
   long surface_moves = 0;       // of which surface vertices, in their flat patch or along their crease
-  long moves_blocked = 0;       // case C: better position found, refused to keep a surface facet Delaunay
+  long moves_blocked = 0;       // case C: better position found, refused to keep a surface facet
+                                // Delaunay (delaunay_surface only)
   long held_moves = 0;          // of the moves, those made holding worse tetrahedra (hold_worse)
   long slivers_after = 0;
   // Over all tetrahedra, before case A and after the last pass.

@@ -902,7 +902,10 @@ if ring:
 # 2026-12-01, with vertices of curved faces sliding in the sliver pass,
 # which mends most of what smoothing did: 30 + 48 + 21 against 21 + 18 + 21
 # (39 % fewer; before the pass, 624 + 608 + 633 against 495 + 482 + 489).
-# Smoothing must still take away 30 % of them.
+# 2026-12-02, with the sliver pass's moves free of the facets' Delaunayhood:
+# 2 against 4 after the pass, which now mends nearly all of them either way,
+# so the test counts before the pass (the report's tets_below_10_deg_before),
+# where smoothing must take away 15 % (it takes 21 %).
 part = data("cad-part/gmsh_part.step")
 if part:
     runs = {}
@@ -916,12 +919,14 @@ if part:
                 from tet_angles import dihedral_angles
                 m = check_mesh(target, rep, name)
                 smallest = dihedral_angles(m.points, m.cells_dict["tetra"]).min(axis=0)
-                under, moves = runs.get(flag, (0, 0))
-                runs[flag] = (under + int((smallest < 10).sum()), moves + rep["cad"]["smoothing_moves"])
+                under, moves, after = runs.get(flag, (0, 0, 0))
+                runs[flag] = (under + rep["slivers"]["tets_below_10_deg_before"], moves + rep["cad"]["smoothing_moves"],
+                              after + int((smallest < 10).sum()))
     if len(runs) == 2:
         off, on = runs["--no-smoothing"], runs[None]
-        check(off[1] == 0 and on[1] > 0 and on[0] < 0.7 * off[0],
-              "gmsh_part.step smoothed, seeds 1 to 3: %d moves, %d -> %d tetrahedra under 10 deg" % (on[1], off[0], on[0]))
+        check(off[1] == 0 and on[1] > 0 and on[0] < 0.85 * off[0],
+              "gmsh_part.step smoothed, seeds 1 to 3: %d moves, %d -> %d tetrahedra under 10 deg before the sliver pass"
+              " (%d -> %d after it)" % (on[1], off[0], on[0], off[2], on[2]))
 
 # --surface-grading on CAD input: the graded splits are made on the CAD
 # faces. The SOIC package's narrow faces come out of OpenCASCADE as needles,
