@@ -157,6 +157,22 @@ if len(fronts) == 2:
     check("advancing_front" in fronts["advancing-front"][1] and "advancing_front" not in fronts["delaunay"][1],
           "the report has the advancing front's figures only when it ran")
 
+# --delaunay-surface: the sliver pass's moves keep the facets Delaunay (the
+# report says so, and counts the moves it refused); by default they are free.
+held = {}
+for flag in (None, "--delaunay-surface"):
+    rep_path = os.path.join(out, "held.json")
+    code, _, err = run("mesh", bracket, "-o", os.path.join(out, "held.vtu"), "--quiet", "--report", rep_path,
+                       *([flag] if flag else []))
+    check(code == 0, "bracket %s (exit %d: %s)" % (flag or "default", code, err.strip()[-300:]))
+    if code == 0:
+        held[flag] = json.load(open(rep_path))["slivers"]
+if len(held) == 2:
+    check(not held[None]["delaunay_surface"] and held[None]["moves_blocked"] == 0
+          and held["--delaunay-surface"]["delaunay_surface"],
+          "--delaunay-surface in the report: %s / %s" % (held[None]["delaunay_surface"],
+                                                         held["--delaunay-surface"]["delaunay_surface"]))
+
 # Flat caps over the folds of a faceted sphere (two facets of one tetrahedron
 # on the surface): before cap vertices, icosphere(3) with its edges over 0.15 split kept 38
 # tetrahedra under 10 deg, the smallest 3.0 deg. Checked from the file with

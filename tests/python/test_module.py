@@ -227,6 +227,21 @@ class MeshFromArrays(unittest.TestCase):
             self.assertEqual(report["interior"]["vertices"], 0)
             self.assertAlmostEqual(region_volumes(mesh)[1], 2.0, delta=1e-12)
 
+    def test_delaunay_surface_option(self):
+        # The sliver pass keeps the facets Delaunay when asked, and always
+        # without interior vertices; by default its moves are free of that.
+        p, t = icosphere(2)
+        pts, tris = np.array(p), np.array(t)
+        _, free = vdmesh.mesh_surface(pts, tris, size=0.3)
+        _, held = vdmesh.mesh_surface(pts, tris, size=0.3, delaunay_surface=True)
+        _, surface_only = vdmesh.mesh_surface(pts, tris, interior=False)
+        self.assertFalse(free["slivers"]["delaunay_surface"])
+        self.assertEqual(free["slivers"]["moves_blocked"], 0)
+        self.assertTrue(held["slivers"]["delaunay_surface"])
+        self.assertTrue(surface_only["slivers"]["delaunay_surface"])
+        with self.assertRaisesRegex(TypeError, "delaunay_surface"):
+            vdmesh.mesh_surface(pts, tris, delaunay_surface="yes")
+
     def test_volume_advancing_front(self):
         p, t = icosphere(2)
         a, _ = vdmesh.mesh_surface(np.array(p), np.array(t), size=0.3, keep_slivers=True)
