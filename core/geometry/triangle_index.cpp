@@ -54,6 +54,7 @@ TriangleIndex::Hit TriangleIndex::closest(const Vec3& p) const {
   const auto pp = impl_->tree.closest_point_and_primitive(q);
   h.id = impl_->ids[static_cast<size_t>(pp.second - impl_->triangles.cbegin())];
   h.distance = std::sqrt(CGAL::squared_distance(q, pp.first));
+  h.point = Vec3{pp.first.x(), pp.first.y(), pp.first.z()};
   return h;
 }
 

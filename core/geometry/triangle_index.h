@@ -26,6 +26,7 @@ class TriangleIndex {
   struct Hit {
     int id = -1;
     double distance = std::numeric_limits<double>::infinity();
+    Vec3 point{0, 0, 0};  // the nearest point of that triangle
   };
   Hit closest(const Vec3& p) const;
   // Ids of the triangles at most `d` from p, replacing `out`.

@@ -24,6 +24,7 @@
 #include "pipeline/missing_facets.h"
 #include "surface/edge_map.h"
 #include "surface/face_patches.h"
+#include "surface/input_surface_geometry.h"
 #include "surface/size_refinement.h"
 #include "surface/validate_surface.h"
 #include "volume/cap_vertices.h"
@@ -260,6 +261,11 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       m.face_groups.clear();
     }
   }
+  // Faceted input: the sliver pass slides vertices of curved faces on the
+  // input facets (input_surface_geometry.h), as it does on CAD faces.
+  std::optional<InputSurfaceGeometry> input_geometry;
+  if (!options.delaunayzation.geometry && options.interior && options.delaunayzation.flips && options.remove_slivers)
+    input_geometry.emplace(m);
   if (options.size.uniform > 0) {
     // Before the refinement makes them: a size far below the model's (a unit
     // mix-up) is refused, not run out of memory.
@@ -438,7 +444,10 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   sliver_options.chord_height = options.delaunayzation.max_flip_offset;
   sliver_options.flip_ridge_deg = options.delaunayzation.flip_angle_deg;
   // Moves on curved CAD faces change the surface's chords: not with --no-flips.
-  if (options.delaunayzation.flips) sliver_options.geometry = options.delaunayzation.geometry;
+  if (options.delaunayzation.flips)
+    sliver_options.geometry = options.delaunayzation.geometry ? options.delaunayzation.geometry
+                              : input_geometry                ? &*input_geometry
+                                                              : nullptr;
   // Without interior vertices the run's product is the recovered surface,
   // a conforming Delaunay one (issue 2): the sliver pass keeps it so.
   if (!options.interior) sliver_options.delaunay_surface = true;

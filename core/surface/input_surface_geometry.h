@@ -1,0 +1,37 @@
+// The input surface as the geometry of faceted input, for the sliver pass.
+//
+// On CAD input a surface vertex inside a curved face slides on the CAD face
+// in the sliver pass (case C). Faceted input has no other geometry than its
+// facets: a vertex inside a curved face slides on them instead, onto the
+// nearest point of the input facets of its face. Before, only vertices of
+// flat patches and straight creases could move, and on gmsh_lever.stl most
+// tetrahedra left under 10 deg had a face on the fillets' needle strips.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "geometry/triangle_index.h"
+#include "mesh/mesh.h"
+#include "surface/surface_geometry.h"
+
+namespace vd {
+
+class InputSurfaceGeometry : public SurfaceGeometry {
+ public:
+  // The facets of `input` with their face ids as they will be in the mesh
+  // (after the face patches are assigned).
+  explicit InputSurfaceGeometry(const Mesh& input);
+  // Splits stay on the chord (the paper's behaviour on faceted input).
+  Vec3 place_on_surface(const std::vector<int>&, const Vec3& chord) const override { return chord; }
+  std::optional<Vec3> project_onto_face(int face, const Vec3& p, const Vec3& near) const override;
+
+ private:
+  std::map<int, std::vector<std::array<Vec3, 3>>> facets_;  // by face id
+  // Built at a face's first projection: most faces have no vertex that moves.
+  mutable std::map<int, std::unique_ptr<TriangleIndex>> index_;
+};
+
+}  // namespace vd
