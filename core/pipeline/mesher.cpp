@@ -264,7 +264,8 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   // Faceted input: the sliver pass slides vertices of curved faces on the
   // input facets (input_surface_geometry.h), as it does on CAD faces.
   std::optional<InputSurfaceGeometry> input_geometry;
-  if (!options.delaunayzation.geometry && options.interior && options.delaunayzation.flips && options.remove_slivers)
+  if (!options.delaunayzation.geometry && options.interior && options.delaunayzation.flips && options.remove_slivers &&
+      options.slivers.moves)
     input_geometry.emplace(m);
   if (options.size.uniform > 0) {
     // Before the refinement makes them: a size far below the model's (a unit

@@ -13,6 +13,7 @@ std::optional<Vec3> InputSurfaceGeometry::project_onto_face(int face, const Vec3
     const auto facets = facets_.find(face);
     if (facets == facets_.end()) return std::nullopt;
     it = index_.emplace(face, std::make_unique<TriangleIndex>(facets->second)).first;
+    facets_.erase(facets);
   }
   const TriangleIndex::Hit hit = it->second->closest(p);
   if (hit.id < 0) return std::nullopt;

@@ -29,7 +29,9 @@ class InputSurfaceGeometry : public SurfaceGeometry {
   std::optional<Vec3> project_onto_face(int face, const Vec3& p, const Vec3& near) const override;
 
  private:
-  std::map<int, std::vector<std::array<Vec3, 3>>> facets_;  // by face id
+  // By face id, until the face's index is built from them (the index keeps
+  // its own copy).
+  mutable std::map<int, std::vector<std::array<Vec3, 3>>> facets_;
   // Built at a face's first projection: most faces have no vertex that moves.
   mutable std::map<int, std::unique_ptr<TriangleIndex>> index_;
 };

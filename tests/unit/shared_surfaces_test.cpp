@@ -31,20 +31,24 @@ std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   return name;
 }
 
-// Every output facet is a face of a fresh exact Delaunay tetrahedralization
-// of the output vertices, and the tetrahedra fill the regions exactly.
-void expect_delaunay_and_conforming(const Mesh& m) {
-  EXPECT_EQ(test::facets_missing_from_fresh_dt(m), 0);
+// The tetrahedra fill the regions exactly.
+void expect_conforming(const Mesh& m) {
   const ConformityReport c = check_conformity(m);
   EXPECT_TRUE(c.ok(1e-9)) << c.summary();
 }
 
-// The tetrahedra fill the regions exactly; and where the sliver pass kept
-// the facets Delaunay (always without interior vertices), they are.
+// Every output facet is a face of a fresh exact Delaunay tetrahedralization
+// of the output vertices, and the tetrahedra fill the regions exactly.
+void expect_delaunay_and_conforming(const Mesh& m) {
+  EXPECT_EQ(test::facets_missing_from_fresh_dt(m), 0);
+  expect_conforming(m);
+}
+
+// Conforming; and where the sliver pass kept the facets Delaunay (always
+// without interior vertices), they are.
 void expect_conforming(const MeshResult& r) {
-  if (r.report.slivers.delaunay_surface) EXPECT_EQ(test::facets_missing_from_fresh_dt(r.mesh), 0);
-  const ConformityReport c = check_conformity(r.mesh);
-  EXPECT_TRUE(c.ok(1e-9)) << c.summary();
+  if (r.report.slivers.delaunay_surface) expect_delaunay_and_conforming(r.mesh);
+  else expect_conforming(r.mesh);
 }
 
 class SharedSurface : public ::testing::TestWithParam<Case> {};
@@ -64,8 +68,7 @@ TEST_P(SharedSurface, MeshesConformingOrIsRefused) {
     // The sliver pass's moves may leave facets non-Delaunay (the default
     // with interior vertices): conforming. Asked to keep them Delaunay, it does.
     EXPECT_FALSE(r.report.slivers.delaunay_surface);
-    const ConformityReport c = check_conformity(r.mesh);
-    EXPECT_TRUE(c.ok(1e-9)) << c.summary();
+    expect_conforming(r.mesh);
     o.slivers.delaunay_surface = true;
     const MeshResult held = mesh_surface(in, o);
     ASSERT_TRUE(held.report.complete);
