@@ -451,7 +451,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
                                                               : nullptr;
   // Without interior vertices the run's product is the recovered surface,
   // a conforming Delaunay one (issue 2): the sliver pass keeps it so.
-  if (!options.interior) sliver_options.delaunay_surface = true;
+  if (!options.interior) sliver_options.delaunay_surface = true, sliver_options.inserts = false;
   if (options.interior) {
     // The size field and the region lookup are a phase of their own: they
     // do not look at the cancel flag, and a Cancel during "interior
@@ -676,6 +676,8 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
           if (hand_back) return_free_memory();
         });
     report.output_facets = static_cast<int>(m.triangles.size());
+    report.interior_vertices += report.slivers.insertions;
+    report.output_vertices = static_cast<int>(m.points.size());
   }
   // After the sliver pass, whose facet witnesses are the shifted points'
   // Delaunay tetrahedra; the quality figures are then the output's.

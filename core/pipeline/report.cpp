@@ -79,7 +79,8 @@ std::string report_json(const MeshReport& r) {
     << ", \"removed_across_ridges\": " << sl.removed_across_ridges
     << ", \"removed_crease_caps\": " << sl.removed_crease_caps
     << ", \"flips_23\": " << sl.flips_23 << ", \"flips_32\": " << sl.flips_32
-    << ", \"edge_removals\": " << sl.edge_removals << ", \"moves\": " << sl.moves
+    << ", \"edge_removals\": " << sl.edge_removals << ", \"insertions\": " << sl.insertions
+    << ", \"moves\": " << sl.moves
     << ", \"surface_moves\": " << sl.surface_moves << ", \"held_moves\": " << sl.held_moves
     << ", \"delaunay_surface\": " << (sl.delaunay_surface ? "true" : "false")
     << ", \"moves_blocked\": " << sl.moves_blocked << ", \"after\": " << sl.slivers_after
@@ -289,7 +290,7 @@ std::string report_table(const MeshReport& r) {
                                  std::to_string(sl.flips_23 + sl.flips_32 + sl.edge_removals) + " flips (" +
                                  std::to_string(sl.flips_23) + " 2-3, " + std::to_string(sl.flips_32) + " 3-2, " +
                                  std::to_string(sl.edge_removals) + " edge removals), " +
-                                 std::to_string(sl.moves) + " moves; " + std::to_string(sl.slivers_before) +
+ std::to_string(sl.moves) + " moves, " + std::to_string(sl.insertions) + " insertions; " + std::to_string(sl.slivers_before) +
                                  " -> " + std::to_string(sl.slivers_after) + " slivers" +
                                  (sl.raised_to_deg > 0 ? "; none left, aim raised to " + num(sl.raised_to_deg) + " deg (" +
                                                                std::to_string(sl.raised_changes) + " changes" +

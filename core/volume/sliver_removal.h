@@ -63,6 +63,9 @@ struct SliverOptions {
   double flip_ridge_deg = 20.0;
   bool flips = true;               // case B
   bool moves = true;               // case C
+  // Case D: a new interior vertex where flips and moves left a sliver;
+  // not with delaunay_surface (it could take a facet's empty sphere).
+  bool inserts = true;
   // CAD input: case C also moves a vertex inside a curved face on that face
   // (SurfaceGeometry::project_onto_face). Null: surface vertices slide only in planes.
   const SurfaceGeometry* geometry = nullptr;
@@ -112,6 +115,7 @@ struct SliverStats {
   long flips_23 = 0;            // case B: face swaps (two tetrahedra into three)
   long flips_32 = 0;            // case B: edge with three tetrahedra around it (three into two)
   long edge_removals = 0;       // case B: edge with four to seven tetrahedra around it
+  long insertions = 0;          // case D: new interior vertices
   long moves = 0;               // case C: vertices moved
   long surface_moves = 0;       // of which surface vertices, in their flat patch or along their crease
   long moves_blocked = 0;       // case C: better position found, refused to keep a surface facet
