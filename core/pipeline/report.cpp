@@ -290,8 +290,8 @@ std::string report_table(const MeshReport& r) {
                                  std::to_string(sl.flips_23 + sl.flips_32 + sl.edge_removals) + " flips (" +
                                  std::to_string(sl.flips_23) + " 2-3, " + std::to_string(sl.flips_32) + " 3-2, " +
                                  std::to_string(sl.edge_removals) + " edge removals), " +
- std::to_string(sl.moves) + " moves, " + std::to_string(sl.insertions) + " insertions; " + std::to_string(sl.slivers_before) +
-                                 " -> " + std::to_string(sl.slivers_after) + " slivers" +
+                                 std::to_string(sl.moves) + " moves, " + std::to_string(sl.insertions) +
+                                 " insertions; " + std::to_string(sl.slivers_before) + " -> " + std::to_string(sl.slivers_after) + " slivers" +
                                  (sl.raised_to_deg > 0 ? "; none left, aim raised to " + num(sl.raised_to_deg) + " deg (" +
                                                                std::to_string(sl.raised_changes) + " changes" +
                                                                (sl.raised_allowance_used ? ", the allowance" : "") + ")"

@@ -701,6 +701,27 @@ std::vector<Vec3> compass_directions() {
   return d;
 }
 
+// Compass search from x, whose score is q: steps of 0.2 `spacing` along
+// each direction (each position through `place`), the best taken while it
+// gains, the step halved when none does, down to 1e-3 `spacing`. `score(y,
+// floor)` may stop at anything at or under floor once y cannot beat it.
+template <class Place, class Score>
+void compass_search(const std::vector<Vec3>& directions, double spacing, const Place& place, const Score& score,
+                    Vec3& x, double& q) {
+  double step = 0.2 * spacing;
+  for (int round = 0; round < 40 && step > 1e-3 * spacing; ++round) {
+    Vec3 best = x;
+    double best_q = q;
+    for (const Vec3& d : directions) {
+      const Vec3 y = place(x + step * d);
+      const double qy = score(y, best_q);
+      if (qy > best_q) best = y, best_q = qy;
+    }
+    if (best_q > q + 1e-12) x = best, q = best_q;
+    else step *= 0.5;
+  }
+}
+
 // Where vertex v should go: the position with the largest smallest dihedral
 // angle over the tetrahedra around it, by compass search from the better of
 // its position and the centroid of its neighbours; in `plane` when given (a
@@ -783,18 +804,7 @@ double best_position(const TetComplex& c, int v, double old_quality, const Slide
   centroid = place(centroid);
   const double qc = quality_at(centroid, q);
   if (qc > q) x = centroid, q = qc;
-  double step = 0.2 * spacing;
-  for (int round = 0; round < 40 && step > 1e-3 * spacing; ++round) {
-    Vec3 best = x;
-    double best_q = q;
-    for (const Vec3& d : directions) {
-      const Vec3 y = place(x + step * d);
-      const double qy = quality_at(y, best_q);
-      if (qy > best_q) best = y, best_q = qy;
-    }
-    if (best_q > q + 1e-12) x = best, q = best_q;
-    else step *= 0.5;
-  }
+  compass_search(directions, spacing, place, quality_at, x, q);
   to = x;
   return dihedral_degrees_of_score(q);
 }
@@ -996,18 +1006,7 @@ bool insert_a_vertex(TetComplex& c, int t, SliverStats& stats) {
     static const std::vector<Vec3> directions = compass_directions();
     Vec3 x = start;
     double q = score_at(x, -kNotHeld);
-    double step = 0.2 * spacing;
-    for (int round = 0; round < 40 && step > 1e-3 * spacing; ++round) {
-      Vec3 best = x;
-      double best_q = q;
-      for (const Vec3& dir : directions) {
-        const Vec3 y = x + step * dir;
-        const double qy = score_at(y, best_q);
-        if (qy > best_q) best = y, best_q = qy;
-      }
-      if (best_q > q + 1e-12) x = best, q = best_q;
-      else step *= 0.5;
-    }
+    compass_search(directions, spacing, [](const Vec3& y) { return y; }, score_at, x, q);
     if (!(dihedral_degrees_of_score(q) > dihedral_degrees_of_score(old_score) + kMinGainDeg)) continue;
     long old_low = 0, new_low = 0;
     for (int u : cavity) old_low += c.quality(u) < kInsertBelowDeg;
