@@ -556,10 +556,11 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       timer.start("cap vertices");
       std::vector<std::array<int, 2>> refused_folds;
       auto open_caps = [&] {
-        const std::vector<CapPoint> caps =
-            cap_breaking_points(m, dt, sliver_options.sliver_angle_deg, sliver_options.ridge_angle_deg);
-        const int first_cap = static_cast<int>(m.points.size());
         const bool on_cad = options.delaunayzation.geometry != nullptr;
+        const std::vector<CapPoint> caps =
+            cap_breaking_points(m, dt, sliver_options.sliver_angle_deg, sliver_options.ridge_angle_deg,
+                                on_cad ? kCapPointClearanceCad : kCapPointClearance);
+        const int first_cap = static_cast<int>(m.points.size());
         const int kept = caps.empty() ? 0
                                       : insert_cap_vertices(m, dt, caps, &refused_folds,
                                                             &report.interior.cap_points_fallback, /*refuse_unfair=*/on_cad);

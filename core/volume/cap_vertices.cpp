@@ -88,7 +88,7 @@ struct Cap {
 }  // namespace
 
 std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt,
-                                          double sliver_angle_deg, double ridge_angle_deg) {
+                                          double sliver_angle_deg, double ridge_angle_deg, double clearance) {
   const std::vector<char> on_surface = surface_vertex_flags(m.points.size(), m.triangles);
   const TripleIndex facet_of(m.triangles, [](const Triangle& t) { return t.v; });
   const double cos_ridge = std::cos(ridge_angle_deg * M_PI / 180.0);
@@ -288,7 +288,7 @@ std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedr
     if (dt.label_at(p) != m.tets[c.tet].region) return false;
     const std::array<int, 4> cell = dt.locate(p);
     bool clear = true;
-    for (int v : cell) clear = clear && norm(m.points[v] - p) > 0.1 * c.fold_length;
+    for (int v : cell) clear = clear && norm(m.points[v] - p) > clearance * c.fold_length;
     for (const CapPoint& q : out) clear = clear && norm(q.point - p) > 0.1 * c.fold_length;
     return clear;
   };

@@ -30,8 +30,10 @@ class SurfaceGeometry;
 // 0.35 of its length deep, or of the cap's centroid, or less deep (0.2, 0.1,
 // 0.05, 0.02, 0.01, 0.005), the first that lies in the cap's circumsphere,
 // else the cap's centroid; kept when it is in the
-// cap's region (located in dt, whose vertices are m.points) and not closer to
-// another vertex of the cap's neighbourhood than a tenth of the fold edge.
+// cap's region (located in dt, whose vertices are m.points), not closer to a
+// vertex of the tetrahedron it falls in than `clearance` times the fold edge
+// (kCapPointClearance on faceted input, kCapPointClearanceCad on CAD), nor
+// to another cap point than a tenth of it.
 // One point per fold edge. Also the centroid of each tetrahedron under 1 deg
 // of four surface vertices, no face on the surface, two of whose vertices
 // are on opposite sides of a wall (the normals into the region there point
@@ -54,8 +56,25 @@ struct CapPoint {
   double cap_angle_deg = 0;
   bool fold_inside_a_face = false;
 };
+//
+// The clearance: a shallow point under a flat cap makes a short edge, and the
+// sliver pass then fights the slivers around it; on gmsh_lever.stl's strip
+// of needle facets nearly all the tetrahedra under 10 deg away from small
+// input angles were at such points. On faceted input, 0.3 (0.1 until
+// 2026-12-02): the lever's seeds 1 to 12 went from 22.8 such tetrahedra on
+// average (15 to 32) to 7.8 (1 to 15), all 12 under 0.1 %, and from 1,035
+// tetrahedra under 10 deg to 801; at 0.25, 0.35, 0.4 and 0.5 (seeds 1 to
+// 6) 14.3, 13.8, 10.0 and 7.5, the larger ones with smallest angles down to
+// 1.1 deg where 0.3 kept 2.4. On CAD input the caps left without a point
+// stay: at 0.3 the U-joint fell from 0.21 to 0.001 deg and the Exhaust from
+// 2.41 to 0.03; with the crowded points refused so that their folds are
+// split on the faces, the U-joint still fell to 0.001; at 0.3 for caps of 1
+// deg and more only, 10 files of the corpus had 794 tetrahedra under 10 deg
+// against 741, with four smallest angles up and four down.
+constexpr double kCapPointClearance = 0.3;
+constexpr double kCapPointClearanceCad = 0.1;
 std::vector<CapPoint> cap_breaking_points(const Mesh& m, const DelaunayTetrahedralization& dt,
-                                          double sliver_angle_deg, double ridge_angle_deg);
+                                          double sliver_angle_deg, double ridge_angle_deg, double clearance);
 
 // Inserts each point into dt and m.points, one by one, unless it would make a
 // surface facet stop being a face of dt (a point near a concave fold can), or

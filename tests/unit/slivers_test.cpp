@@ -210,17 +210,23 @@ TEST(Slivers, TwoRegionsWithAnInterface) {
 
 // Each input twice: moves free of the facets' Delaunayhood (the default),
 // and held to it. Free, the pass reaches at least the same smallest angle,
-// and a better one where refused moves held the worst tetrahedra: the
-// lever's needles and the anchor (0.73 -> 1.01 deg and 6.02 -> 14.72).
+// and fewer tetrahedra under 10 deg where refused moves held the worst
+// ones: the lever's needles (1,336 -> 1,288) and the anchor (7 -> 0), and
+// on the anchor a better smallest angle (6.02 -> 14.72 deg). The lever's
+// was better too (0.73 -> 1.01) until its cap points kept 0.3 of their fold
+// from other vertices (2026-12-02): its smallest, 0.43 deg either way, is
+// at a tetrahedron neither pass moves.
 TEST(Slivers, SharedSurfaces) {
   long moves = 0, surface_moves = 0;
   struct Input {
     const char* rel;
-    bool held_back;  // refusals held its worst tetrahedra
+    bool held_back;     // refusals held its worst tetrahedra
+    bool worst_raised;  // and free moves raise its smallest angle
   };
-  for (const Input& in : {Input{"surface/netgen_part1.stl", false}, Input{"surface/gmsh_lever.stl", true},
-                          Input{"surface-multiregion/cgal_complex_merged.off", false},
-                          Input{"surface/cgal_anchor_dense.off", true}}) {
+  for (const Input& in : {Input{"surface/netgen_part1.stl", false, false},
+                          Input{"surface/gmsh_lever.stl", true, false},
+                          Input{"surface-multiregion/cgal_complex_merged.off", false, false},
+                          Input{"surface/cgal_anchor_dense.off", true, true}}) {
     const char* rel = in.rel;
     VD_REQUIRE_DATA(path, rel);
     const Mesh before = mesh_before_flips_and_moves(io::read_mesh(path));
@@ -230,7 +236,7 @@ TEST(Slivers, SharedSurfaces) {
     EXPECT_GE(free_q.min_dihedral_deg, held_q.min_dihedral_deg) << rel;
     if (in.held_back) {
       EXPECT_GT(held.moves_blocked, 0) << rel;
-      EXPECT_GT(free_q.min_dihedral_deg, held_q.min_dihedral_deg + 0.2) << rel;
+      if (in.worst_raised) EXPECT_GT(free_q.min_dihedral_deg, held_q.min_dihedral_deg + 0.2) << rel;
       EXPECT_LT(free_q.below_10_deg, held_q.below_10_deg) << rel;
     }
     moves += s.moves;
