@@ -12,6 +12,7 @@
 #include <set>
 
 #include "delaunay/delaunay_tetrahedralization.h"
+#include "geometry/predicates.h"
 #include "mesh/error.h"
 #include "mesh/progress.h"
 #include "mesh/second_order.h"
@@ -448,6 +449,37 @@ TEST(Volume, CapsNoPointCanOpenGetTheirFoldsSplit) {
             << r.report.quality.below_10_deg << "\n";
   EXPECT_GT(r.report.interior.cap_folds_split, 0);
   EXPECT_GT(r.report.quality.min_dihedral_deg, 10.0);
+}
+
+// A cap point keeps its clearance: a pyramid from (0, 0, 0) up to a square
+// top 2 x 2 at height 3, folded up along its diagonal by 0.05, holds a flat
+// cap of its four top corners (in a sphere of radius 1.41 that the apex is
+// clear of). The point under the fold's middle, 0.35 of the fold (2.83)
+// deep, opens it; with a vertex 0.56 under that point (0.2 of the fold;
+// outside the cap's sphere, so the cap stays) the point is dropped at
+// kCapPointClearance, kept at kCapPointClearanceCad (a tenth).
+TEST(Volume, CapPointsKeepTheirClearanceFromVertices) {
+  const auto cap_points = [](bool crowded, double clearance) {
+    Mesh m;
+    m.points = {{1, 1, 3.05}, {1, -1, 3}, {-1, -1, 3.05}, {-1, 1, 3}, {0, 0, 0}};
+    const Vec3 inside{0, 0, 2};
+    for (const std::array<int, 3>& v : std::vector<std::array<int, 3>>{
+             {0, 1, 2}, {0, 2, 3}, {4, 0, 1}, {4, 1, 2}, {4, 2, 3}, {4, 3, 0}}) {
+      Triangle t{v, 1, 0, 1};
+      if (orientation(m.points[v[0]], m.points[v[1]], m.points[v[2]], inside) > 0) std::swap(t.v[1], t.v[2]);
+      m.triangles.push_back(t);
+    }
+    if (crowded) m.points.push_back({0, 0, 1.5});
+    DelaunayTetrahedralization dt;
+    dt.insert(m.points);
+    build_region_tetrahedra(m, dt);
+    return cap_breaking_points(m, dt, 20, 1, clearance);
+  };
+  EXPECT_EQ(cap_points(false, kCapPointClearance).size(), 1u);
+  EXPECT_EQ(cap_points(true, kCapPointClearance).size(), 0u);
+  const std::vector<CapPoint> kept = cap_points(true, kCapPointClearanceCad);
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_NEAR(kept[0].point.z, 3.05 - 0.35 * 2 * std::sqrt(2.0), 1e-9);
 }
 
 // A fold that is a side of a face's sharp corner between two border edges
