@@ -27,6 +27,7 @@ class InputSurfaceGeometry : public SurfaceGeometry {
   // Splits stay on the chord (the paper's behaviour on faceted input).
   Vec3 place_on_surface(const std::vector<int>&, const Vec3& chord) const override { return chord; }
   std::optional<Vec3> project_onto_face(int face, const Vec3& p, const Vec3& near) const override;
+  bool faces_may_be_sharp() const override { return true; }
 
  private:
   // By face id, until the face's index is built from them (the index keeps

@@ -35,6 +35,9 @@ class SurfaceGeometry {
   }
   // Each region's true volume by region id, where known (0: unknown).
   virtual std::vector<double> region_volumes() const { return {}; }
+  // A face may hold sharp edges: it is a face id of faceted input, not a
+  // smooth CAD face.
+  virtual bool faces_may_be_sharp() const { return false; }
 };
 
 }  // namespace vd
