@@ -250,13 +250,13 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       open_edges.push_back({0.5 * (m.points[a] + m.points[b]), edges->facets(a, b)[0]});
     crossings.start(m, thread_count() > 1);
   }
+  const bool faces_given = std::any_of(m.triangles.begin(), m.triangles.end(),
+                                       [](const Triangle& t) { return t.face != kNoFace; });
   if (!m.has_face_tags()) {
     // The facets without a face get their patch's number. When no facet had
     // one, the input's face names and groups name other faces.
-    const bool none_given = std::all_of(m.triangles.begin(), m.triangles.end(),
-                                        [](const Triangle& t) { return t.face == kNoFace; });
     report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
-    if (none_given) {
+    if (!faces_given) {
       m.face_names.clear();
       m.face_groups.clear();
     }
@@ -266,7 +266,7 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
   std::optional<InputSurfaceGeometry> input_geometry;
   if (!options.delaunayzation.geometry && options.interior && options.delaunayzation.flips && options.remove_slivers &&
       options.slivers.moves)
-    input_geometry.emplace(m);
+    input_geometry.emplace(m, faces_given);
   if (options.size.uniform > 0) {
     // Before the refinement makes them: a size far below the model's (a unit
     // mix-up) is refused, not run out of memory.

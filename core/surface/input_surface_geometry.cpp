@@ -2,7 +2,7 @@
 
 namespace vd {
 
-InputSurfaceGeometry::InputSurfaceGeometry(const Mesh& input) {
+InputSurfaceGeometry::InputSurfaceGeometry(const Mesh& input, bool faces_given) : faces_given_(faces_given) {
   for (const Triangle& t : input.triangles)
     facets_[t.face].push_back({input.points[t.v[0]], input.points[t.v[1]], input.points[t.v[2]]});
 }

@@ -22,12 +22,14 @@ namespace vd {
 class InputSurfaceGeometry : public SurfaceGeometry {
  public:
   // The facets of `input` with their face ids as they will be in the mesh
-  // (after the face patches are assigned).
-  explicit InputSurfaceGeometry(const Mesh& input);
+  // (after the face patches are assigned). `faces_given`: some face ids are
+  // the input's own, not patches split at sharp edges, and a face may go
+  // round a corner.
+  InputSurfaceGeometry(const Mesh& input, bool faces_given);
   // Splits stay on the chord (the paper's behaviour on faceted input).
   Vec3 place_on_surface(const std::vector<int>&, const Vec3& chord) const override { return chord; }
   std::optional<Vec3> project_onto_face(int face, const Vec3& p, const Vec3& near) const override;
-  bool faces_may_be_sharp() const override { return true; }
+  bool faces_may_be_sharp() const override { return faces_given_; }
 
  private:
   // By face id, until the face's index is built from them (the index keeps
@@ -35,6 +37,7 @@ class InputSurfaceGeometry : public SurfaceGeometry {
   mutable std::map<int, std::vector<std::array<Vec3, 3>>> facets_;
   // Built at a face's first projection: most faces have no vertex that moves.
   mutable std::map<int, std::unique_ptr<TriangleIndex>> index_;
+  bool faces_given_;
 };
 
 }  // namespace vd

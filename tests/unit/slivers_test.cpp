@@ -361,7 +361,7 @@ TEST(Slivers, CurvedFaceVerticesSlideOnTheirFaces) {
 // point of the facets of the face asked for, not of another face.
 TEST(Slivers, InputFacetsProjectByFace) {
   const Mesh box = shapes::box({0, 0, 0}, {2, 1, 1}, 2);
-  const InputSurfaceGeometry facets(box);
+  const InputSurfaceGeometry facets(box, /*faces_given=*/true);
   std::set<int> faces;
   for (const Triangle& t : box.triangles) faces.insert(t.face);
   ASSERT_EQ(faces.size(), 6u);
@@ -389,7 +389,7 @@ TEST(Slivers, InputFacetsProjectByFace) {
 TEST(Slivers, FacetedCurvedFaceVerticesSlideOnTheirFacets) {
   VD_REQUIRE_DATA(path, "surface/gmsh_lever.stl");
   const Mesh before = mesh_before_flips_and_moves(io::read_mesh(path));
-  const InputSurfaceGeometry facets(before);
+  const InputSurfaceGeometry facets(before, /*faces_given=*/false);
   const DelaunayApexes delaunay(before);
   SliverOptions planes_only, on_facets;
   on_facets.geometry = &facets;
