@@ -109,7 +109,9 @@ int compare_worker(const std::vector<std::string>& raw) {
   const auto pos = args.positionals();
   if (pos.size() != 2) throw UsageError("compare --worker INPUT BASE [options]");
   const std::string base = pos[1];
-  const Mesh input = load_compare_input(pos[0], sharp, tessellation);
+  int patches = 0;
+  const Mesh input = load_compare_input(pos[0], sharp, tessellation, &patches);
+  opt.faces_are_patches = patches > 0;
   opt.tessellated = cad::is_cad_file_name(pos[0]);
   MeshResult partial;
   try {

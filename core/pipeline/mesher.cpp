@@ -250,7 +250,8 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       open_edges.push_back({0.5 * (m.points[a] + m.points[b]), edges->facets(a, b)[0]});
     crossings.start(m, thread_count() > 1);
   }
-  const bool faces_given = std::any_of(m.triangles.begin(), m.triangles.end(),
+  const bool faces_given = !options.faces_are_patches &&
+                           std::any_of(m.triangles.begin(), m.triangles.end(),
                                        [](const Triangle& t) { return t.face != kNoFace; });
   if (!m.has_face_tags()) {
     // The facets without a face get their patch's number. When no facet had

@@ -39,6 +39,10 @@ struct MeshOptions {
   // core. The mesh is the same for any number.
   int threads = 0;
   double sharp_angle_deg = 40.0;     // face patches for input without face ids
+  // The input's face ids are face patches the caller assigned (`vdmesh
+  // compare`, so that TetGen gets the same markers): smooth faces, as those
+  // the mesher assigns itself, not the input's own (InputSurfaceGeometry).
+  bool faces_are_patches = false;
   bool validate = true;
   // The surface is a CAD tessellation: a recovery that stops is for the
   // tessellation chain to try again (RecoveryError), even beside edges on one
