@@ -250,14 +250,15 @@ MeshResult mesh_surface_once(const Mesh& input, const MeshOptions& options, Mesh
       open_edges.push_back({0.5 * (m.points[a] + m.points[b]), edges->facets(a, b)[0]});
     crossings.start(m, thread_count() > 1);
   }
-  const bool faces_given = !options.faces_are_patches &&
-                           std::any_of(m.triangles.begin(), m.triangles.end(),
-                                       [](const Triangle& t) { return t.face != kNoFace; });
+  const bool none_given =
+      std::all_of(m.triangles.begin(), m.triangles.end(), [](const Triangle& t) { return t.face == kNoFace; });
+  // Face ids of the input's own (InputSurfaceGeometry), not patches.
+  const bool faces_given = !none_given && !options.faces_are_patches;
   if (!m.has_face_tags()) {
     // The facets without a face get their patch's number. When no facet had
     // one, the input's face names and groups name other faces.
     report.face_patches_assigned = assign_face_patches(m, options.sharp_angle_deg, &*edges);
-    if (!faces_given) {
+    if (none_given) {
       m.face_names.clear();
       m.face_groups.clear();
     }

@@ -640,13 +640,15 @@ SlidePlanes slide_planes(const Mesh& m, const SurfaceGeometry* geometry) {
       // face is smooth, its facets' edges sharp only where its tessellation
       // is coarse: the U-joint's has some, and slides there mend 10 of its
       // tetrahedra under 10 deg.)
-      if (geometry->faces_may_be_sharp())
+      if (geometry->faces_may_be_sharp()) {
+        std::vector<Vec3> normal(fs.size());
+        for (size_t i = 0; i < fs.size(); ++i) normal[i] = normalized(area_vector(m.triangles[fs[i]]));
         for (size_t i = 0; i < fs.size(); ++i)
-        for (size_t j = i + 1; j < fs.size(); ++j)
-          if (shared_corners(m.triangles[fs[i]], m.triangles[fs[j]]) == 2 &&
-              dot(normalized(area_vector(m.triangles[fs[i]])), normalized(area_vector(m.triangles[fs[j]]))) <
-                  cos_smooth_in_face)
-            return;
+          for (size_t j = i + 1; j < fs.size(); ++j)
+            if (shared_corners(m.triangles[fs[i]], m.triangles[fs[j]]) == 2 &&
+                dot(normal[i], normal[j]) < cos_smooth_in_face)
+              return;
+      }
       if (!(norm(sum) > 0)) return;
       SlidePlane plane = SlidePlane::through(m.points[v], normalized(sum));
       plane.surface = geometry;
